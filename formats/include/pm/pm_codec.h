@@ -1,0 +1,47 @@
+// The .pm stream: reader and writer. The byte layout is specified in
+// formats/pm-format.md, which is normative; this code follows it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "pm/progressive_mesh.h"
+#include "pm/status.h"
+
+namespace pm {
+
+inline constexpr uint16_t kFormatMajor = 1;
+inline constexpr uint16_t kFormatMinor = 0;
+
+struct WriteOptions {
+  int zstd_level = 19;  // 1..22
+};
+
+// Serializes pm (which must be valid) to bytes.
+Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
+
+// Parses and validates a whole stream. Errors: kTruncatedStream, kCorruptStream,
+// kChecksumMismatch, kUnsupportedVersion, kResourceLimit. Never reads out of bounds.
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm);
+
+// The header fields, for `pmdec --info`.
+struct PmInfo {
+  uint16_t major = 0, minor = 0;
+  uint32_t flags = 0;
+  uint32_t base_vertex_count = 0, base_face_count = 0, split_count = 0;
+  uint32_t loose_vertex_count = 0, weld_count = 0, carried_face_count = 0;
+  uint64_t full_vertex_count = 0, full_face_count = 0;
+  float max_error = 0;  // error bound of the base mesh
+  // Added with the 1.0 codec. full_vertex_count is what the full-detail mesh outputs:
+  // base + splits + loose - welds (welded copies are output as their canonical vertex).
+  // full_face_count is base faces + split_face_count + carried faces.
+  uint32_t moved_face_count = 0;  // total of the splits' moved faces
+  uint32_t split_face_count = 0;  // faces the splits add (1 or 2 each)
+  uint32_t section_count = 0;
+};
+// Reads and checks the header only (magic, checksum, version, count limits, and that the
+// stream is long enough for the counts); sections are not decompressed. Same errors as read_pm.
+Status read_pm_info(std::string_view bytes, PmInfo& info);
+
+}  // namespace pm

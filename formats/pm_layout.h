@@ -1,0 +1,75 @@
+// The .pm byte layout in one place: magic, header offsets, section tags, limits, and the
+// header and section encoders the writer uses (tests use them too, to build hostile
+// streams). formats/pm-format.md is normative; these constants follow it. Internal.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "pm/status.h"
+
+namespace pm::detail {
+
+// PNG-style: a non-ASCII first byte (caught by 7-bit channels), "PMESH", then CR LF
+// (caught by text-mode newline conversion either way).
+inline constexpr char kMagic[8] = {'\x89', 'P', 'M', 'E', 'S', 'H', '\r', '\n'};
+
+inline constexpr std::size_t kHeaderSize = 96;
+inline constexpr std::size_t kHeaderReservedOffset = 56;  // bytes 56..91 are reserved
+inline constexpr std::size_t kHeaderCrcOffset = 92;       // CRC-32 of bytes 0..91
+inline constexpr std::size_t kSectionHeaderSize = 24;     // tag, flags, stored, raw
+
+// No count in a header may exceed this (vertex ids, face ids and their sums stay well
+// inside uint32, and a reader's worst-case allocation stays bounded).
+inline constexpr uint32_t kMaxCount = uint32_t{1} << 30;
+// zstd cannot expand input by more than this: its densest block is an RLE block, 4 bytes
+// (3 of header, 1 of content) for at most 128 KiB of output.
+inline constexpr uint64_t kMaxZstdRatio = 32768;
+// Smallest zstd frame with a content size, a content checksum and at least one block:
+// magic 4 + descriptor 1 + content size >= 1 + block header 3 + checksum 4.
+inline constexpr uint64_t kMinZstdFrameSize = 13;
+
+inline constexpr uint32_t kSectionRequired = 1u;  // section flags bit 0
+
+constexpr uint32_t make_tag(const char (&name)[5]) {
+  return uint32_t{static_cast<uint8_t>(name[0])} | uint32_t{static_cast<uint8_t>(name[1])} << 8 |
+         uint32_t{static_cast<uint8_t>(name[2])} << 16 |
+         uint32_t{static_cast<uint8_t>(name[3])} << 24;
+}
+inline constexpr uint32_t kTagBase = make_tag("BASE");
+inline constexpr uint32_t kTagSplits = make_tag("SPLT");
+inline constexpr uint32_t kTagWelds = make_tag("WELD");
+inline constexpr uint32_t kTagCarried = make_tag("CARY");
+inline constexpr uint32_t kTagLoose = make_tag("LOOS");
+
+// "BASE"; bytes outside [0-9A-Za-z] are shown as \xNN.
+std::string tag_name(uint32_t tag);
+
+// The fixed header, field by field (pm-format.md, "Header").
+struct Header {
+  uint16_t major = 0, minor = 0;
+  uint32_t flags = 0;
+  uint32_t base_vertex_count = 0, base_face_count = 0, split_count = 0;
+  uint32_t loose_vertex_count = 0, weld_count = 0, carried_face_count = 0;
+  uint32_t moved_face_count = 0;  // total of the splits' moved faces
+  uint32_t split_face_count = 0;  // faces the splits add (1 or 2 each)
+  uint32_t section_count = 0;
+  float max_error = 0.0f;
+};
+
+// Writes the 96 header bytes, reserved bytes zero, CRC filled in.
+void append_header(const Header& header, std::string& out);
+
+// Checks magic, CRC, version, flags, reserved bytes and count limits, in that order.
+// `bytes` is the whole stream (at least the header is needed). Does not look at sections.
+Status parse_header(std::string_view bytes, Header& header);
+
+// Appends one section: its 24-byte header, then `raw` as one zstd frame (content size
+// and content checksum on). `declared_raw_size` is what goes in the raw-size field; the
+// writer passes raw.size(), tests may lie.
+Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
+                      uint64_t declared_raw_size, int zstd_level, std::string& out);
+
+}  // namespace pm::detail

@@ -1,0 +1,54 @@
+// Building a progressive mesh from an input mesh: repair to a manifold half-edge mesh,
+// then a priority-ordered sequence of half-edge collapses (Schroeder 1992, 1997).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+#include "pm/mesh.h"
+#include "pm/progressive_mesh.h"
+#include "pm/status.h"
+
+namespace pm {
+
+struct EncodeOptions {
+  // Edges whose two faces' normals differ by more than this are feature edges
+  // (Schroeder 1992, §3 "feature angle").
+  double feature_angle_deg = 30.0;
+  // A collapse may not turn any face normal by more than this.
+  double max_normal_flip_deg = 90.0;
+  // Never remove corner vertices (the report's behaviour; may stall early).
+  bool keep_corners = false;
+  // Stop when the mesh would go below either count (0: no limit).
+  std::size_t min_faces = 0;
+  std::size_t min_vertices = 0;
+  // Called now and then with the fraction of work done, in [0, 1]. May be empty.
+  std::function<void(double)> progress;
+};
+
+// What the encoder changed to make the input a manifold half-edge mesh. Nothing is lost:
+// each repair is undone at full detail.
+struct RepairReport {
+  std::size_t vertices_duplicated = 0;    // copies made at pinched vertices and complex edges
+  std::size_t complex_edges = 0;          // edges with more than two faces or inconsistent ones
+  std::size_t carried_faces = 0;          // faces with a repeated vertex, carried as-is
+  std::size_t loose_vertices = 0;         // vertices no face uses
+  bool any() const {
+    return vertices_duplicated || complex_edges || carried_faces || loose_vertices;
+  }
+};
+
+struct EncodeStats {
+  RepairReport repair;
+  std::size_t input_faces = 0;
+  std::size_t base_faces = 0;
+  std::size_t base_vertices = 0;
+  std::size_t collapses = 0;
+};
+
+// Errors: kEmptyMesh (no vertices), kParseError when an index is out of range,
+// kResourceLimit above 2^31 vertices or faces.
+Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
+              EncodeStats* stats = nullptr);
+
+}  // namespace pm

@@ -1,0 +1,76 @@
+// The progressive mesh: a base mesh and the vertex splits that refine it back to the
+// input (Hoppe 1996, "Progressive Meshes", §3). One record type serves the simplifier
+// that emits it, the .pm codec that stores it and the decoder that replays it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pm {
+
+inline constexpr uint32_t kNoVertex = 0xFFFFFFFFu;
+
+// Vertex split i: the inverse of the half-edge collapse v -> u that removed vertex v.
+// v is not stored: it is vertex base_vertex_count + i, at positions[3 * v].
+//
+//            vl                            vl
+//           /  \                          /|\   .
+//          / fl \        collapse        / | \  .
+//   ... --v------u-- ...   ------>   ... --u-- ...    v's other faces now use u
+//          \ fr /     <------            \ | /  .
+//           \  /     split (this)         \|/   .
+//            vr                            vr
+//
+// The split re-creates v, turns the moved faces' corner u back into v, and appends
+// the new faces fl = (v, u, vl) when vl exists, then fr = (u, v, vr) when vr exists
+// (counter-clockwise). vl or vr is kNoVertex when v-u is a boundary edge on that side.
+struct VertexSplit {
+  uint32_t u = 0;
+  uint32_t vl = kNoVertex;
+  uint32_t vr = kNoVertex;
+  // Error bound of the mesh before this split is applied (Schroeder 1997's accumulated
+  // error, in model units). Non-increasing along the splits.
+  float error = 0.0f;
+  // The faces that go from u to v: ProgressiveMesh::moved_faces[moved_begin ...
+  // moved_begin + moved_count), as face ids of the mesh before the split.
+  uint32_t moved_begin = 0;
+  uint32_t moved_count = 0;
+
+  uint32_t new_face_count() const { return (vl != kNoVertex) + (vr != kNoVertex); }
+};
+
+// A welded vertex: the input had one vertex where the manifold mesh needs two (a
+// pinched vertex, a complex edge). The copy is output as the canonical vertex.
+struct Weld {
+  uint32_t copy = 0;
+  uint32_t canonical = 0;
+};
+
+// Vertex ids: [0, base_vertex_count) base vertices; then one per split in order; then
+// loose_vertex_count vertices that no face of the input used, output at full detail only.
+// Face ids: base faces first, then the faces each split appends, in order.
+struct ProgressiveMesh {
+  uint32_t base_vertex_count = 0;
+  uint32_t loose_vertex_count = 0;
+  std::vector<float> positions;         // x, y, z per vertex id
+  std::vector<uint32_t> base_faces;     // 3 per base face
+  std::vector<VertexSplit> splits;      // refinement order: coarse to fine
+  std::vector<uint32_t> moved_faces;    // the splits' moved face ids, back to back
+  std::vector<Weld> welds;              // copies are never removed (complex vertices)
+  // Input faces with a repeated vertex index ((a, a, b)): no half-edge mesh can hold
+  // them, so they are carried as-is. Their vertices are never removed; they are output
+  // at every level.
+  std::vector<uint32_t> carried_faces;  // 3 per face
+
+  std::size_t vertex_count() const { return positions.size() / 3; }  // all levels, all kinds
+  std::size_t base_face_count() const { return base_faces.size() / 3; }
+  std::size_t split_count() const { return splits.size(); }
+};
+
+// Validates every invariant a decoder relies on (ids in range, faces that hold u,
+// non-increasing errors, ...). Returns false and a message on the first violation.
+bool validate(const ProgressiveMesh& pm, std::string* message);
+
+}  // namespace pm

@@ -1,0 +1,48 @@
+#include "collapse_legality.h"
+
+#include <algorithm>
+
+#include "geometry.h"
+
+namespace pm {
+
+bool collapse_keeps_topology(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) {
+  if (!mesh.is_collapse_ok(h)) return false;
+  // A closed tetrahedron passes the link condition, but collapsing any of its edges leaves
+  // two triangles on the same three vertices: not a simplicial surface any more.
+  const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
+  return !(mesh.valence(v) == 3 && mesh.valence(u) == 3 && !mesh.is_boundary(v) &&
+           !mesh.is_boundary(u));
+}
+
+bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
+                             double cos_max_flip) {
+  // Relative threshold for a degenerate face: |a x b| below this times the squared
+  // longest edge means the triangle is thinner than float32 can represent faithfully.
+  constexpr double kDegenerate = 1e-10;
+  const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
+  const HalfEdgeMesh::FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
+  const Vec3 pu = point_of(mesh, u);
+  for (auto f : mesh.vf_range(v)) {
+    if (f == fl || f == fr) continue;
+    Vec3 before[3], after[3];
+    int k = 0;
+    for (auto w : mesh.fv_range(f)) {
+      before[k] = point_of(mesh, w);
+      after[k] = (w == v) ? pu : before[k];
+      ++k;
+    }
+    const Vec3 n0 = area_vector(before[0], before[1], before[2]);
+    const Vec3 n1 = area_vector(after[0], after[1], after[2]);
+    const double longest = std::max({(after[1] - after[0]).sqrnorm(),
+                                     (after[2] - after[1]).sqrnorm(),
+                                     (after[0] - after[2]).sqrnorm()});
+    const double len1 = n1.norm();
+    if (len1 <= kDegenerate * longest) return false;
+    const double len0 = n0.norm();
+    if (len0 > 0 && (n0 | n1) < cos_max_flip * len0 * len1) return false;
+  }
+  return true;
+}
+
+}  // namespace pm

@@ -1,0 +1,227 @@
+// validate(): every invariant that extract_level() and the .pm reader rely on, checked in
+// one pass over the record (O(positions + faces + splits + moved faces + welds)). It is run
+// on every decoded file, so a hostile stream is rejected here rather than crashing a
+// decoder that trusts vertex and face ids.
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pm/progressive_mesh.h"
+
+namespace pm {
+namespace {
+
+bool fail(std::string* message, std::string text) {
+  if (message) *message = std::move(text);
+  return false;
+}
+
+std::string face_text(const uint32_t* face) {
+  return "(" + std::to_string(face[0]) + ", " + std::to_string(face[1]) + ", " +
+         std::to_string(face[2]) + ")";
+}
+
+bool has_repeated_index(const uint32_t* face) {
+  return face[0] == face[1] || face[1] == face[2] || face[0] == face[2];
+}
+
+bool check_counts(const ProgressiveMesh& pm, std::string* message) {
+  if (pm.positions.size() % 3 != 0) {
+    return fail(message, "positions has " + std::to_string(pm.positions.size()) +
+                             " floats, not a multiple of 3");
+  }
+  // 64-bit sums: the counts are 32-bit and their sum must not wrap.
+  const uint64_t expected_vertices = uint64_t{pm.base_vertex_count} + pm.splits.size() +
+                                     pm.loose_vertex_count;
+  if (pm.positions.size() / 3 != expected_vertices) {
+    return fail(message, "positions has " + std::to_string(pm.positions.size() / 3) +
+                             " vertices, expected " + std::to_string(expected_vertices) +
+                             " (base " + std::to_string(pm.base_vertex_count) + " + splits " +
+                             std::to_string(pm.splits.size()) + " + loose " +
+                             std::to_string(pm.loose_vertex_count) + ")");
+  }
+  // Vertex ids are uint32 and kNoVertex must stay free.
+  if (expected_vertices >= kNoVertex) {
+    return fail(message, std::to_string(expected_vertices) + " vertices exceed 32-bit ids");
+  }
+  if (pm.base_faces.size() % 3 != 0) {
+    return fail(message, "base_faces has " + std::to_string(pm.base_faces.size()) +
+                             " indices, not a multiple of 3");
+  }
+  if (pm.carried_faces.size() % 3 != 0) {
+    return fail(message, "carried_faces has " + std::to_string(pm.carried_faces.size()) +
+                             " indices, not a multiple of 3");
+  }
+  return true;
+}
+
+bool check_base_faces(const ProgressiveMesh& pm, std::string* message) {
+  for (std::size_t f = 0; f < pm.base_face_count(); ++f) {
+    const uint32_t* face = &pm.base_faces[3 * f];
+    for (int corner = 0; corner < 3; ++corner) {
+      if (face[corner] >= pm.base_vertex_count) {
+        return fail(message, "base face " + std::to_string(f) + " uses vertex " +
+                                 std::to_string(face[corner]) + " of " +
+                                 std::to_string(pm.base_vertex_count));
+      }
+    }
+    if (has_repeated_index(face)) {
+      return fail(message,
+                  "base face " + std::to_string(f) + " " + face_text(face) + " repeats a vertex");
+    }
+  }
+  return true;
+}
+
+// The split's own fields, before its faces are looked at.
+bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vertex_count,
+                          std::string* message) {
+  const std::string where = "split " + std::to_string(i);
+  if (split.u >= vertex_count) {
+    return fail(message, where + " has u " + std::to_string(split.u) + " of " +
+                             std::to_string(vertex_count) + " vertices");
+  }
+  if (split.vl != kNoVertex && split.vl >= vertex_count) {
+    return fail(message, where + " has vl " + std::to_string(split.vl) + " of " +
+                             std::to_string(vertex_count) + " vertices");
+  }
+  if (split.vr != kNoVertex && split.vr >= vertex_count) {
+    return fail(message, where + " has vr " + std::to_string(split.vr) + " of " +
+                             std::to_string(vertex_count) + " vertices");
+  }
+  if (split.vl == kNoVertex && split.vr == kNoVertex) {
+    return fail(message, where + " has neither vl nor vr");
+  }
+  // These also guarantee that the new faces (v, u, vl) and (u, v, vr) repeat no index:
+  // v is new, so it differs from u, vl and vr.
+  if (split.u == split.vl || split.u == split.vr) {
+    return fail(message, where + " has u " + std::to_string(split.u) + " equal to " +
+                             (split.u == split.vl ? "vl" : "vr"));
+  }
+  if (split.vl == split.vr) {
+    return fail(message, where + " has vl equal to vr (" + std::to_string(split.vl) + ")");
+  }
+  if (!std::isfinite(split.error) || split.error < 0.0f) {
+    return fail(message, where + " has error " + std::to_string(split.error) +
+                             ", not a finite value >= 0");
+  }
+  return true;
+}
+
+// Replays the splits on a face array: each moved face must exist and hold u exactly once,
+// exactly as extract_level() will find it.
+bool check_splits(const ProgressiveMesh& pm, std::string* message) {
+  std::size_t total_new_faces = 0;
+  for (const VertexSplit& split : pm.splits) total_new_faces += split.new_face_count();
+  std::vector<uint32_t> faces;
+  faces.reserve(pm.base_faces.size() + 3 * total_new_faces);
+  faces.assign(pm.base_faces.begin(), pm.base_faces.end());
+  // last_split_moving[f] == i marks face f as already moved by split i (duplicate check
+  // without clearing a set per split).
+  std::vector<uint32_t> last_split_moving(pm.base_face_count() + total_new_faces, UINT32_MAX);
+
+  uint64_t next_moved = 0;  // where the next split's moved range must begin
+  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
+    const VertexSplit& split = pm.splits[i];
+    const std::string where = "split " + std::to_string(i);
+    const uint32_t v = static_cast<uint32_t>(pm.base_vertex_count + i);
+    if (!check_split_vertices(split, i, v, message)) return false;
+    if (i > 0 && split.error > pm.splits[i - 1].error) {
+      return fail(message, where + " has error " + std::to_string(split.error) +
+                               " above the previous split's " +
+                               std::to_string(pm.splits[i - 1].error));
+    }
+    if (split.moved_begin != next_moved) {
+      return fail(message, where + " moved faces begin at " + std::to_string(split.moved_begin) +
+                               ", expected " + std::to_string(next_moved));
+    }
+    const uint64_t moved_end = uint64_t{split.moved_begin} + split.moved_count;
+    if (moved_end > pm.moved_faces.size()) {
+      return fail(message, where + " moved faces end at " + std::to_string(moved_end) + " of " +
+                               std::to_string(pm.moved_faces.size()));
+    }
+    next_moved = moved_end;
+
+    const std::size_t face_count = faces.size() / 3;
+    for (uint64_t k = split.moved_begin; k < moved_end; ++k) {
+      const uint32_t f = pm.moved_faces[k];
+      if (f >= face_count) {
+        return fail(message, where + " moves face " + std::to_string(f) + " of " +
+                                 std::to_string(face_count));
+      }
+      if (last_split_moving[f] == i) {
+        return fail(message, where + " moves face " + std::to_string(f) + " twice");
+      }
+      last_split_moving[f] = static_cast<uint32_t>(i);
+      uint32_t* face = &faces[3 * std::size_t{f}];
+      const int u_corners = (face[0] == split.u) + (face[1] == split.u) + (face[2] == split.u);
+      if (u_corners != 1) {
+        return fail(message, where + " moves face " + std::to_string(f) + " " + face_text(face) +
+                                 ", which does not hold u " + std::to_string(split.u) +
+                                 " exactly once");
+      }
+      for (int corner = 0; corner < 3; ++corner) {
+        if (face[corner] == split.u) face[corner] = v;
+      }
+    }
+    if (split.vl != kNoVertex) faces.insert(faces.end(), {v, split.u, split.vl});
+    if (split.vr != kNoVertex) faces.insert(faces.end(), {split.u, v, split.vr});
+  }
+  if (next_moved != pm.moved_faces.size()) {
+    return fail(message, "the splits move " + std::to_string(next_moved) + " faces but moved_faces has " +
+                             std::to_string(pm.moved_faces.size()));
+  }
+  return true;
+}
+
+bool check_welds(const ProgressiveMesh& pm, std::string* message) {
+  // Bounded by base_vertex_count, which check_counts() tied to positions.size().
+  std::vector<bool> is_copy(pm.base_vertex_count, false);
+  for (std::size_t w = 0; w < pm.welds.size(); ++w) {
+    const Weld& weld = pm.welds[w];
+    const std::string where = "weld " + std::to_string(w);
+    if (weld.copy >= pm.base_vertex_count || weld.canonical >= pm.base_vertex_count) {
+      return fail(message, where + " (" + std::to_string(weld.copy) + " -> " +
+                               std::to_string(weld.canonical) + ") uses a vertex outside the " +
+                               std::to_string(pm.base_vertex_count) + " base vertices");
+    }
+    if (weld.copy == weld.canonical) {
+      return fail(message, where + " welds vertex " + std::to_string(weld.copy) + " to itself");
+    }
+    if (is_copy[weld.copy]) {
+      return fail(message, where + " welds vertex " + std::to_string(weld.copy) + " a second time");
+    }
+    is_copy[weld.copy] = true;
+  }
+  // A second pass: the canonical may be named as a copy by a later weld.
+  for (std::size_t w = 0; w < pm.welds.size(); ++w) {
+    if (is_copy[pm.welds[w].canonical]) {
+      return fail(message, "weld " + std::to_string(w) + " has canonical vertex " +
+                               std::to_string(pm.welds[w].canonical) + ", itself a copy");
+    }
+  }
+  return true;
+}
+
+bool check_carried_faces(const ProgressiveMesh& pm, std::string* message) {
+  for (std::size_t i = 0; i < pm.carried_faces.size(); ++i) {
+    if (pm.carried_faces[i] >= pm.base_vertex_count) {
+      return fail(message, "carried face " + std::to_string(i / 3) + " uses vertex " +
+                               std::to_string(pm.carried_faces[i]) + " of " +
+                               std::to_string(pm.base_vertex_count) + " base vertices");
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool validate(const ProgressiveMesh& pm, std::string* message) {
+  return check_counts(pm, message) && check_base_faces(pm, message) &&
+         check_splits(pm, message) && check_welds(pm, message) &&
+         check_carried_faces(pm, message);
+}
+
+}  // namespace pm

@@ -1,0 +1,299 @@
+// The encoder: manifold repair, then Schroeder's decimation as a priority-ordered
+// sequence of half-edge collapses (Schroeder, Zarge and Lorensen 1992; Schroeder 1997,
+// "A topology modifying progressive decimation algorithm", with topology kept), recorded
+// as the vertex splits of a progressive mesh (Hoppe 1996, "Progressive meshes", §3).
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <string>
+
+#include "collapse_legality.h"
+#include "manifold_repair.h"
+#include "pm/encoder.h"
+#include "schroeder_error.h"
+#include "vertex_classification.h"
+
+namespace pm {
+namespace {
+
+using VertexHandle = HalfEdgeMesh::VertexHandle;
+using HalfedgeHandle = HalfEdgeMesh::HalfedgeHandle;
+using FaceHandle = HalfEdgeMesh::FaceHandle;
+
+// One half-edge collapse v -> u as it happened, in half-edge-mesh ids.
+struct Collapse {
+  uint32_t v, u;
+  uint32_t vl, vr;  // kNoVertex on a boundary side
+  int fl, fr;       // removed faces, -1 when absent
+  uint32_t moved_begin, moved_count;
+  float bound;  // error bound of the mesh after this collapse
+};
+
+// Corners are removed after every other kind (they carry the shape's extremities);
+// within a tier, the smallest error goes first.
+struct Candidate {
+  uint8_t tier;
+  float priority;
+  uint32_t vertex;
+  uint32_t halfedge;
+  uint32_t version;
+  bool operator>(const Candidate& o) const {
+    return tier != o.tier ? tier > o.tier : priority > o.priority;
+  }
+};
+
+class SchroederSimplifier {
+ public:
+  SchroederSimplifier(ManifoldMesh& input, const EncodeOptions& options)
+      : mesh_(input.mesh),
+        pinned_(input.pinned),
+        options_(options),
+        cos_feature_angle_(std::cos(options.feature_angle_deg * M_PI / 180.0)),
+        cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)) {}
+
+  void run() {
+    const std::size_t n_vertices = mesh_.n_vertices(), n_faces = mesh_.n_faces();
+    faces_.normal.resize(n_faces);
+    faces_.area.resize(n_faces);
+    for (auto f : mesh_.faces()) faces_.update(mesh_, f);
+    accumulated_.assign(n_vertices, 0.0);
+    version_.assign(n_vertices, 0);
+    faces_alive_ = n_faces;
+    vertices_alive_ = n_vertices;
+
+    // Collapses change the neighbourhood of the vertices around them only; legality
+    // further out is re-checked when a candidate is popped. A final sweep re-evaluates
+    // every vertex, so the loop ends only when no legal collapse remains.
+    for (;;) {
+      for (auto v : mesh_.vertices()) evaluate(v);
+      const std::size_t before = collapses.size();
+      while (!queue_.empty() && !stopped_) {
+        const Candidate top = queue_.top();
+        queue_.pop();
+        if (top.version != version_[top.vertex]) continue;
+        apply(top);
+      }
+      if (stopped_ || collapses.size() == before) break;
+    }
+  }
+
+  std::vector<Collapse> collapses;
+  std::vector<uint32_t> moved_faces;  // half-edge-mesh face ids
+
+ private:
+  bool legal(HalfedgeHandle h) {
+    return collapse_keeps_topology(mesh_, h) && collapse_keeps_geometry(mesh_, h, cos_max_flip_);
+  }
+
+  // Finds how v would be removed now and queues it; a stale entry is dropped by version.
+  void evaluate(VertexHandle v) {
+    ++version_[v.idx()];
+    if (mesh_.status(v).deleted()) return;
+    const VertexClass vertex_class =
+        classify_vertex(mesh_, faces_, v, cos_feature_angle_, pinned_[v.idx()]);
+    CollapseEdges edges = kCollapseEdges[static_cast<int>(vertex_class.kind)];
+    if (vertex_class.kind == VertexKind::kCorner && options_.keep_corners)
+      edges = CollapseEdges::kNone;
+    if (edges == CollapseEdges::kNone) return;
+
+    struct Option {
+      bool special;
+      double length;
+      HalfedgeHandle h;
+    };
+    Option options[64];
+    int count = 0;
+    for (auto h : mesh_.voh_range(v)) {
+      if (count == 64) return;  // a vertex of valence > 64 stays: it is never cheap
+      const bool special = is_special_edge(mesh_, faces_, mesh_.edge_handle(h), cos_feature_angle_);
+      if (edges == CollapseEdges::kSpecialOnly && !special) continue;
+      options[count++] = {special, mesh_.calc_edge_sqr_length(h), h};
+    }
+    // Shortest legal edge first (Schroeder 1997, §3.2); corners try their special edges
+    // first and take the one of least true error.
+    std::sort(options, options + count, [](const Option& a, const Option& b) {
+      return a.special != b.special ? a.special : a.length < b.length;
+    });
+    HalfedgeHandle chosen;
+    double error = 0;
+    if (vertex_class.kind == VertexKind::kCorner) {
+      double best = HUGE_VAL;
+      for (int i = 0; i < count; ++i) {
+        if (chosen.is_valid() && options[i].special != options[0].special) break;
+        if (!legal(options[i].h)) continue;
+        const double e = collapse_distance(mesh_, options[i].h);
+        if (e < best) best = e, chosen = options[i].h;
+      }
+      error = best;
+    } else {
+      for (int i = 0; i < count && !chosen.is_valid(); ++i)
+        if (legal(options[i].h)) chosen = options[i].h;
+      if (chosen.is_valid()) error = vertex_removal_error(mesh_, faces_, vertex_class, chosen);
+    }
+    if (!chosen.is_valid()) return;
+    const uint8_t tier = vertex_class.kind == VertexKind::kCorner ? 1 : 0;
+    queue_.push({tier, static_cast<float>(accumulated_[v.idx()] + error),
+                 static_cast<uint32_t>(v.idx()), static_cast<uint32_t>(chosen.idx()),
+                 version_[v.idx()]});
+  }
+
+  void apply(const Candidate& candidate) {
+    const HalfedgeHandle h = mesh_.halfedge_handle(candidate.halfedge);
+    const VertexHandle v = mesh_.from_vertex_handle(h), u = mesh_.to_vertex_handle(h);
+    // Something two rings away may have made the collapse illegal since it was queued.
+    if (mesh_.status(h).deleted() || !legal(h)) {
+      evaluate(v);
+      return;
+    }
+    const FaceHandle fl = mesh_.face_handle(h), fr = mesh_.opposite_face_handle(h);
+    const std::size_t removed_faces = fl.is_valid() + fr.is_valid();
+    if (faces_alive_ < options_.min_faces + removed_faces ||
+        vertices_alive_ <= std::max<std::size_t>(options_.min_vertices, 1)) {
+      stopped_ = true;
+      return;
+    }
+
+    Collapse c;
+    c.v = v.idx();
+    c.u = u.idx();
+    c.fl = fl.idx();
+    c.fr = fr.idx();
+    c.vl = fl.is_valid() ? mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h)).idx() : kNoVertex;
+    c.vr = fr.is_valid()
+               ? mesh_.to_vertex_handle(mesh_.next_halfedge_handle(mesh_.opposite_halfedge_handle(h))).idx()
+               : kNoVertex;
+    c.moved_begin = static_cast<uint32_t>(moved_faces.size());
+    for (auto f : mesh_.vf_range(v))
+      if (f != fl && f != fr) moved_faces.push_back(f.idx());
+    c.moved_count = static_cast<uint32_t>(moved_faces.size()) - c.moved_begin;
+    // Schroeder 1997, §3.3: the error of a removed vertex accumulates in the vertices
+    // around it. We carry the maximum, which is what the triangle inequality bounds.
+    const double removed_error = candidate.priority;
+    bound_ = std::max(bound_, removed_error);
+    c.bound = static_cast<float>(bound_);
+    collapses.push_back(c);
+
+    ring_.clear();
+    for (auto w : mesh_.vv_range(v)) ring_.push_back(w);
+    mesh_.collapse(h);
+    faces_alive_ -= removed_faces;
+    --vertices_alive_;
+    for (uint32_t i = c.moved_begin; i < moved_faces.size(); ++i)
+      faces_.update(mesh_, mesh_.face_handle(moved_faces[i]));
+    for (auto w : ring_) accumulated_[w.idx()] = std::max(accumulated_[w.idx()], removed_error);
+    ++version_[v.idx()];
+
+    evaluate(u);
+    for (auto w : mesh_.vv_range(u)) evaluate(w);
+    report_progress();
+  }
+
+  void report_progress() {
+    if (!options_.progress || collapses.size() % 4096 != 0) return;
+    options_.progress(std::min(1.0, double(collapses.size()) / double(mesh_.n_vertices())));
+  }
+
+  HalfEdgeMesh& mesh_;
+  const std::vector<uint8_t>& pinned_;
+  const EncodeOptions& options_;
+  const double cos_feature_angle_, cos_max_flip_;
+  FaceGeometry faces_;
+  std::vector<double> accumulated_;
+  std::vector<uint32_t> version_;
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+  std::vector<VertexHandle> ring_;
+  std::size_t faces_alive_ = 0, vertices_alive_ = 0;
+  double bound_ = 0;
+  bool stopped_ = false;
+};
+
+// Numbers vertices and faces as the decoder will create them (base first, then one
+// vertex and one or two faces per split, coarse to fine) and turns the collapses,
+// last first, into vertex splits.
+void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSimplifier& run,
+              ProgressiveMesh& out) {
+  const HalfEdgeMesh& mesh = repaired.mesh;
+  std::vector<uint32_t> vertex_id(mesh.n_vertices(), kNoVertex);
+  std::vector<uint32_t> face_id(mesh.n_faces(), kNoVertex);
+  out = ProgressiveMesh{};
+  out.positions.reserve(3 * (mesh.n_vertices() + repaired.loose_vertices.size()));
+  auto add_position = [&](VertexHandle v) {
+    const auto& p = mesh.point(v);
+    out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
+  };
+
+  uint32_t next_vertex = 0, next_face = 0;
+  for (auto v : mesh.vertices()) {  // skips deleted vertices
+    vertex_id[v.idx()] = next_vertex++;
+    add_position(v);
+  }
+  out.base_vertex_count = next_vertex;
+  for (auto f : mesh.faces()) {
+    face_id[f.idx()] = next_face++;
+    for (auto w : mesh.fv_range(f)) out.base_faces.push_back(vertex_id[w.idx()]);
+  }
+
+  const auto& collapses = run.collapses;
+  out.splits.reserve(collapses.size());
+  out.moved_faces.reserve(run.moved_faces.size());
+  for (auto c = collapses.rbegin(); c != collapses.rend(); ++c) {
+    vertex_id[c->v] = next_vertex++;
+    add_position(mesh.vertex_handle(c->v));
+    VertexSplit split;
+    split.u = vertex_id[c->u];
+    split.vl = c->vl == kNoVertex ? kNoVertex : vertex_id[c->vl];
+    split.vr = c->vr == kNoVertex ? kNoVertex : vertex_id[c->vr];
+    split.error = c->bound;
+    split.moved_begin = static_cast<uint32_t>(out.moved_faces.size());
+    split.moved_count = c->moved_count;
+    for (uint32_t i = 0; i < c->moved_count; ++i)
+      out.moved_faces.push_back(face_id[run.moved_faces[c->moved_begin + i]]);
+    if (c->fl >= 0) face_id[c->fl] = next_face++;
+    if (c->fr >= 0) face_id[c->fr] = next_face++;
+    out.splits.push_back(split);
+  }
+
+  for (uint32_t v = 0; v < mesh.n_vertices(); ++v)
+    if (repaired.canonical[v] != v)
+      out.welds.push_back({vertex_id[v], vertex_id[repaired.canonical[v]]});
+  for (uint32_t v : repaired.carried_faces) out.carried_faces.push_back(vertex_id[v]);
+  for (uint32_t v : repaired.loose_vertices)
+    out.positions.insert(out.positions.end(), input.positions.begin() + 3 * v,
+                         input.positions.begin() + 3 * v + 3);
+  out.loose_vertex_count = static_cast<uint32_t>(repaired.loose_vertices.size());
+}
+
+}  // namespace
+
+Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
+              EncodeStats* stats) {
+  if (!(options.feature_angle_deg >= 0 && options.feature_angle_deg <= 180))
+    return Status(ErrorCode::kInvalidArgument, "feature angle must be within [0, 180] degrees");
+  if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
+    return Status(ErrorCode::kInvalidArgument, "normal flip limit must be within [0, 180] degrees");
+
+  // Stage 1: a manifold half-edge mesh, so that collapses can keep topology exactly.
+  ManifoldMesh repaired;
+  if (Status s = build_manifold_mesh(input, repaired); !s) return s;
+
+  // Stage 2: the collapse sequence.
+  SchroederSimplifier simplifier(repaired, options);
+  simplifier.run();
+
+  // Stage 3: the progressive mesh, checked as a decoder would check it.
+  assemble(input, repaired, simplifier, out);
+  std::string problem;
+  if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
+
+  if (stats) {
+    stats->repair = repaired.report;
+    stats->input_faces = input.face_count();
+    stats->base_faces = out.base_face_count();
+    stats->base_vertices = out.base_vertex_count;
+    stats->collapses = out.splits.size();
+  }
+  if (options.progress) options.progress(1.0);
+  return Status::ok();
+}
+
+}  // namespace pm

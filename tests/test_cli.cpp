@@ -1,0 +1,235 @@
+// pmenc and pmdec end to end, as a user runs them: files in, files out, exit codes, and
+// nothing left behind on failure.
+#include <gtest/gtest.h>
+
+#include <dirent.h>
+
+#include "pm/mesh_io.h"
+#include "test_meshes.h"
+#include "test_util.h"
+
+namespace pm {
+namespace {
+
+using test::CommandResult;
+using test::run_command;
+using test::TempDir;
+
+CommandResult pmenc(std::vector<std::string> args) {
+  args.insert(args.begin(), PMENC_PATH);
+  return run_command(args);
+}
+CommandResult pmdec(std::vector<std::string> args) {
+  args.insert(args.begin(), PMDEC_PATH);
+  return run_command(args);
+}
+
+Mesh read_or_fail(const std::string& path) {
+  Mesh mesh;
+  Status s = read_mesh(path, mesh);
+  EXPECT_TRUE(s.is_ok()) << path << ": " << s.message();
+  return mesh;
+}
+
+// The directory holds exactly these names (no temporary or partial file).
+std::vector<std::string> listing(const std::string& dir) {
+  std::vector<std::string> names;
+  if (DIR* d = opendir(dir.c_str())) {
+    while (dirent* entry = readdir(d))
+      if (entry->d_name[0] != '.') names.push_back(entry->d_name);
+    closedir(d);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// stderr is one line: "tool: FILE: message".
+void expect_one_line_error(const CommandResult& r, const std::string& tool, const std::string& file) {
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(r.err.rfind(tool + ": " + file + ": ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+class EndToEnd : public ::testing::TestWithParam<test::TestMesh> {};
+
+TEST_P(EndToEnd, FullDetailRoundTripIsExact) {
+  PM_SKIP_IF_MISSING(GetParam());
+  TempDir dir;
+  const CommandResult enc = pmenc({GetParam().path, "-o", dir.file("x.pm"), "-q"});
+  ASSERT_EQ(enc.exit_code, 0) << enc.err;
+  EXPECT_EQ(enc.err, "");
+  const CommandResult dec = pmdec({dir.file("x.pm"), "-o", dir.file("full.obj"), "-q"});
+  ASSERT_EQ(dec.exit_code, 0) << dec.err;
+  const Mesh input = read_or_fail(GetParam().path);
+  const Mesh full = read_or_fail(dir.file("full.obj"));
+  EXPECT_TRUE(test::same_faces(input, full));
+  EXPECT_EQ(full.vertex_count(), input.vertex_count());
+}
+
+TEST_P(EndToEnd, FacesAndRatioRequestsAreHonoured) {
+  PM_SKIP_IF_MISSING(GetParam());
+  TempDir dir;
+  ASSERT_EQ(pmenc({GetParam().path, "-o", dir.file("x.pm"), "-q"}).exit_code, 0);
+  const Mesh input = read_or_fail(GetParam().path);
+  const std::size_t full = input.face_count();
+  for (std::size_t n : {full / 2, full / 10 + 1, full / 5}) {
+    const CommandResult r = pmdec({dir.file("x.pm"), "--faces", std::to_string(n), "-o", dir.file("l.obj"), "-q"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::size_t got = read_or_fail(dir.file("l.obj")).face_count();
+    EXPECT_TRUE(got == n || got == n + 1) << "asked " << n << ", got " << got;
+  }
+  const CommandResult r = pmdec({dir.file("x.pm"), "--ratio", "0.1", "-o", dir.file("r.ply"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t want = static_cast<std::size_t>(std::llround(0.1 * full));
+  const std::size_t got = read_or_fail(dir.file("r.ply")).face_count();
+  EXPECT_TRUE(got == want || got == want + 1) << "want " << want << ", got " << got;
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, EndToEnd, ::testing::ValuesIn(test::all_test_meshes()),
+                         test::test_mesh_name);
+
+TEST(Cli, EveryOutputFormatDecodesTheSameFaces) {
+  TempDir dir;
+  const std::string input = test::sample_mesh_path("terrain_holes.obj");
+  ASSERT_EQ(pmenc({input, "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
+  const Mesh original = read_or_fail(input);
+  for (const char* ext : {"obj", "ply", "off", "stl"}) {
+    const std::string out = dir.file(std::string("t.") + ext);
+    ASSERT_EQ(pmdec({dir.file("t.pm"), "-o", out, "-q"}).exit_code, 0) << ext;
+    const Mesh back = read_or_fail(out);
+    EXPECT_TRUE(test::same_faces(original, back)) << ext;
+  }
+}
+
+TEST(Cli, DashWritesObjToStandardOutput) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  const CommandResult r = pmdec({dir.file("s.pm"), "--faces", "100", "-o", "-", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Mesh mesh;
+  ASSERT_TRUE(read_mesh_from_memory(r.out, MeshFormat::kObj, mesh).is_ok());
+  EXPECT_TRUE(mesh.face_count() == 100 || mesh.face_count() == 101);
+}
+
+TEST(Cli, ErrorBoundSelectsALevel) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  const CommandResult coarse = pmdec({dir.file("s.pm"), "--error", "5%", "-o", dir.file("c.obj")});
+  ASSERT_EQ(coarse.exit_code, 0) << coarse.err;
+  const CommandResult fine = pmdec({dir.file("s.pm"), "--error", "0.01%", "-o", dir.file("f.obj")});
+  ASSERT_EQ(fine.exit_code, 0) << fine.err;
+  EXPECT_LT(read_or_fail(dir.file("c.obj")).face_count(), read_or_fail(dir.file("f.obj")).face_count());
+  EXPECT_EQ(pmdec({dir.file("s.pm"), "--error", "abc", "-o", dir.file("e.obj")}).exit_code, 2);
+  EXPECT_FALSE(test::file_exists(dir.file("e.obj")));
+}
+
+TEST(Cli, InfoPrintsHeaderCountsAndErrorRange) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  const CommandResult r = pmdec({dir.file("s.pm"), "--info"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* field : {"format version:", "base mesh:", "vertex splits:", "full detail:", "error range:"})
+    EXPECT_NE(r.out.find(field), std::string::npos) << field << " missing from\n" << r.out;
+}
+
+TEST(Cli, HelpAndVersion) {
+  for (auto* tool : {PMENC_PATH, PMDEC_PATH}) {
+    const CommandResult help = run_command({tool, "--help"});
+    EXPECT_EQ(help.exit_code, 0);
+    EXPECT_NE(help.out.find("Exit codes"), std::string::npos);
+    const CommandResult version = run_command({tool, "--version"});
+    EXPECT_EQ(version.exit_code, 0);
+    EXPECT_NE(version.out.find("0."), std::string::npos) << version.out;
+    EXPECT_EQ(run_command({tool, "--no-such-option"}).exit_code, 2);
+  }
+}
+
+TEST(Cli, DefaultOutputNameIsTheInputsWithPm) {
+  TempDir dir;
+  test::write_file(dir.file("m.obj"), test::read_file(test::sample_mesh_path("sphere.obj")));
+  ASSERT_EQ(pmenc({dir.file("m.obj"), "-q"}).exit_code, 0);
+  EXPECT_TRUE(test::file_exists(dir.file("m.pm")));
+}
+
+// Bad input: a clear one-line error naming the file, a documented exit code, no output.
+struct BadInput {
+  std::string name, content;
+  int exit_code;
+};
+
+TEST(BadInput, MeshFilesGiveOneLineErrorsAndNoOutput) {
+  const std::vector<BadInput> cases = {
+      {"empty.obj", "", 4},
+      {"blob.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0\xff\xfe\x00\x13\x88", 15) + std::string(300, '\xee'), 4},
+      {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4},
+      {"zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4},
+      {"text.off", "this is not an off file\n", 4},
+      {"mesh.xyz", "v 0 0 0\n", 6},
+  };
+  for (const BadInput& c : cases) {
+    SCOPED_TRACE(c.name);
+    TempDir dir;
+    test::write_file(dir.file(c.name), c.content);
+    const CommandResult r = pmenc({dir.file(c.name), "-o", dir.file("out.pm")});
+    EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
+    expect_one_line_error(r, "pmenc", dir.file(c.name));
+    EXPECT_EQ(listing(dir.path()), std::vector<std::string>{c.name});
+  }
+}
+
+TEST(BadInput, MissingInputAndUnwritableOutput) {
+  TempDir dir;
+  CommandResult r = pmenc({dir.file("nope.obj"), "-o", dir.file("out.pm")});
+  EXPECT_EQ(r.exit_code, 3);
+  expect_one_line_error(r, "pmenc", dir.file("nope.obj"));
+  r = pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("no/such/dir/out.pm")});
+  EXPECT_EQ(r.exit_code, 5);
+  expect_one_line_error(r, "pmenc", dir.file("no/such/dir/out.pm"));
+  r = pmdec({dir.file("nope.pm"), "-o", dir.file("out.obj")});
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_TRUE(listing(dir.path()).empty());
+}
+
+TEST(BadInput, TruncatedPmAtManyOffsetsFailsCleanly) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("terrain_holes.obj"), "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
+  const std::string whole = test::read_file(dir.file("t.pm"));
+  ASSERT_GT(whole.size(), 100u);
+  // Every byte of the header region, then offsets spread over the rest (the codec's own
+  // tests cut in-process at every single byte).
+  std::vector<std::size_t> cuts;
+  for (std::size_t i = 0; i < 96; ++i) cuts.push_back(i);
+  for (std::size_t i = 96; i < whole.size(); i += std::max<std::size_t>(1, whole.size() / 60)) cuts.push_back(i);
+  cuts.push_back(whole.size() - 1);
+  for (std::size_t cut : cuts) {
+    SCOPED_TRACE("cut at " + std::to_string(cut));
+    test::write_file(dir.file("cut.pm"), whole.substr(0, cut));
+    const CommandResult r = pmdec({dir.file("cut.pm"), "-o", dir.file("out.obj")});
+    EXPECT_EQ(r.exit_code, 4) << r.err;
+    expect_one_line_error(r, "pmdec", dir.file("cut.pm"));
+    EXPECT_FALSE(test::file_exists(dir.file("out.obj")));
+  }
+}
+
+TEST(BadInput, UsageErrors) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  EXPECT_EQ(pmdec({dir.file("s.pm"), "--faces", "10", "--ratio", "0.5", "-o", dir.file("a.obj")}).exit_code, 2);
+  EXPECT_EQ(pmdec({dir.file("s.pm"), "--ratio", "1.5", "-o", dir.file("a.obj")}).exit_code, 2);
+  EXPECT_EQ(pmdec({dir.file("s.pm"), "-o", dir.file("a.xyz")}).exit_code, 6);
+  EXPECT_EQ(pmdec({dir.file("s.pm")}).exit_code, 2);
+  EXPECT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "--feature-angle", "-3"}).exit_code, 2);
+  EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"s.pm"});
+}
+
+TEST(Cli, ReportsRepairsOnStderr) {
+  TempDir dir;
+  const CommandResult r = pmenc({test::sample_mesh_path("nonmanifold.obj"), "-o", dir.file("n.pm")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("repaired"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("non-manifold edges cut"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("faces with a repeated vertex"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace pm

@@ -1,0 +1,200 @@
+// The encoder's acceptance on real meshes, in-process: lossless at full detail, topology
+// kept at every level, face counts honoured, features kept, a small base mesh.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+
+#include "manifold_repair.h"
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/mesh_io.h"
+#include "pm/pm_codec.h"
+#include "test_meshes.h"
+#include "test_util.h"
+#include "vertex_classification.h"
+
+namespace pm {
+namespace {
+
+using test::TestMesh;
+
+struct Encoded {
+  Mesh input;
+  ProgressiveMesh pm;
+};
+
+// Reads, encodes, and round-trips through the .pm codec, as pmenc | pmdec would.
+Encoded encode_file(const std::string& path, const EncodeOptions& options = {}) {
+  Encoded e;
+  Status s = read_mesh(path, e.input);
+  EXPECT_TRUE(s.is_ok()) << path << ": " << s.message();
+  ProgressiveMesh direct;
+  s = encode(e.input, options, direct);
+  EXPECT_TRUE(s.is_ok()) << path << ": " << s.message();
+  std::string bytes;
+  s = write_pm(direct, WriteOptions{}, bytes);
+  EXPECT_TRUE(s.is_ok()) << s.message();
+  s = read_pm(bytes, e.pm);
+  EXPECT_TRUE(s.is_ok()) << s.message();
+  return e;
+}
+
+class EveryMesh : public ::testing::TestWithParam<TestMesh> {};
+
+TEST_P(EveryMesh, FullDetailIsTheInputExactly) {
+  PM_SKIP_IF_MISSING(GetParam());
+  const Encoded e = encode_file(GetParam().path);
+  const Mesh full = extract_level(e.pm, e.pm.split_count());
+  EXPECT_TRUE(test::same_faces(e.input, full));
+  EXPECT_EQ(full.vertex_count(), e.input.vertex_count());
+  EXPECT_EQ(full.face_count(), e.input.face_count());
+  EXPECT_EQ(faces_at_level(e.pm, e.pm.split_count()), e.input.face_count());
+  EXPECT_EQ(vertices_at_level(e.pm, e.pm.split_count()), e.input.vertex_count());
+}
+
+TEST_P(EveryMesh, EveryLevelKeepsTheInputTopology) {
+  PM_SKIP_IF_MISSING(GetParam());
+  const Encoded e = encode_file(GetParam().path);
+  const test::TopologySummary in = test::summarize_topology(e.input);
+  const std::size_t n = e.pm.split_count();
+  ASSERT_GT(n, 0u);
+  constexpr int kLevels = 12;
+  for (int i = 0; i <= kLevels; ++i) {
+    const std::size_t level = n * i / kLevels;
+    const Mesh lod = extract_level(e.pm, level);
+    const test::TopologySummary out = test::summarize_topology(lod);
+    SCOPED_TRACE("level " + std::to_string(level) + " of " + std::to_string(n) + ": " +
+                 test::to_string(out) + " vs input " + test::to_string(in));
+    EXPECT_EQ(out.euler, in.euler);
+    EXPECT_EQ(out.boundary_loops, in.boundary_loops);
+    EXPECT_EQ(out.components, in.components);
+    EXPECT_EQ(out.edge_manifold, in.edge_manifold);
+    EXPECT_EQ(out.vertex_manifold, in.vertex_manifold);
+    EXPECT_EQ(out.non_manifold_edges, in.non_manifold_edges);
+    EXPECT_EQ(out.non_manifold_vertices, in.non_manifold_vertices);
+    // Collapses never make a degenerate face; the input's own stay.
+    EXPECT_LE(out.zero_area_faces, in.zero_area_faces);
+    EXPECT_EQ(lod.face_count(), faces_at_level(e.pm, level));
+    EXPECT_EQ(lod.vertex_count(), vertices_at_level(e.pm, level));
+  }
+}
+
+TEST_P(EveryMesh, FaceRequestsGiveNOrNPlusOne) {
+  PM_SKIP_IF_MISSING(GetParam());
+  const Encoded e = encode_file(GetParam().path);
+  const std::size_t base = faces_at_level(e.pm, 0);
+  const std::size_t full = faces_at_level(e.pm, e.pm.split_count());
+  // Every N on small meshes; a dense spread of N on large ones.
+  const std::size_t step = std::max<std::size_t>(1, (full - base) / 3000);
+  for (std::size_t n = base; n <= full; n += step) {
+    const std::size_t got = faces_at_level(e.pm, level_for_faces(e.pm, n));
+    ASSERT_TRUE(got == n || got == n + 1) << "requested " << n << " faces, got " << got;
+  }
+  EXPECT_EQ(faces_at_level(e.pm, level_for_faces(e.pm, full)), full);
+  EXPECT_EQ(level_for_faces(e.pm, full + 100), e.pm.split_count());
+  EXPECT_EQ(level_for_faces(e.pm, 0), 0u);
+}
+
+TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
+  PM_SKIP_IF_MISSING(GetParam());
+  const Encoded e = encode_file(GetParam().path);
+  for (std::size_t i = 1; i < e.pm.split_count(); ++i)
+    ASSERT_LE(e.pm.splits[i].error, e.pm.splits[i - 1].error) << "split " << i;
+  EXPECT_EQ(error_at_level(e.pm, e.pm.split_count()), 0.0f);
+  if (e.pm.split_count() == 0) return;
+  const float mid = e.pm.splits[e.pm.split_count() / 2].error;
+  const std::size_t level = level_for_error(e.pm, mid);
+  EXPECT_LE(error_at_level(e.pm, level), mid);
+  if (level > 0) EXPECT_GT(error_at_level(e.pm, level - 1), mid);
+  EXPECT_EQ(level_for_error(e.pm, 0.0), e.pm.split_count() - [&] {
+    std::size_t zero = 0;  // trailing splits of zero error (flat regions) are not needed
+    while (zero < e.pm.split_count() && e.pm.splits[e.pm.split_count() - 1 - zero].error == 0) ++zero;
+    return zero;
+  }());
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh, ::testing::ValuesIn(test::all_test_meshes()),
+                         test::test_mesh_name);
+
+TEST(BaseMesh, UnderOnePercentOfVerticesOnClosedOrganicMeshes) {
+  PM_SKIP_IF_NO_SHARED();
+  for (const char* name : {"armadillo.off", "homer.obj", "nefertiti.obj"}) {
+    const Encoded e = encode_file(test::shared_mesh_path(name));
+    EXPECT_LT(e.pm.base_vertex_count * 100, e.input.vertex_count())
+        << name << ": base " << e.pm.base_vertex_count << " of " << e.input.vertex_count();
+  }
+}
+
+TEST(BaseMesh, UnderTwoPercentOfVerticesOnTheBunny) {
+  PM_SKIP_IF_NO_SHARED();
+  const Encoded e = encode_file(test::shared_mesh_path("stanford-bunny.obj"));
+  EXPECT_LT(e.pm.base_vertex_count * 50, e.input.vertex_count())
+      << "base " << e.pm.base_vertex_count << " of " << e.input.vertex_count();
+}
+
+// The positions of the vertices Schroeder's classification calls corners, on the input.
+std::set<std::array<float, 3>> corner_positions(const Mesh& input, double feature_angle_deg) {
+  ManifoldMesh repaired;
+  EXPECT_TRUE(build_manifold_mesh(input, repaired).is_ok());
+  FaceGeometry faces;
+  faces.normal.resize(repaired.mesh.n_faces());
+  faces.area.resize(repaired.mesh.n_faces());
+  for (auto f : repaired.mesh.faces()) faces.update(repaired.mesh, f);
+  const double cos_angle = std::cos(feature_angle_deg * M_PI / 180.0);
+  std::set<std::array<float, 3>> corners;
+  for (auto v : repaired.mesh.vertices()) {
+    if (classify_vertex(repaired.mesh, faces, v, cos_angle, false).kind != VertexKind::kCorner)
+      continue;
+    const auto& p = repaired.mesh.point(v);
+    corners.insert({p[0], p[1], p[2]});
+  }
+  return corners;
+}
+
+TEST(Features, FandiskKeepsEveryCornerAtTenPercent) {
+  PM_SKIP_IF_NO_SHARED();
+  const Encoded e = encode_file(test::shared_mesh_path("fandisk.obj"));
+  const auto corners = corner_positions(e.input, EncodeOptions{}.feature_angle_deg);
+  ASSERT_GT(corners.size(), 10u) << "fandisk should have many corners";
+  const Mesh lod = extract_level(e.pm, level_for_faces(e.pm, e.input.face_count() / 10));
+  std::set<std::array<float, 3>> present;
+  for (std::size_t v = 0; v < lod.vertex_count(); ++v)
+    present.insert({lod.positions[3 * v], lod.positions[3 * v + 1], lod.positions[3 * v + 2]});
+  std::size_t missing = 0;
+  for (const auto& c : corners) missing += !present.count(c);
+  EXPECT_EQ(missing, 0u) << "of " << corners.size() << " corners, at " << lod.face_count()
+                         << " faces";
+}
+
+TEST(Features, KeepCornersNeverRemovesACorner) {
+  const std::string path = test::sample_mesh_path("block_features.obj");
+  EncodeOptions options;
+  options.keep_corners = true;
+  const Encoded e = encode_file(path, options);
+  const auto corners = corner_positions(e.input, options.feature_angle_deg);
+  ASSERT_FALSE(corners.empty());
+  const Mesh base = extract_level(e.pm, 0);
+  std::set<std::array<float, 3>> present;
+  for (std::size_t v = 0; v < base.vertex_count(); ++v)
+    present.insert({base.positions[3 * v], base.positions[3 * v + 1], base.positions[3 * v + 2]});
+  for (const auto& c : corners) EXPECT_TRUE(present.count(c));
+}
+
+TEST(Limits, MinFacesAndMinVerticesStopTheSimplification) {
+  Mesh input;
+  ASSERT_TRUE(read_mesh(test::sample_mesh_path("sphere.obj"), input).is_ok());
+  EncodeOptions options;
+  options.min_faces = input.face_count() / 4;
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(input, options, pm).is_ok());
+  EXPECT_GE(pm.base_face_count(), options.min_faces);
+  EXPECT_LE(pm.base_face_count(), options.min_faces + 2);
+  options = {};
+  options.min_vertices = 100;
+  ASSERT_TRUE(encode(input, options, pm).is_ok());
+  EXPECT_EQ(pm.base_vertex_count, 100u);
+}
+
+}  // namespace
+}  // namespace pm
