@@ -108,15 +108,15 @@ class ByteReader {
       uint8_t byte;
       if (!read_u8(byte)) return false;
       if (i == kMaxVarintBytes - 1 && byte > 0x0F) {
-        return fail(ErrorCode::kCorruptStream,
-                    where_ + ": varint at offset " + std::to_string(position_ - 5) +
-                        " exceeds 32 bits");
+        return fail(
+            ErrorCode::kCorruptStream,
+            where_ + ": varint at offset " + std::to_string(position_ - 5) + " exceeds 32 bits");
       }
       result |= uint32_t{byte & 0x7Fu} << (7 * i);
       if ((byte & 0x80) == 0) {
         if (byte == 0 && i > 0) {
-          return fail(ErrorCode::kCorruptStream, where_ + ": overlong varint at offset " +
-                                                     std::to_string(position_ - i - 1));
+          return fail(ErrorCode::kCorruptStream,
+                      where_ + ": overlong varint at offset " + std::to_string(position_ - i - 1));
         }
         value = result;
         return true;
@@ -146,8 +146,8 @@ class ByteReader {
   bool need(uint64_t count) {
     if (!status_.is_ok()) return false;  // sticky: no reads after an error
     if (count <= remaining()) return true;
-    const std::string sizes = "(need " + std::to_string(count) + " bytes, " +
-                              std::to_string(remaining()) + " left)";
+    const std::string sizes =
+        "(need " + std::to_string(count) + " bytes, " + std::to_string(remaining()) + " left)";
     return fail(end_code_, end_code_ == ErrorCode::kTruncatedStream
                                ? "truncated in " + where_ + " " + sizes
                                : where_ + ": data ends early " + sizes);

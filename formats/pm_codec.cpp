@@ -5,6 +5,8 @@
 // The reader trusts nothing: every count is checked against a hard cap and against the
 // bytes actually present before anything is allocated, every zstd frame must declare the
 // size its section header declares, and the decoded record goes through validate().
+#include "pm/pm_codec.h"
+
 #include <zstd.h>
 #include <zstd_errors.h>
 
@@ -20,7 +22,6 @@
 #include <vector>
 
 #include "byte_io.h"
-#include "pm/pm_codec.h"
 #include "pm_layout.h"
 
 namespace pm {
@@ -65,30 +66,35 @@ void append_header(const Header& header, std::string& out) {
 
 namespace {
 
-// The sections this reader knows, in the order a stream must hold them (§4).
+// The sections this reader knows, in the order a stream must hold them (§4.3).
 enum KnownSection { kBase, kSplits, kWelds, kCarried, kLoose, kKnownSectionCount };
-constexpr std::array<uint32_t, kKnownSectionCount> kKnownTags = {
-    kTagBase, kTagSplits, kTagWelds, kTagCarried, kTagLoose};
+constexpr std::array<uint32_t, kKnownSectionCount> kKnownTags = {kTagBase, kTagSplits, kTagWelds,
+                                                                 kTagCarried, kTagLoose};
 
 int known_section(uint32_t tag) {
   const auto it = std::find(kKnownTags.begin(), kKnownTags.end(), tag);
   return it == kKnownTags.end() ? -1 : static_cast<int>(it - kKnownTags.begin());
 }
 
-// A section is present exactly when it has entries (§4: empty sections are omitted).
+// A section is present exactly when it has entries (§4.3: empty sections are omitted).
 bool section_expected(const Header& h, int section) {
   switch (section) {
-    case kBase: return h.base_vertex_count > 0 || h.base_face_count > 0;
-    case kSplits: return h.split_count > 0;
-    case kWelds: return h.weld_count > 0;
-    case kCarried: return h.carried_face_count > 0;
-    case kLoose: return h.loose_vertex_count > 0;
+    case kBase:
+      return h.base_vertex_count > 0 || h.base_face_count > 0;
+    case kSplits:
+      return h.split_count > 0;
+    case kWelds:
+      return h.weld_count > 0;
+    case kCarried:
+      return h.carried_face_count > 0;
+    case kLoose:
+      return h.loose_vertex_count > 0;
   }
   return false;
 }
 
 // Smallest and largest raw (decompressed) size the header counts allow: f32 fields are 4
-// bytes, varints 1 to 5 (§5).
+// bytes, varints 1 to 5 (§4.4).
 struct RawBounds {
   uint64_t min = 0, max = 0;
 };
@@ -96,12 +102,17 @@ RawBounds raw_bounds(const Header& h, int section) {
   const uint64_t base_vertices = h.base_vertex_count, base_faces = h.base_face_count;
   const uint64_t splits = h.split_count, moved = h.moved_face_count;
   switch (section) {
-    case kBase: return {12 * base_vertices + 3 * base_faces, 12 * base_vertices + 15 * base_faces};
+    case kBase:
+      return {12 * base_vertices + 3 * base_faces, 12 * base_vertices + 15 * base_faces};
     // Per split: 4 varints (u, vl, vr, moved count), 3 f32 position, 1 f32 error.
-    case kSplits: return {20 * splits + moved, 36 * splits + 5 * moved};
-    case kWelds: return {2 * uint64_t{h.weld_count}, 10 * uint64_t{h.weld_count}};
-    case kCarried: return {3 * uint64_t{h.carried_face_count}, 15 * uint64_t{h.carried_face_count}};
-    case kLoose: return {12 * uint64_t{h.loose_vertex_count}, 12 * uint64_t{h.loose_vertex_count}};
+    case kSplits:
+      return {20 * splits + moved, 36 * splits + 5 * moved};
+    case kWelds:
+      return {2 * uint64_t{h.weld_count}, 10 * uint64_t{h.weld_count}};
+    case kCarried:
+      return {3 * uint64_t{h.carried_face_count}, 15 * uint64_t{h.carried_face_count}};
+    case kLoose:
+      return {12 * uint64_t{h.loose_vertex_count}, 12 * uint64_t{h.loose_vertex_count}};
   }
   return {};
 }
@@ -126,8 +137,7 @@ ErrorCode unknown_feature_code(const Header& h) {
 Status check_count(uint32_t count, const char* what) {
   if (count <= kMaxCount) return Status::ok();
   return Status(ErrorCode::kResourceLimit, "header: " + std::to_string(count) + " " + what +
-                                               " exceed the limit of " +
-                                               std::to_string(kMaxCount));
+                                               " exceed the limit of " + std::to_string(kMaxCount));
 }
 
 // Counts against the bytes that follow the header: every present section needs its
@@ -144,15 +154,15 @@ Status check_plausible_size(const Header& h, std::size_t stream_size) {
     needed += kSectionHeaderSize + std::max(kMinZstdFrameSize, min_frame);
   }
   if (h.section_count < expected_sections) {
-    return Status(ErrorCode::kCorruptStream,
-                  "header: " + std::to_string(h.section_count) + " sections declared, the counts need " +
-                      std::to_string(expected_sections));
+    return Status(ErrorCode::kCorruptStream, "header: " + std::to_string(h.section_count) +
+                                                 " sections declared, the counts need " +
+                                                 std::to_string(expected_sections));
   }
   needed = std::max(needed, uint64_t{h.section_count} * kSectionHeaderSize);
   if (needed > available) {
-    return Status(ErrorCode::kTruncatedStream,
-                  "truncated after header (the counts need at least " + std::to_string(needed) +
-                      " bytes of sections, " + std::to_string(available) + " left)");
+    return Status(ErrorCode::kTruncatedStream, "truncated after header (the counts need at least " +
+                                                   std::to_string(needed) + " bytes of sections, " +
+                                                   std::to_string(available) + " left)");
   }
   return Status::ok();
 }
@@ -170,24 +180,11 @@ Status parse_header(std::string_view bytes, Header& header) {
   std::string_view header_bytes;
   if (!in.read_bytes(kHeaderSize, header_bytes)) return in.status();
 
-  // Then the CRC, so that a damaged version field is reported as damage.
-  ByteReader fields(header_bytes, "header", ErrorCode::kTruncatedStream);
-  fields.skip(sizeof kMagic);
-  uint32_t stored_crc = 0;
-  {
-    ByteReader crc_reader(header_bytes.substr(kHeaderCrcOffset), "header",
-                          ErrorCode::kTruncatedStream);
-    crc_reader.read_u32(stored_crc);
-  }
-  const uint32_t computed_crc = crc32(header_bytes.substr(0, kHeaderCrcOffset));
-  if (stored_crc != computed_crc) {
-    return Status(ErrorCode::kChecksumMismatch, "header: checksum mismatch (stored " +
-                                                    hex32(stored_crc) + ", computed " +
-                                                    hex32(computed_crc) + ")");
-  }
-
-  Header h;
   // The reads cannot fail: header_bytes holds all 96 bytes.
+  ByteReader fields(header_bytes, "header", ErrorCode::kTruncatedStream);
+  Header h;
+  uint32_t stored_crc = 0;
+  fields.skip(sizeof kMagic);
   fields.read_u16(h.major);
   fields.read_u16(h.minor);
   fields.read_u32(h.flags);
@@ -201,17 +198,28 @@ Status parse_header(std::string_view bytes, Header& header) {
   fields.read_u32(h.split_face_count);
   fields.read_u32(h.section_count);
   fields.read_f32(h.max_error);
+  fields.skip(kHeaderCrcOffset - kHeaderReservedOffset);
+  fields.read_u32(stored_crc);
+
+  // Then the CRC, before any field is believed, so that a damaged version field is
+  // reported as damage rather than as a version this reader lacks.
+  const uint32_t computed_crc = crc32(header_bytes.substr(0, kHeaderCrcOffset));
+  if (stored_crc != computed_crc) {
+    return Status(ErrorCode::kChecksumMismatch, "header: checksum mismatch (stored " +
+                                                    hex32(stored_crc) + ", computed " +
+                                                    hex32(computed_crc) + ")");
+  }
 
   if (h.major != kFormatMajor) {
-    return Status(ErrorCode::kUnsupportedVersion,
-                  "header: format version " + version_text(h) + " is not supported (this reader reads " +
-                      std::to_string(kFormatMajor) + ".x)");
+    return Status(ErrorCode::kUnsupportedVersion, "header: format version " + version_text(h) +
+                                                      " is not supported (this reader reads " +
+                                                      std::to_string(kFormatMajor) + ".x)");
   }
   if (h.flags != 0) {
     return Status(unknown_feature_code(h),
                   h.minor > kFormatMinor
-                      ? "header: format " + version_text(h) + " uses features this reader lacks (flags " +
-                            hex32(h.flags) + ")"
+                      ? "header: format " + version_text(h) +
+                            " uses features this reader lacks (flags " + hex32(h.flags) + ")"
                       : "header: reserved flag bits " + hex32(h.flags) + " set");
   }
   // A later minor may put fields that older readers can ignore in the reserved bytes
@@ -221,16 +229,19 @@ Status parse_header(std::string_view bytes, Header& header) {
       if (header_bytes[i] != 0) {
         return Status(ErrorCode::kCorruptStream,
                       "header: reserved byte " + std::to_string(i) + " is " +
-                          hex32(static_cast<uint8_t>(header_bytes[i])) + ", must be 0");
+                          std::to_string(static_cast<uint8_t>(header_bytes[i])) + ", must be 0");
       }
     }
   }
 
-  const std::pair<uint32_t, const char*> counts[] = {
-      {h.base_vertex_count, "base vertices"}, {h.base_face_count, "base faces"},
-      {h.split_count, "splits"},              {h.loose_vertex_count, "loose vertices"},
-      {h.weld_count, "welds"},                {h.carried_face_count, "carried faces"},
-      {h.moved_face_count, "moved faces"},    {h.split_face_count, "split faces"}};
+  const std::pair<uint32_t, const char*> counts[] = {{h.base_vertex_count, "base vertices"},
+                                                     {h.base_face_count, "base faces"},
+                                                     {h.split_count, "splits"},
+                                                     {h.loose_vertex_count, "loose vertices"},
+                                                     {h.weld_count, "welds"},
+                                                     {h.carried_face_count, "carried faces"},
+                                                     {h.moved_face_count, "moved faces"},
+                                                     {h.split_face_count, "split faces"}};
   for (const auto& [count, what] : counts) {
     if (Status status = check_count(count, what); !status) return status;
   }
@@ -242,13 +253,13 @@ Status parse_header(std::string_view bytes, Header& header) {
   }
   // Copies are distinct base vertices.
   if (h.weld_count > h.base_vertex_count) {
-    return Status(ErrorCode::kCorruptStream, "header: " + std::to_string(h.weld_count) +
-                                                 " welds for " + std::to_string(h.base_vertex_count) +
-                                                 " base vertices");
+    return Status(ErrorCode::kCorruptStream,
+                  "header: " + std::to_string(h.weld_count) + " welds for " +
+                      std::to_string(h.base_vertex_count) + " base vertices");
   }
   if (h.split_count == 0 && h.moved_face_count != 0) {
-    return Status(ErrorCode::kCorruptStream, "header: " + std::to_string(h.moved_face_count) +
-                                                 " moved faces but no splits");
+    return Status(ErrorCode::kCorruptStream,
+                  "header: " + std::to_string(h.moved_face_count) + " moved faces but no splits");
   }
   if (!(h.max_error >= 0.0f && h.max_error <= std::numeric_limits<float>::max())) {
     return Status(ErrorCode::kCorruptStream,
@@ -261,16 +272,14 @@ Status parse_header(std::string_view bytes, Header& header) {
 
 namespace {
 
-struct ZstdContexts {
-  struct FreeC {
-    void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }
-  };
-  struct FreeD {
-    void operator()(ZSTD_DCtx* d) const { ZSTD_freeDCtx(d); }
-  };
+struct FreeCompressContext {
+  void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
 };
-using CompressContext = std::unique_ptr<ZSTD_CCtx, ZstdContexts::FreeC>;
-using DecompressContext = std::unique_ptr<ZSTD_DCtx, ZstdContexts::FreeD>;
+struct FreeDecompressContext {
+  void operator()(ZSTD_DCtx* context) const { ZSTD_freeDCtx(context); }
+};
+using CompressContext = std::unique_ptr<ZSTD_CCtx, FreeCompressContext>;
+using DecompressContext = std::unique_ptr<ZSTD_DCtx, FreeDecompressContext>;
 
 }  // namespace
 
@@ -284,15 +293,15 @@ Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
         std::pair{ZSTD_c_contentSizeFlag, 1}}) {
     const size_t result = ZSTD_CCtx_setParameter(cctx, parameter, value);
     if (ZSTD_isError(result)) {
-      return Status(ErrorCode::kInvalidArgument,
-                    std::string("zstd: ") + ZSTD_getErrorName(result));
+      return Status(ErrorCode::kInvalidArgument, std::string("zstd: ") + ZSTD_getErrorName(result));
     }
   }
   std::string frame(ZSTD_compressBound(raw.size()), '\0');
-  const size_t frame_size = ZSTD_compress2(cctx, frame.data(), frame.size(), raw.data(), raw.size());
+  const size_t frame_size =
+      ZSTD_compress2(cctx, frame.data(), frame.size(), raw.data(), raw.size());
   if (ZSTD_isError(frame_size)) {
-    return Status(ErrorCode::kInternal, "section " + tag_name(tag) + ": zstd: " +
-                                            ZSTD_getErrorName(frame_size));
+    return Status(ErrorCode::kInternal,
+                  "section " + tag_name(tag) + ": zstd: " + ZSTD_getErrorName(frame_size));
   }
   frame.resize(frame_size);
   ByteWriter writer(out);
@@ -334,8 +343,12 @@ bool read_varints(ByteReader& in, std::size_t count, std::vector<uint32_t>& valu
 }
 
 // vl, vr: value + 1, with 0 for kNoVertex.
-uint32_t encode_optional_vertex(uint32_t vertex) { return vertex == kNoVertex ? 0 : vertex + 1; }
-uint32_t decode_optional_vertex(uint32_t code) { return code == 0 ? kNoVertex : code - 1; }
+uint32_t encode_optional_vertex(uint32_t vertex) {
+  return vertex == kNoVertex ? 0 : vertex + 1;
+}
+uint32_t decode_optional_vertex(uint32_t code) {
+  return code == 0 ? kNoVertex : code - 1;
+}
 
 std::string encode_base(const ProgressiveMesh& pm) {
   std::string raw;
@@ -375,9 +388,9 @@ bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
     uint32_t offset;
     if (!in.read_varint(offset)) return false;
     if (offset >= v) {
-      return in.fail(ErrorCode::kCorruptStream,
-                     in.where() + ": split " + std::to_string(i) + " has u offset " +
-                         std::to_string(offset) + " but creates vertex " + std::to_string(v));
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": split " + std::to_string(i) +
+                                                    " has u offset " + std::to_string(offset) +
+                                                    " but creates vertex " + std::to_string(v));
     }
     pm.splits[i].u = static_cast<uint32_t>(v - 1 - offset);
   }
@@ -395,10 +408,9 @@ bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
     split_faces += split.vr != kNoVertex;
   }
   if (split_faces != h.split_face_count) {
-    return in.fail(ErrorCode::kCorruptStream, in.where() + ": the splits add " +
-                                                  std::to_string(split_faces) +
-                                                  " faces, the header says " +
-                                                  std::to_string(h.split_face_count));
+    return in.fail(ErrorCode::kCorruptStream,
+                   in.where() + ": the splits add " + std::to_string(split_faces) +
+                       " faces, the header says " + std::to_string(h.split_face_count));
   }
   uint64_t moved_total = 0;
   for (VertexSplit& split : pm.splits) {
@@ -409,10 +421,9 @@ bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
   }
   // Checked before the ids are read, so the allocation below is the header's count.
   if (moved_total != h.moved_face_count) {
-    return in.fail(ErrorCode::kCorruptStream, in.where() + ": the splits move " +
-                                                  std::to_string(moved_total) +
-                                                  " faces, the header says " +
-                                                  std::to_string(h.moved_face_count));
+    return in.fail(ErrorCode::kCorruptStream,
+                   in.where() + ": the splits move " + std::to_string(moved_total) +
+                       " faces, the header says " + std::to_string(h.moved_face_count));
   }
   if (!read_varints(in, h.moved_face_count, pm.moved_faces)) return false;
   if (!read_positions(in, h.split_count, pm.positions)) return false;
@@ -454,8 +465,7 @@ bool decode_carried(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
 std::string encode_loose(const ProgressiveMesh& pm) {
   std::string raw;
   ByteWriter out(raw);
-  put_positions(out, pm.positions, pm.base_vertex_count + pm.splits.size(),
-                pm.loose_vertex_count);
+  put_positions(out, pm.positions, pm.base_vertex_count + pm.splits.size(), pm.loose_vertex_count);
   return raw;
 }
 
@@ -515,21 +525,22 @@ Status decompress_frame(const std::string& where, std::string_view frame, uint64
                   where + ": malformed zstd frame (" + ZSTD_getErrorName(frame_size) + ")");
   }
   if (frame_size != frame.size()) {
-    return Status(ErrorCode::kCorruptStream, where + ": " + std::to_string(frame.size() - frame_size) +
-                                                 " bytes follow the zstd frame");
+    return Status(
+        ErrorCode::kCorruptStream,
+        where + ": " + std::to_string(frame.size() - frame_size) + " bytes follow the zstd frame");
   }
   const unsigned long long content_size = ZSTD_getFrameContentSize(frame.data(), frame.size());
   if (content_size == ZSTD_CONTENTSIZE_UNKNOWN || content_size == ZSTD_CONTENTSIZE_ERROR) {
     return Status(ErrorCode::kCorruptStream, where + ": zstd frame does not state its size");
   }
   if (content_size != raw_size) {
-    return Status(ErrorCode::kCorruptStream, where + ": zstd frame holds " +
-                                                 std::to_string(content_size) +
-                                                 " bytes, the section declares " +
-                                                 std::to_string(raw_size));
+    return Status(ErrorCode::kCorruptStream,
+                  where + ": zstd frame holds " + std::to_string(content_size) +
+                      " bytes, the section declares " + std::to_string(raw_size));
   }
   raw.resize(static_cast<std::size_t>(raw_size));
-  const size_t result = ZSTD_decompressDCtx(dctx, raw.data(), raw.size(), frame.data(), frame.size());
+  const size_t result =
+      ZSTD_decompressDCtx(dctx, raw.data(), raw.size(), frame.data(), frame.size());
   if (ZSTD_isError(result)) {
     if (ZSTD_getErrorCode(result) == ZSTD_error_checksum_wrong) {
       return Status(ErrorCode::kChecksumMismatch, where + ": content checksum mismatch");
@@ -556,11 +567,16 @@ using namespace detail;  // NOLINT: the layout helpers are this file's vocabular
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
   std::string message;
   if (!validate(pm, &message)) {
-    return Status(ErrorCode::kInvalidArgument, "cannot write an invalid progressive mesh: " + message);
+    return Status(ErrorCode::kInvalidArgument,
+                  "cannot write an invalid progressive mesh: " + message);
   }
-  const std::size_t counts[] = {pm.base_vertex_count, pm.base_face_count(), pm.split_count(),
-                                pm.loose_vertex_count, pm.welds.size(), pm.carried_faces.size() / 3,
-                                pm.moved_faces.size()};
+  // The reader's limits (§7), checked before the counts are narrowed to u32.
+  std::size_t split_face_count = 0;
+  for (const VertexSplit& split : pm.splits) split_face_count += split.new_face_count();
+  const std::size_t counts[] = {pm.base_vertex_count,  pm.base_face_count(),
+                                pm.split_count(),      pm.loose_vertex_count,
+                                pm.welds.size(),       pm.carried_faces.size() / 3,
+                                pm.moved_faces.size(), split_face_count};
   for (std::size_t count : counts) {
     if (count > kMaxCount) {
       return Status(ErrorCode::kResourceLimit, "a count of " + std::to_string(count) +
@@ -604,13 +620,17 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
   int next_known = 0;  // known sections must come in order, each at most once
   std::string raw;
   for (uint32_t s = 0; s < h.section_count; ++s) {
+    // The 24 bytes as one unit, so a cut reports the section header it falls in.
     file.set_where("section " + std::to_string(s) + " header");
-    uint32_t tag, flags;
-    uint64_t stored_size, raw_size;
-    if (!file.read_u32(tag) || !file.read_u32(flags) || !file.read_u64(stored_size) ||
-        !file.read_u64(raw_size)) {
-      return file.status();
-    }
+    std::string_view section_header;
+    if (!file.read_bytes(kSectionHeaderSize, section_header)) return file.status();
+    ByteReader fields(section_header, file.where(), ErrorCode::kTruncatedStream);
+    uint32_t tag = 0, flags = 0;
+    uint64_t stored_size = 0, raw_size = 0;
+    fields.read_u32(tag);  // cannot fail: all 24 bytes are there
+    fields.read_u32(flags);
+    fields.read_u64(stored_size);
+    fields.read_u64(raw_size);
     for (int i = 0; i < 4; ++i) {
       if (!is_tag_character(static_cast<uint8_t>(tag >> (8 * i)))) {
         return Status(ErrorCode::kCorruptStream, "section " + std::to_string(s) + ": tag " +
@@ -625,8 +645,7 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
     if (section < 0) {
       // §4.1: an unknown section may be skipped only when it is not required.
       if (flags & kSectionRequired) {
-        return Status(ErrorCode::kUnsupportedVersion,
-                      where + ": unknown section marked required");
+        return Status(ErrorCode::kUnsupportedVersion, where + ": unknown section marked required");
       }
       if (!file.read_bytes(stored_size, frame)) return file.status();
       continue;
@@ -636,8 +655,8 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
     }
     for (int skipped = next_known; skipped < section; ++skipped) {
       if (section_expected(h, skipped)) {
-        return Status(ErrorCode::kCorruptStream,
-                      "section " + tag_name(kKnownTags[skipped]) + " missing (before " + where + ")");
+        return Status(ErrorCode::kCorruptStream, "section " + tag_name(kKnownTags[skipped]) +
+                                                     " missing (before " + where + ")");
       }
     }
     next_known = section + 1;
@@ -645,11 +664,12 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
       return Status(ErrorCode::kCorruptStream, where + ": required flag is clear");
     }
     if ((flags & ~kSectionRequired) != 0) {
-      return Status(unknown_feature_code(h), where + ": reserved flag bits " +
-                                                 hex32(flags & ~kSectionRequired) + " set");
+      return Status(unknown_feature_code(h),
+                    where + ": reserved flag bits " + hex32(flags & ~kSectionRequired) + " set");
     }
     if (!section_expected(h, section)) {
-      return Status(ErrorCode::kCorruptStream, where + ": present, but the header counts no entries");
+      return Status(ErrorCode::kCorruptStream,
+                    where + ": present, but the header counts no entries");
     }
     if (!file.read_bytes(stored_size, frame)) return file.status();
     // Sizes are checked before the raw buffer is allocated: the counts bound it, and so
@@ -658,9 +678,9 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
     if (raw_size < bounds.min || raw_size > bounds.max) {
       return Status(ErrorCode::kCorruptStream,
                     where + ": raw size " + std::to_string(raw_size) + ", the counts allow " +
-                        (bounds.min == bounds.max ? std::to_string(bounds.min)
-                                                  : std::to_string(bounds.min) + " to " +
-                                                        std::to_string(bounds.max)));
+                        (bounds.min == bounds.max
+                             ? std::to_string(bounds.min)
+                             : std::to_string(bounds.min) + " to " + std::to_string(bounds.max)));
     }
     if (raw_size > stored_size * kMaxZstdRatio) {
       return Status(ErrorCode::kCorruptStream, where + ": raw size " + std::to_string(raw_size) +
@@ -684,15 +704,15 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
     }
   }
   if (!file.at_end()) {
-    return Status(ErrorCode::kCorruptStream, std::to_string(file.remaining()) +
-                                                 " trailing bytes after the last section");
+    return Status(ErrorCode::kCorruptStream,
+                  std::to_string(file.remaining()) + " trailing bytes after the last section");
   }
   // The header repeats the first split's error so that --info needs no decompression.
   const float expected_max_error = out.splits.empty() ? 0.0f : out.splits[0].error;
   if (std::memcmp(&expected_max_error, &h.max_error, sizeof(float)) != 0) {
-    return Status(ErrorCode::kCorruptStream,
-                  "header: max error " + std::to_string(h.max_error) + " differs from split 0's " +
-                      std::to_string(expected_max_error));
+    return Status(ErrorCode::kCorruptStream, "header: max error " + std::to_string(h.max_error) +
+                                                 " differs from split 0's " +
+                                                 std::to_string(expected_max_error));
   }
   std::string message;
   if (!validate(out, &message)) return Status(ErrorCode::kCorruptStream, message);
@@ -717,8 +737,8 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
   result.split_face_count = h.split_face_count;
   result.section_count = h.section_count;
   // Welded copies are output as their canonical vertex, so they are not counted.
-  result.full_vertex_count = uint64_t{h.base_vertex_count} + h.split_count +
-                             h.loose_vertex_count - h.weld_count;
+  result.full_vertex_count =
+      uint64_t{h.base_vertex_count} + h.split_count + h.loose_vertex_count - h.weld_count;
   result.full_face_count = uint64_t{h.base_face_count} + h.split_face_count + h.carried_face_count;
   result.max_error = h.max_error;
   info = result;

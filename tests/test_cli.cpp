@@ -4,6 +4,9 @@
 
 #include <dirent.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "pm/mesh_io.h"
 #include "test_meshes.h"
 #include "test_util.h"
@@ -72,7 +75,11 @@ TEST_P(EndToEnd, FacesAndRatioRequestsAreHonoured) {
   ASSERT_EQ(pmenc({GetParam().path, "-o", dir.file("x.pm"), "-q"}).exit_code, 0);
   const Mesh input = read_or_fail(GetParam().path);
   const std::size_t full = input.face_count();
-  for (std::size_t n : {full / 2, full / 10 + 1, full / 5}) {
+  // Requests are honoured from the base mesh's faces up (below it, the base is given).
+  ASSERT_EQ(pmdec({dir.file("x.pm"), "--faces", "0", "-o", dir.file("b.obj"), "-q"}).exit_code, 0);
+  const std::size_t base = read_or_fail(dir.file("b.obj")).face_count();
+  for (std::size_t n : {full / 2, full / 10 + 1, full / 5, base, base + 1, full - 1}) {
+    n = std::max(n, base);
     const CommandResult r = pmdec({dir.file("x.pm"), "--faces", std::to_string(n), "-o", dir.file("l.obj"), "-q"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::size_t got = read_or_fail(dir.file("l.obj")).face_count();
@@ -80,7 +87,7 @@ TEST_P(EndToEnd, FacesAndRatioRequestsAreHonoured) {
   }
   const CommandResult r = pmdec({dir.file("x.pm"), "--ratio", "0.1", "-o", dir.file("r.ply"), "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::size_t want = static_cast<std::size_t>(std::llround(0.1 * full));
+  const std::size_t want = std::max(base, static_cast<std::size_t>(std::llround(0.1 * full)));
   const std::size_t got = read_or_fail(dir.file("r.ply")).face_count();
   EXPECT_TRUE(got == want || got == want + 1) << "want " << want << ", got " << got;
 }

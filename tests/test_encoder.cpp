@@ -106,7 +106,9 @@ TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
   const float mid = e.pm.splits[e.pm.split_count() / 2].error;
   const std::size_t level = level_for_error(e.pm, mid);
   EXPECT_LE(error_at_level(e.pm, level), mid);
-  if (level > 0) EXPECT_GT(error_at_level(e.pm, level - 1), mid);
+  if (level > 0) {
+    EXPECT_GT(error_at_level(e.pm, level - 1), mid);
+  }
   EXPECT_EQ(level_for_error(e.pm, 0.0), e.pm.split_count() - [&] {
     std::size_t zero = 0;  // trailing splits of zero error (flat regions) are not needed
     while (zero < e.pm.split_count() && e.pm.splits[e.pm.split_count() - 1 - zero].error == 0) ++zero;

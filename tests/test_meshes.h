@@ -45,3 +45,8 @@ inline std::string test_mesh_name(const ::testing::TestParamInfo<TestMesh>& info
   do {                                          \
     if ((mesh).shared) PM_SKIP_IF_NO_SHARED();  \
   } while (false)
+
+namespace pm::test {
+// GoogleTest prints parameters with this instead of a byte dump.
+inline void PrintTo(const TestMesh& mesh, std::ostream* out) { *out << mesh.path; }
+}  // namespace pm::test

@@ -14,7 +14,9 @@ namespace {
 const char* const kSampleNames[] = {"block_features.obj", "nonmanifold.obj", "polygons.obj",
                                     "sphere.obj", "terrain_holes.obj"};
 
-std::string base_name(const std::string& path) { return path.substr(path.rfind('/') + 1); }
+std::string base_name(const std::string& path) {
+  return path.substr(path.rfind('/') + 1);
+}
 
 // Where two texts first differ, by line, for a readable failure message.
 std::string first_difference(const std::string& expected, const std::string& actual) {
@@ -25,9 +27,8 @@ std::string first_difference(const std::string& expected, const std::string& act
     const bool has_got = static_cast<bool>(std::getline(got, got_line));
     if (!has_want && !has_got) return "same lines, different bytes (line endings?)";
     if (!has_want || !has_got || want_line != got_line) {
-      return "line " + std::to_string(line) + ": committed '" +
-             (has_want ? want_line : "<end>") + "', generated '" + (has_got ? got_line : "<end>") +
-             "'";
+      return "line " + std::to_string(line) + ": committed '" + (has_want ? want_line : "<end>") +
+             "', generated '" + (has_got ? got_line : "<end>") + "'";
     }
   }
 }
@@ -97,7 +98,8 @@ TEST(Samples, SphereIsClosedBumpyGenusZero) {
   double min_radius = 10, max_radius = 0;
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     const float* p = &mesh.positions[3 * v];
-    const double radius = std::sqrt(double{p[0]} * p[0] + double{p[1]} * p[1] + double{p[2]} * p[2]);
+    const double radius =
+        std::sqrt(double{p[0]} * p[0] + double{p[1]} * p[1] + double{p[2]} * p[2]);
     min_radius = std::min(min_radius, radius);
     max_radius = std::max(max_radius, radius);
   }

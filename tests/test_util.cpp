@@ -60,8 +60,8 @@ void check_indices(const pm::Mesh& mesh) {
 
 // One side of a face, a -> b with a != b, keyed by its undirected edge.
 struct HalfEdge {
-  uint32_t low, high;   // the undirected edge {low, high}, low < high
-  bool forward;         // whether the face runs low -> high
+  uint32_t low, high;    // the undirected edge {low, high}, low < high
+  bool forward;          // whether the face runs low -> high
   uint32_t from_corner;  // corner index (3 * face + k) of the side's start vertex
   uint32_t to_corner;    // corner index of its end vertex
 
@@ -142,7 +142,8 @@ TopologySummary summarize_topology(const pm::Mesh& mesh) {
       return side.low != group->low || side.high != group->high;
     });
     const long uses = group_end - group;
-    const long forward = std::count_if(group, group_end, [](const HalfEdge& side) { return side.forward; });
+    const long forward =
+        std::count_if(group, group_end, [](const HalfEdge& side) { return side.forward; });
     ++summary.edges;
     if (uses > 2 || (uses == 2 && forward != 1)) ++summary.non_manifold_edges;
     if (uses == 1) boundary.emplace_back(tri[group->from_corner], tri[group->to_corner]);
@@ -176,8 +177,8 @@ TopologySummary summarize_topology(const pm::Mesh& mesh) {
   }
   bool regular = true;
   for (const auto& [from, to] : boundary) {
-    regular = regular && out_degree[from] == 1 && in_degree[from] == 1 &&
-              out_degree[to] == 1 && in_degree[to] == 1;
+    regular = regular && out_degree[from] == 1 && in_degree[from] == 1 && out_degree[to] == 1 &&
+              in_degree[to] == 1;
   }
   if (regular) {
     std::vector<char> visited(vertex_count, 0);
@@ -212,7 +213,18 @@ std::string to_string(const TopologySummary& s) {
   return out.str();
 }
 
-void PrintTo(const TopologySummary& summary, std::ostream* out) { *out << to_string(summary); }
+bool operator==(const TopologySummary& a, const TopologySummary& b) {
+  auto fields = [](const TopologySummary& s) {
+    return std::tie(s.vertices, s.edges, s.faces, s.euler, s.boundary_loops, s.components,
+                    s.edge_manifold, s.vertex_manifold, s.zero_area_faces, s.non_manifold_edges,
+                    s.non_manifold_vertices);
+  };
+  return fields(a) == fields(b);
+}
+
+void PrintTo(const TopologySummary& summary, std::ostream* out) {
+  *out << to_string(summary);
+}
 
 // ---------------------------------------------------------------------------------------
 
@@ -299,8 +311,10 @@ std::vector<FacePositions> canonical_faces(const pm::Mesh& mesh) {
   failure << "face multisets differ: expected has " << want.size() << " faces, actual has "
           << got.size() << "; " << only_expected << " only in expected, " << only_actual
           << " only in actual";
-  if (first_only_expected) failure << "\n  first only in expected: " << describe_face(*first_only_expected);
-  if (first_only_actual) failure << "\n  first only in actual:   " << describe_face(*first_only_actual);
+  if (first_only_expected)
+    failure << "\n  first only in expected: " << describe_face(*first_only_expected);
+  if (first_only_actual)
+    failure << "\n  first only in actual:   " << describe_face(*first_only_actual);
   return failure;
 }
 

@@ -32,9 +32,11 @@ namespace pm::test {
 //  * boundary edges: undirected edges used by exactly one face side.
 //  * boundary_loops: if every vertex on the boundary has exactly one outgoing and one
 //    incoming boundary half-edge (the manifold case), the number of cycles found by walking
-//    the directed boundary half-edges. Otherwise (a boundary vertex is pinched, or
-//    neighbouring faces are inconsistently oriented), the number of connected components of
-//    the undirected boundary-edge graph; e.g. a figure-eight boundary counts as 1 loop.
+//    the directed boundary half-edges. Otherwise (a boundary vertex is pinched,
+//    neighbouring faces are inconsistently oriented, or the boundary is an open chain ending
+//    at a non-manifold edge, which is not a boundary edge), the number of connected
+//    components of the undirected boundary-edge graph; e.g. a figure-eight boundary counts
+//    as 1 loop, and so does a fin's chain of free edges.
 //  * components: connected components of faces, two faces being connected when they share
 //    a vertex (so a pinched vertex joins its two sheets into one component).
 //  * edge_manifold: every edge has at most 2 face sides, and when it has exactly 2 they run
@@ -64,6 +66,12 @@ struct TopologySummary {
 };
 
 TopologySummary summarize_topology(const pm::Mesh& mesh);
+
+// Field-by-field, so that whole summaries can be compared: EXPECT_EQ(summary, expected).
+bool operator==(const TopologySummary& a, const TopologySummary& b);
+inline bool operator!=(const TopologySummary& a, const TopologySummary& b) {
+  return !(a == b);
+}
 
 // One line with every field, e.g. "V=3 E=3 F=1 euler=1 loops=1 ...".
 std::string to_string(const TopologySummary& summary);
@@ -119,12 +127,12 @@ void warn_no_shared_meshes();
 
 // Put first in a test that needs the real meshes: skips the test (GTEST_SKIP returns from
 // the test body) with a loud message when ../shared/meshes is absent.
-#define PM_SKIP_IF_NO_SHARED()                                      \
-  do {                                                              \
-    if (!::pm::test::shared_meshes_available()) {                   \
-      ::pm::test::warn_no_shared_meshes();                          \
-      GTEST_SKIP() << ::pm::test::kNoSharedMeshesMessage;           \
-    }                                                               \
+#define PM_SKIP_IF_NO_SHARED()                            \
+  do {                                                    \
+    if (!::pm::test::shared_meshes_available()) {         \
+      ::pm::test::warn_no_shared_meshes();                \
+      GTEST_SKIP() << ::pm::test::kNoSharedMeshesMessage; \
+    }                                                     \
   } while (false)
 
 // A minimal OBJ reader, independent of the library's, used as an oracle: reads only `v`
@@ -151,8 +159,7 @@ struct CommandResult {
 // pipe. If the program cannot be started, exit_code is 127 and err says why. Waits for the
 // program to exit (and for anything holding its stdout/stderr open to close them).
 // Throws std::invalid_argument on an empty argv, std::runtime_error if pipe/fork fails.
-CommandResult run_command(const std::vector<std::string>& argv,
-                          const std::string& stdin_data = "");
+CommandResult run_command(const std::vector<std::string>& argv, const std::string& stdin_data = "");
 
 // A fresh directory (mkdtemp under $TMPDIR, or /tmp), removed with all its contents when
 // the object is destroyed. Not copyable. Throws std::runtime_error if creation fails.

@@ -16,7 +16,9 @@ pm::Mesh make_mesh(std::vector<float> positions, std::vector<uint32_t> triangles
   return mesh;
 }
 
-pm::Mesh single_triangle() { return make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}); }
+pm::Mesh single_triangle() {
+  return make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+}
 
 // Unit tetrahedron, faces counter-clockwise seen from outside.
 pm::Mesh tetrahedron() {
@@ -138,8 +140,8 @@ TEST(SummarizeTopology, TetrahedraSharingOneVertexAreNotVertexManifold) {
 }
 
 TEST(SummarizeTopology, ThreeTrianglesOnOneEdgeAreNotEdgeManifold) {
-  const pm::Mesh mesh = make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1},
-                                  {0, 1, 2, 1, 0, 3, 0, 1, 4});
+  const pm::Mesh mesh =
+      make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1}, {0, 1, 2, 1, 0, 3, 0, 1, 4});
   const TopologySummary s = summarize_topology(mesh);
   EXPECT_EQ(s.edges, 7);
   EXPECT_FALSE(s.edge_manifold);
@@ -167,10 +169,10 @@ TEST(SummarizeTopology, OppositeOrientationOnSharedEdgeIsEdgeManifold) {
 
 TEST(SummarizeTopology, CountsZeroAreaFaces) {
   const pm::Mesh mesh = make_mesh({0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0},
-                                  {0, 1, 3,     // a proper triangle
-                                   0, 1, 2,     // collinear corners
-                                   3, 3, 1,     // repeated index
-                                   0, 3, 0});   // repeated index, another position
+                                  {0, 1, 3,    // a proper triangle
+                                   0, 1, 2,    // collinear corners
+                                   3, 3, 1,    // repeated index
+                                   0, 3, 0});  // repeated index, another position
   EXPECT_EQ(summarize_topology(mesh).zero_area_faces, 3);
 }
 
@@ -228,7 +230,8 @@ TEST(SameFaces, AcceptsReorderedFacesAndRenumberedVertices) {
   pm::Mesh actual;
   actual.positions = {9, 9, 9};
   for (int v = 3; v >= 0; --v) {
-    for (int axis = 0; axis < 3; ++axis) actual.positions.push_back(expected.positions[3 * v + axis]);
+    for (int axis = 0; axis < 3; ++axis)
+      actual.positions.push_back(expected.positions[3 * v + axis]);
   }
   for (int f = 3; f >= 0; --f) {
     for (int k = 0; k < 3; ++k) actual.triangles.push_back(4 - expected.triangles[3 * f + k]);
@@ -363,8 +366,7 @@ TEST(LoadSimpleObj, ReadsCornerFormsNegativeIndicesAndPolygons) {
              "v 2 0 0\n"
              "f -4 -1 -3\n");
   const pm::Mesh mesh = load_simple_obj(dir.file("m.obj"));
-  EXPECT_EQ(mesh.positions,
-            (std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0, 0}));
+  EXPECT_EQ(mesh.positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0, 0}));
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 1, 4, 2}));
 }
 

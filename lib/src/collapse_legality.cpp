@@ -45,4 +45,35 @@ bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHan
   return true;
 }
 
+bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
+                          const WeldGroups& welds) {
+  if (welds.empty()) return true;
+  const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
+  auto members_of = [&](HalfEdgeMesh::VertexHandle x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
+    const int g = welds.group[x.idx()];
+    if (g < 0) {
+      single = static_cast<uint32_t>(x.idx());
+      return {&single, 1};
+    }
+    return {welds.members[g].data(), welds.members[g].size()};
+  };
+  const int group_u = welds.group[u.idx()];
+  for (auto w : mesh.vv_range(v)) {
+    if (w == u) continue;
+    const int group_w = welds.group[w.idx()];
+    if (group_u < 0 && group_w < 0) continue;  // nothing is merged at output
+    if (group_u >= 0 && group_u == group_w) return false;
+    uint32_t single_u, single_w;
+    const auto [us, nu] = members_of(u, single_u);
+    const auto [ws, nw] = members_of(w, single_w);
+    for (std::size_t i = 0; i < nu; ++i)
+      for (std::size_t j = 0; j < nw; ++j) {
+        const auto a = mesh.vertex_handle(us[i]), b = mesh.vertex_handle(ws[j]);
+        if (a == u && b == w) continue;  // the edge itself: exists already only if u-w does
+        if (mesh.find_halfedge(a, b).is_valid()) return false;
+      }
+  }
+  return true;
+}
+
 }  // namespace pm

@@ -1,6 +1,9 @@
 // May this half-edge collapse happen? Separate from its cost, and pure: nothing changes.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "half_edge_mesh.h"
 
 namespace pm {
@@ -18,5 +21,19 @@ bool collapse_keeps_topology(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h)
 // a negligible fraction of its squared longest edge).
 bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
                              double cos_max_flip);
+
+// Welds: copies of one input vertex (see manifold_repair.h) are merged at output, so the
+// output keeps the input's topology only while that merge stays one-to-one on edges. The
+// collapse h = (v -> u) is refused if a new edge u-w would join two copies of one vertex,
+// or would merge at output with an existing edge between copies of u's and w's vertices.
+// weld_group[x] is the canonical vertex of x's group, or -1 when x is not welded;
+// weld_members[c] lists the members of group c.
+struct WeldGroups {
+  std::vector<int> group;                        // per vertex
+  std::vector<std::vector<uint32_t>> members;    // per canonical vertex
+  bool empty() const { return members.empty(); }
+};
+bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
+                          const WeldGroups& welds);
 
 }  // namespace pm

@@ -2,13 +2,13 @@
 // one pass over the record (O(positions + faces + splits + moved faces + welds)). It is run
 // on every decoded file, so a hostile stream is rejected here rather than crashing a
 // decoder that trusts vertex and face ids.
+#include "pm/progressive_mesh.h"
+
 #include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include "pm/progressive_mesh.h"
 
 namespace pm {
 namespace {
@@ -33,8 +33,8 @@ bool check_counts(const ProgressiveMesh& pm, std::string* message) {
                              " floats, not a multiple of 3");
   }
   // 64-bit sums: the counts are 32-bit and their sum must not wrap.
-  const uint64_t expected_vertices = uint64_t{pm.base_vertex_count} + pm.splits.size() +
-                                     pm.loose_vertex_count;
+  const uint64_t expected_vertices =
+      uint64_t{pm.base_vertex_count} + pm.splits.size() + pm.loose_vertex_count;
   if (pm.positions.size() / 3 != expected_vertices) {
     return fail(message, "positions has " + std::to_string(pm.positions.size() / 3) +
                              " vertices, expected " + std::to_string(expected_vertices) +
@@ -104,8 +104,8 @@ bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vert
     return fail(message, where + " has vl equal to vr (" + std::to_string(split.vl) + ")");
   }
   if (!std::isfinite(split.error) || split.error < 0.0f) {
-    return fail(message, where + " has error " + std::to_string(split.error) +
-                             ", not a finite value >= 0");
+    return fail(message,
+                where + " has error " + std::to_string(split.error) + ", not a finite value >= 0");
   }
   return true;
 }
@@ -170,8 +170,8 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
     if (split.vr != kNoVertex) faces.insert(faces.end(), {split.u, v, split.vr});
   }
   if (next_moved != pm.moved_faces.size()) {
-    return fail(message, "the splits move " + std::to_string(next_moved) + " faces but moved_faces has " +
-                             std::to_string(pm.moved_faces.size()));
+    return fail(message, "the splits move " + std::to_string(next_moved) +
+                             " faces but moved_faces has " + std::to_string(pm.moved_faces.size()));
   }
   return true;
 }
@@ -219,9 +219,8 @@ bool check_carried_faces(const ProgressiveMesh& pm, std::string* message) {
 }  // namespace
 
 bool validate(const ProgressiveMesh& pm, std::string* message) {
-  return check_counts(pm, message) && check_base_faces(pm, message) &&
-         check_splits(pm, message) && check_welds(pm, message) &&
-         check_carried_faces(pm, message);
+  return check_counts(pm, message) && check_base_faces(pm, message) && check_splits(pm, message) &&
+         check_welds(pm, message) && check_carried_faces(pm, message);
 }
 
 }  // namespace pm

@@ -42,11 +42,32 @@ struct Candidate {
   }
 };
 
+WeldGroups weld_groups(const ManifoldMesh& repaired) {
+  WeldGroups welds;
+  const std::size_t n = repaired.canonical.size();
+  for (uint32_t x = 0; x < n; ++x) {
+    const uint32_t c = repaired.canonical[x];
+    if (c == x) continue;
+    if (welds.group.empty()) {
+      welds.group.assign(n, -1);
+      welds.members.resize(n);
+    }
+    if (welds.group[c] < 0) {
+      welds.group[c] = static_cast<int>(c);
+      welds.members[c].push_back(c);
+    }
+    welds.group[x] = static_cast<int>(c);
+    welds.members[c].push_back(x);
+  }
+  return welds;
+}
+
 class SchroederSimplifier {
  public:
   SchroederSimplifier(ManifoldMesh& input, const EncodeOptions& options)
       : mesh_(input.mesh),
         pinned_(input.pinned),
+        welds_(weld_groups(input)),
         options_(options),
         cos_feature_angle_(std::cos(options.feature_angle_deg * M_PI / 180.0)),
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)) {}
@@ -82,7 +103,8 @@ class SchroederSimplifier {
 
  private:
   bool legal(HalfedgeHandle h) {
-    return collapse_keeps_topology(mesh_, h) && collapse_keeps_geometry(mesh_, h, cos_max_flip_);
+    return collapse_keeps_topology(mesh_, h) && collapse_keeps_welds(mesh_, h, welds_) &&
+           collapse_keeps_geometry(mesh_, h, cos_max_flip_);
   }
 
   // Finds how v would be removed now and queues it; a stale entry is dropped by version.
@@ -195,6 +217,7 @@ class SchroederSimplifier {
 
   HalfEdgeMesh& mesh_;
   const std::vector<uint8_t>& pinned_;
+  const WeldGroups welds_;
   const EncodeOptions& options_;
   const double cos_feature_angle_, cos_max_flip_;
   FaceGeometry faces_;

@@ -1,0 +1,954 @@
+// Mesh input/output: the OBJ parser, the OpenMesh-backed PLY/OFF/STL readers, the writers
+// and format detection. Inputs are small literal files with exact expectations.
+
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "pm/mesh.h"
+#include "pm/mesh_io.h"
+#include "pm/status.h"
+#include "test_util.h"
+
+namespace pm {
+namespace {
+
+using std::string_literals::operator""s;
+
+// Reads `text` as `format`, expecting success.
+Mesh read_ok(const std::string& text, MeshFormat format = MeshFormat::kObj, ReadReport* report = nullptr) {
+  Mesh mesh;
+  Status status = read_mesh_from_memory(text, format, mesh, report);
+  EXPECT_TRUE(status.is_ok()) << error_code_name(status.code()) << ": " << status.message();
+  return mesh;
+}
+
+// Reads `text` as `format`, expecting failure.
+Status read_error(const std::string& text, MeshFormat format = MeshFormat::kObj) {
+  Mesh mesh;
+  Status status = read_mesh_from_memory(text, format, mesh);
+  EXPECT_FALSE(status.is_ok()) << "unexpectedly read " << mesh.vertex_count() << " vertices, "
+                               << mesh.face_count() << " faces";
+  EXPECT_FALSE(status.message().empty());
+  return status;
+}
+
+uint32_t bits_of(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+// Positions compared bit for bit (so -0 differs from +0), with a readable failure message.
+::testing::AssertionResult same_positions(const std::vector<float>& expected, const std::vector<float>& actual) {
+  if (expected.size() != actual.size()) {
+    return ::testing::AssertionFailure() << "sizes differ: " << expected.size() << " vs " << actual.size();
+  }
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    if (bits_of(expected[i]) != bits_of(actual[i])) {
+      return ::testing::AssertionFailure() << "coordinate " << i << ": expected " << expected[i] << " (bits "
+                                           << bits_of(expected[i]) << "), got " << actual[i] << " (bits "
+                                           << bits_of(actual[i]) << ")";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+const std::string kTriangleObj =
+    "v 0 0 0\n"
+    "v 1 0 0\n"
+    "v 0 1 0\n"
+    "f 1 2 3\n";
+
+// ---------------------------------------------------------------------------------------
+// OBJ: accepted forms
+// ---------------------------------------------------------------------------------------
+
+TEST(ObjReader, ReadsTriangle) {
+  ReadReport report;
+  report.ignored_lines = 99;  // must be reset
+  Mesh mesh = read_ok(kTriangleObj, MeshFormat::kObj, &report);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(report.polygons_triangulated, 0u);
+  EXPECT_EQ(report.ignored_lines, 0u);
+}
+
+TEST(ObjReader, AcceptsAllCornerForms) {
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+      "vt 0 0\nvt 1 0\nvt 0 1\n"
+      "vn 0 0 1\nvn 0 0 1\nvn 0 0 1\n"
+      "f 1 2 3\n"
+      "f 1/1 2/2 3/3\n"
+      "f 2//1 4//2 3//3\n"
+      "f 1/2/3 2/3/1 3/1/2\n"
+      "f 4/1/1 3//2 2/3\n";
+  Mesh mesh = read_ok(text);
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 1, 3, 2, 0, 1, 2, 3, 2, 1}));
+}
+
+TEST(ObjReader, ResolvesNegativeIndicesAgainstVerticesSoFar) {
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+      "f -3 -2 -1\n"    // 2 3 4
+      "v 2 2 2\n"
+      "f -1 -5 -2\n"    // 5 1 4
+      "f -1/-1/-1 -2//-2 -3/-3\n";  // 5 4 3
+  Mesh mesh = read_ok(text);
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{1, 2, 3, 4, 0, 3, 4, 3, 2}));
+}
+
+TEST(ObjReader, TriangulatesPolygonsAsFans) {
+  ReadReport report;
+  Mesh mesh = read_ok(
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0\n"
+      "f 1 2 3 4\n",
+      MeshFormat::kObj, &report);
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+
+  mesh = read_ok(
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0\n"
+      "f 1 2 3\n"
+      "f 1 2 3 4 5\n"
+      "f 5/1 4/1 3/1 2/1\n",
+      MeshFormat::kObj, &report);
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 2, 3, 0, 3, 4, 4, 3, 2, 4, 2, 1}));
+  EXPECT_EQ(report.polygons_triangulated, 2u);
+}
+
+TEST(ObjReader, SkipsCommentsBlankLinesAndCrLf) {
+  const std::string text =
+      "# a comment\r\n"
+      "\r\n"
+      "   \t \r\n"
+      "v 0 0 0 # trailing comment\r\n"
+      "\tv\t1 0 0\r\n"
+      "v 0  1   0\r\n"
+      "#f 9 9 9\r\n"
+      "f 1 2 3#comment without a blank\r\n";
+  ReadReport report;
+  Mesh mesh = read_ok(text, MeshFormat::kObj, &report);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(report.ignored_lines, 0u);
+}
+
+TEST(ObjReader, AcceptsMissingFinalNewlineAndByteOrderMark) {
+  Mesh mesh = read_ok("\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3");
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(ObjReader, ToleratesGroupsMaterialsAndTextureStatementsWithoutCounting) {
+  const std::string text =
+      "mtllib scene.mtl\n"
+      "o object name with spaces\n"
+      "g group1 group2\n"
+      "s off\n"
+      "s 1\n"
+      "usemtl Material.001\n"
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+      "vt 0.5 0.5\n"
+      "vn 0 0 1\n"
+      "f 1 2 3\n";
+  ReadReport report;
+  Mesh mesh = read_ok(text, MeshFormat::kObj, &report);
+  EXPECT_EQ(mesh.face_count(), 1u);
+  EXPECT_EQ(report.ignored_lines, 0u);
+  EXPECT_EQ(report.polygons_triangulated, 0u);
+}
+
+TEST(ObjReader, CountsOtherStatementsAsIgnored) {
+  const std::string text = kTriangleObj +
+                           "l 1 2\n"
+                           "p 3\n"
+                           "vp 0.5 0.5\n"
+                           "cstype bspline\n"
+                           "deg 3\n"
+                           "curv2 1 2\n"
+                           "end\n"
+                           "shadow_obj shadow.obj\n";
+  ReadReport report;
+  Mesh mesh = read_ok(text, MeshFormat::kObj, &report);
+  EXPECT_EQ(mesh.face_count(), 1u);
+  EXPECT_EQ(report.ignored_lines, 8u);
+}
+
+TEST(ObjReader, IgnoresHomogeneousWeightAndVertexColours) {
+  Mesh mesh = read_ok(
+      "v 1 2 3 1.0\n"
+      "v 4 5 6 0.5 0.25 0.125\n"
+      "v 7 8 9 1 0.5 0.25 0.125\n"
+      "f 1 2 3\n");
+  EXPECT_TRUE(same_positions({1, 2, 3, 4, 5, 6, 7, 8, 9}, mesh.positions));
+}
+
+TEST(ObjReader, ParsesNumberFormsExactly) {
+  Mesh mesh = read_ok(
+      "v +1 2. .5\n"
+      "v 1e2 -2.5E-1 +3.1e+2\n"
+      "v -0 0.1 1e-30\n"
+      "v -3.4028235e38 123456.789 3.4028235e+38\n"
+      "v 1e-45 1.17549435e-38 00012\n"
+      "v 1e-50 -1e-60 0.30000001192092896\n");
+  EXPECT_TRUE(same_positions({1.0f, 2.0f, 0.5f, 100.0f, -0.25f, 310.0f, -0.0f, 0.1f, 1e-30f, -3.4028235e38f,
+                              123456.789f, 3.4028235e38f, 1e-45f, FLT_MIN, 12.0f, 0.0f, -0.0f, 0.3f},
+                             mesh.positions));
+}
+
+TEST(ObjReader, KeepsFacesWithRepeatedVertices) {
+  Mesh mesh = read_ok("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 3 3 3\n");
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 0, 1, 2, 2, 2}));
+}
+
+TEST(ObjReader, ResolvesForwardReferences) {
+  Mesh mesh = read_ok("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(ObjReader, VerticesWithoutFacesAreAPointCloud) {
+  Mesh mesh = read_ok("v 0 0 0\nv 1 0 0\n");
+  EXPECT_EQ(mesh.vertex_count(), 2u);
+  EXPECT_EQ(mesh.face_count(), 0u);
+}
+
+// ---------------------------------------------------------------------------------------
+// OBJ: errors
+// ---------------------------------------------------------------------------------------
+
+TEST(ObjReader, RejectsFaceIndexBeyondVertices) {
+  Status status = read_error(
+      "# header\n"
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+      "f 1 2 4\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_EQ(status.message(), "line 5: face index 4 out of range (3 vertices)");
+}
+
+TEST(ObjReader, RejectsNegativeIndexBeforeFirstVertex) {
+  Status status = read_error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_EQ(status.message(), "line 3: face index -3 out of range (2 vertices)");
+}
+
+TEST(ObjReader, RejectsIndexZero) {
+  Status status = read_error(kTriangleObj + "f 0 1 2\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_NE(status.message().find("line 5:"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("index 0"), std::string::npos) << status.message();
+}
+
+TEST(ObjReader, RejectsHugeIndex) {
+  Status status = read_error(kTriangleObj + "f 1 2 99999999999999999999999\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_NE(status.message().find("line 5:"), std::string::npos) << status.message();
+}
+
+TEST(ObjReader, RejectsMalformedVertices) {
+  for (const char* line : {"v 1 2", "v", "v 1 2 x", "v 1 2 3.1+e2", "v 1,5 2 3", "v 0x10 1 2", "v 1 2 3 4 5 6 7 8",
+                           "v 1 2 3 red", "v 1 2 3e"}) {
+    SCOPED_TRACE(line);
+    Status status = read_error("v 0 0 0\n\n"s + line + "\n");
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_EQ(status.message(), "line 3: malformed vertex");
+  }
+}
+
+TEST(ObjReader, RejectsNonFiniteCoordinates) {
+  for (const char* line : {"v nan 0 0", "v 0 inf 0", "v 0 0 -inf", "v 0 0 infinity", "v NaN 1 2"}) {
+    SCOPED_TRACE(line);
+    Status status = read_error(kTriangleObj + line + "\n");
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_EQ(status.message(), "line 5: non-finite coordinate");
+  }
+}
+
+TEST(ObjReader, RejectsCoordinateBeyondFloatRange) {
+  Status status = read_error("v 1e39 0 0\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_NE(status.message().find("line 1:"), std::string::npos) << status.message();
+}
+
+TEST(ObjReader, RejectsFacesWithFewerThanThreeCorners) {
+  for (const char* line : {"f 1 2", "f 1", "f", "f # 1 2 3"}) {
+    SCOPED_TRACE(line);
+    Status status = read_error(kTriangleObj + "\n\n" + line + "\n");
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_EQ(status.message(), "line 7: face with fewer than 3 corners");
+  }
+}
+
+TEST(ObjReader, RejectsMalformedCorners) {
+  for (const char* line : {"f 1 2 a", "f 1/2/3/4 2 3", "f 1.5 2 3", "f 1/x 2 3", "f 1//y 2 3", "f /1 2 3",
+                           "f 1 2 3,"}) {
+    SCOPED_TRACE(line);
+    Status status = read_error(kTriangleObj + line + "\n");
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_NE(status.message().find("line 5: malformed face corner"), std::string::npos) << status.message();
+  }
+}
+
+TEST(ObjReader, RejectsNulBytes) {
+  Status status = read_error(kTriangleObj + "f 1 2 3\n\0\0\0\0"s);
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_NE(status.message().find("line 6:"), std::string::npos) << status.message();
+}
+
+TEST(ObjReader, RejectsBinaryJunk) {
+  // Bytes as found in compressed or image files: controls, and text that is no statement.
+  Status status = read_error("v 0 0 0\n\x89PNG\r\n\x1a\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_NE(status.message().find("line 3:"), std::string::npos) << status.message();
+
+  status = read_error("v 0 0 0\n\xff\xfe\xfd\xfc binary\n");
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_EQ(status.message(), "line 2: not an obj statement");
+
+  // A whole binary file, e.g. a PLY read as OBJ.
+  Mesh triangle = read_ok(kTriangleObj);
+  std::string ply;
+  ASSERT_TRUE(write_mesh_to_memory(triangle, MeshFormat::kPly, ply).is_ok());
+  EXPECT_EQ(read_error(ply).code(), ErrorCode::kParseError);
+  std::string stl;
+  ASSERT_TRUE(write_mesh_to_memory(triangle, MeshFormat::kStl, stl).is_ok());
+  EXPECT_EQ(read_error(stl).code(), ErrorCode::kParseError);
+}
+
+TEST(ObjReader, EmptyInputIsAnEmptyMesh) {
+  for (const std::string& text : {""s, "\n\n"s, "# only a comment\n"s, "  \r\n\t\n"s, "o name\ng group\n"s}) {
+    SCOPED_TRACE(text);
+    Status status = read_error(text);
+    EXPECT_EQ(status.code(), ErrorCode::kEmptyMesh);
+    EXPECT_EQ(status.message(), "no vertices or faces");
+  }
+}
+
+TEST(ObjReader, LeavesMeshAndReportUntouchedOnError) {
+  Mesh mesh = read_ok(kTriangleObj);
+  ReadReport report;
+  report.ignored_lines = 7;
+  EXPECT_FALSE(read_mesh_from_memory("v 0 0 0\nl 1 2\nf 1 2\n", MeshFormat::kObj, mesh, &report).is_ok());
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(report.ignored_lines, 7u);
+}
+
+TEST(ObjReader, AgreesWithTheOracleOnSharedMeshes) {
+  PM_SKIP_IF_NO_SHARED();
+  for (const std::string& name : test::shared_mesh_names()) {
+    if (mesh_format_from_path(name) != MeshFormat::kObj) continue;
+    SCOPED_TRACE(name);
+    Mesh mesh;
+    Status status = read_mesh(test::shared_mesh_path(name), mesh);
+    ASSERT_TRUE(status.is_ok()) << status.message();
+    Mesh oracle = test::load_simple_obj(test::shared_mesh_path(name));
+    EXPECT_TRUE(same_positions(oracle.positions, mesh.positions));
+    EXPECT_EQ(oracle.triangles, mesh.triangles);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// PLY, OFF and STL through OpenMesh
+// ---------------------------------------------------------------------------------------
+
+const std::string kAsciiPly =
+    "ply\n"
+    "format ascii 1.0\n"
+    "comment made by hand\n"
+    "element vertex 5\n"
+    "property float x\n"
+    "property float y\n"
+    "property float z\n"
+    "element face 2\n"
+    "property list uchar int vertex_indices\n"
+    "end_header\n"
+    "0 0 0\n"
+    "1 0 0\n"
+    "1 1 0\n"
+    "0 1 0\n"
+    "0.1 1e-30 -3.4028235e38\n"
+    "4 0 1 2 3\n"
+    "3 4 0 2\n";
+
+TEST(OpenMeshReaders, ReadsAsciiPly) {
+  ReadReport report;
+  Mesh mesh = read_ok(kAsciiPly, MeshFormat::kPly, &report);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 4, 0, 2}));
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+}
+
+// A binary PLY as other tools write it: big-endian, double coordinates, extra properties,
+// uint indices with an int count, another element before the faces.
+std::string big_endian_ply() {
+  std::string bytes =
+      "ply\n"
+      "format binary_big_endian 1.0\n"
+      "element vertex 4\n"
+      "property double x\n"
+      "property double y\n"
+      "property double z\n"
+      "property uchar red\n"
+      "element face 2\n"
+      "property list int uint vertex_indices\n"
+      "end_header\n";
+  auto put_be = [&bytes](uint64_t value, int size) {
+    for (int i = size - 1; i >= 0; --i) bytes += static_cast<char>((value >> (8 * i)) & 0xff);
+  };
+  auto put_double = [&put_be](double value) {
+    uint64_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    put_be(bits, 8);
+  };
+  const double coordinates[4][3] = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.25, -0.5, 1e10}};
+  for (const auto& vertex : coordinates) {
+    for (double c : vertex) put_double(c);
+    put_be(200, 1);
+  }
+  for (uint32_t index : {3u, 0u, 1u, 2u}) put_be(index, 4);
+  for (uint32_t index : {4u, 0u, 1u, 3u, 2u}) put_be(index, 4);
+  return bytes;
+}
+
+TEST(OpenMeshReaders, ReadsBinaryBigEndianPly) {
+  ReadReport report;
+  Mesh mesh = read_ok(big_endian_ply(), MeshFormat::kPly, &report);
+  EXPECT_TRUE(same_positions({0, 0, 0, 2, 0, 0, 0, 2, 0, 0.25f, -0.5f, 1e10f}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 1, 3, 0, 3, 2}));
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+}
+
+TEST(OpenMeshReaders, PlyErrors) {
+  EXPECT_EQ(read_error("plyx garbage\n", MeshFormat::kPly).code(), ErrorCode::kParseError);
+  EXPECT_EQ(read_error("not a ply file at all", MeshFormat::kPly).code(), ErrorCode::kParseError);
+  EXPECT_EQ(read_error("", MeshFormat::kPly).code(), ErrorCode::kEmptyMesh);
+  // Header without end_header.
+  EXPECT_EQ(read_error("ply\nformat ascii 1.0\nelement vertex 3\n", MeshFormat::kPly).code(),
+            ErrorCode::kParseError);
+
+  // Out-of-range vertex index.
+  std::string bad_index = kAsciiPly;
+  bad_index.replace(bad_index.find("3 4 0 2"), 7, "3 4 0 9");
+  Status status = read_error(bad_index, MeshFormat::kPly);
+  EXPECT_EQ(status.code(), ErrorCode::kParseError);
+  EXPECT_EQ(status.message(), "face 1 uses vertex 9 of 5");
+
+  // Face with two corners.
+  std::string short_face = kAsciiPly;
+  short_face.replace(short_face.find("3 4 0 2"), 7, "2 4 0");
+  EXPECT_EQ(read_error(short_face, MeshFormat::kPly).code(), ErrorCode::kParseError);
+
+  // Non-numeric body.
+  std::string garbage = kAsciiPly;
+  garbage.replace(garbage.find("1 1 0"), 5, "a b c");
+  EXPECT_EQ(read_error(garbage, MeshFormat::kPly).code(), ErrorCode::kParseError);
+
+  // Non-finite coordinate.
+  std::string nan_vertex = kAsciiPly;
+  nan_vertex.replace(nan_vertex.find("1 1 0"), 5, "1 nan 0");
+  EXPECT_EQ(read_error(nan_vertex, MeshFormat::kPly).code(), ErrorCode::kParseError);
+
+  // Vertex-only PLY with no vertices.
+  EXPECT_EQ(read_error("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n",
+                       MeshFormat::kPly)
+                .code(),
+            ErrorCode::kEmptyMesh);
+}
+
+TEST(OpenMeshReaders, RejectsEveryTruncationOfPly) {
+  // Every strict prefix that still contains the whole header lacks data the header promises.
+  for (const std::string& full : {kAsciiPly, big_endian_ply()}) {
+    const std::size_t body = full.find("end_header\n") + 11;
+    for (std::size_t length = body; length + 1 < full.size(); ++length) {
+      SCOPED_TRACE(length);
+      Mesh mesh;
+      Status status = read_mesh_from_memory(full.substr(0, length), MeshFormat::kPly, mesh);
+      EXPECT_FALSE(status.is_ok()) << "read " << mesh.vertex_count() << " vertices, " << mesh.face_count()
+                                   << " faces";
+    }
+  }
+}
+
+const std::string kOff =
+    "OFF\n"
+    "5 3 0\n"
+    "0 0 0\n"
+    "1 0 0\n"
+    "1 1 0\n"
+    "0 1 0\n"
+    "0.1 1e-30 -3.4028235e38\n"
+    "4 0 1 2 3\n"
+    "3 4 0 2\n"
+    "3 4 4 1\n";
+
+TEST(OpenMeshReaders, ReadsOff) {
+  ReadReport report;
+  Mesh mesh = read_ok(kOff, MeshFormat::kOff, &report);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 4, 0, 2, 4, 4, 1}));
+  EXPECT_EQ(report.polygons_triangulated, 1u);
+}
+
+TEST(OpenMeshReaders, ReadsOffVariants) {
+  const std::vector<uint32_t> triangle = {0, 1, 2};
+  // Comments, blank lines, CRLF, counts on the header line, no edge count, no final newline.
+  Mesh mesh = read_ok("# made by hand\r\n\r\nOFF 3 1\r\n# vertices\r\n0 0 0\r\n1 0 0 # x\r\n0 1 0\r\n3 0 1 2",
+                      MeshFormat::kOff);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, triangle);
+  // Per-vertex normals and colours are skipped.
+  mesh = read_ok("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n", MeshFormat::kOff);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, triangle);
+  mesh = read_ok("COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n3 0 1 2\n",
+                 MeshFormat::kOff);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, triangle);
+  // A point set.
+  mesh = read_ok("OFF\n2 0 0\n1 2 3\n4 5 6", MeshFormat::kOff);
+  EXPECT_TRUE(same_positions({1, 2, 3, 4, 5, 6}, mesh.positions));
+  EXPECT_TRUE(mesh.triangles.empty());
+}
+
+TEST(OpenMeshReaders, OffErrors) {
+  struct Case {
+    std::string text;
+    ErrorCode code;
+  };
+  const std::vector<Case> cases = {
+      {"", ErrorCode::kEmptyMesh},
+      {"# nothing\n", ErrorCode::kEmptyMesh},
+      {"OFF\n0 0 0\n", ErrorCode::kEmptyMesh},
+      {"PLY\n3 1 0\n", ErrorCode::kParseError},
+      {"OFF\n", ErrorCode::kParseError},
+      {"OFF\nthree 1 0\n", ErrorCode::kParseError},
+      {"OFF\n-3 1 0\n0 0 0\n", ErrorCode::kParseError},
+      {"4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n", ErrorCode::kUnsupportedFormat},
+      {"OFF BINARY\n", ErrorCode::kUnsupportedFormat},
+      // Counts far beyond the file (assimp's OutOfMemory.off).
+      {"OFF\n353535235358 6 0\n-0.5 -0.5 0.5\n", ErrorCode::kParseError},
+      {"OFF\n3 4000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError},
+      // Truncated: vertices, then faces.
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n", ErrorCode::kParseError},
+      {"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n", ErrorCode::kParseError},
+      // A face of 0 corners (assimp's invalid.off), a huge corner count, a bad index.
+      {"OFF\n3 4\n0.1 0.2 0.3\n0.2 0.3 0.4\n0.3 0.4 0.5\n0\n220\n4\n", ErrorCode::kParseError},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", ErrorCode::kParseError},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", ErrorCode::kParseError},
+      {"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n", ErrorCode::kParseError},
+      // Non-numeric and non-finite values.
+      {"OFF\n3 1 0\n0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError},
+      {"OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError},
+      // Binary junk after a valid-looking header.
+      {"OFF\n3 1 0\n\x01\x02\x03\x04\x05\x06\x07\x08\x09\x0a\x0b\x0c\x0d\x0e\x0f\x10\x11\x12\x13\x14\n"
+       "\x15\x16\x17\x18\x19\n",
+       ErrorCode::kParseError},
+      {"\x7f" "ELF\x02\x01\x01\0\0\0\0\0\0\0\0\0\x03\0\x3e\0"s, ErrorCode::kParseError},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    Status status = read_error(c.text, MeshFormat::kOff);
+    EXPECT_EQ(status.code(), c.code) << status.message();
+  }
+  Status status = read_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "face 0 uses vertex 7 of 3");
+}
+
+TEST(OpenMeshReaders, RejectsEveryTruncationOfOff) {
+  const std::size_t body = kOff.find("5 3 0\n") + 6;
+  for (std::size_t length = body; length + 1 < kOff.size(); ++length) {
+    const std::string prefix = kOff.substr(0, length);
+    SCOPED_TRACE(prefix);
+    Mesh mesh;
+    Status status = read_mesh_from_memory(prefix, MeshFormat::kOff, mesh);
+    EXPECT_FALSE(status.is_ok()) << "read " << mesh.vertex_count() << " vertices, " << mesh.face_count()
+                                 << " faces";
+  }
+}
+
+TEST(OpenMeshReaders, ReadsArmadilloOff) {
+  PM_SKIP_IF_NO_SHARED();
+  Mesh mesh;
+  Status status = read_mesh(test::shared_mesh_path("armadillo.off"), mesh);
+  ASSERT_TRUE(status.is_ok()) << status.message();
+  EXPECT_EQ(mesh.vertex_count(), 26002u);
+  EXPECT_EQ(mesh.face_count(), 52000u);
+}
+
+const std::string kAsciiStl =
+    "solid test\n"
+    "  facet normal 0 0 1\n"
+    "    outer loop\n"
+    "      vertex 0 0 0\n"
+    "      vertex 1 0 0\n"
+    "      vertex 0 1 0\n"
+    "    endloop\n"
+    "  endfacet\n"
+    "  facet normal 0 0 1\n"
+    "    outer loop\n"
+    "      vertex 1 0 0\n"
+    "      vertex 1 1 0\n"
+    "      vertex 0 1 0\n"
+    "    endloop\n"
+    "  endfacet\n"
+    "endsolid test\n";
+
+TEST(OpenMeshReaders, ReadsAsciiStlMergingEqualPositions) {
+  Mesh mesh = read_ok(kAsciiStl, MeshFormat::kStl);
+  EXPECT_EQ(mesh.vertex_count(), 4u);
+  EXPECT_EQ(mesh.face_count(), 2u);
+  Mesh expected;
+  expected.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  expected.triangles = {0, 1, 2, 1, 3, 2};
+  EXPECT_TRUE(test::same_faces(expected, mesh));
+}
+
+TEST(OpenMeshReaders, StlErrors) {
+  EXPECT_EQ(read_error("", MeshFormat::kStl).code(), ErrorCode::kEmptyMesh);
+  EXPECT_EQ(read_error("hello, not an stl file", MeshFormat::kStl).code(), ErrorCode::kParseError);
+  // A binary STL whose triangle count does not match its size is neither binary nor ASCII.
+  std::string binary(84, '\0');
+  binary[80] = 5;
+  EXPECT_EQ(read_error(binary + std::string(49, '\0'), MeshFormat::kStl).code(), ErrorCode::kParseError);
+  // No triangles.
+  EXPECT_EQ(read_error(std::string(84, '\0'), MeshFormat::kStl).code(), ErrorCode::kEmptyMesh);
+  EXPECT_EQ(read_error("solid empty\nendsolid empty\n", MeshFormat::kStl).code(), ErrorCode::kEmptyMesh);
+}
+
+// ---------------------------------------------------------------------------------------
+// Writers and round trips
+// ---------------------------------------------------------------------------------------
+
+// Awkward float32 values: not exactly decimal, tiny, the most negative, many digits,
+// negative zero, a subnormal, the extremes.
+Mesh awkward_mesh() {
+  Mesh mesh;
+  mesh.positions = {0.1f,   1e-30f,         -3.4028235e38f,  //
+                    123456.789f, -0.0f,     1e-45f,          //
+                    FLT_MAX, -FLT_MIN,      1.0f / 3.0f,     //
+                    -2.5f,  0.3f,           16777217.0f,     //
+                    7.0f,   -1e-7f,         0.0f};
+  mesh.triangles = {0, 1, 2, 2, 1, 3, 3, 4, 0, 4, 4, 1};  // the last face is degenerate
+  return mesh;
+}
+
+TEST(MeshWriter, WritesObjExactly) {
+  Mesh mesh;
+  mesh.positions = {0.1f, 1e-30f, -3.4028235e38f, 123456.789f, -0.0f, 1.0f, 2.0f, 0.5f, 100.0f};
+  mesh.triangles = {0, 1, 2, 2, 1, 0};
+  std::string text;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kObj, text).is_ok());
+  EXPECT_EQ(text,
+            "v 0.1 1e-30 -3.4028235e+38\n"
+            "v 123456.79 -0 1\n"
+            "v 2 0.5 100\n"
+            "f 1 2 3\n"
+            "f 3 2 1\n");
+}
+
+TEST(MeshWriter, WritesOffExactly) {
+  Mesh mesh;
+  mesh.positions = {0.1f, 1e-30f, -3.4028235e38f, 1.0f, 2.0f, 3.0f, 0.0f, 0.0f, 0.25f};
+  mesh.triangles = {0, 1, 2};
+  std::string text;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kOff, text).is_ok());
+  EXPECT_EQ(text,
+            "OFF\n3 1 0\n"
+            "0.1 1e-30 -3.4028235e+38\n"
+            "1 2 3\n"
+            "0 0 0.25\n"
+            "3 0 1 2\n");
+}
+
+TEST(MeshWriter, WritesBinaryPlyLayout) {
+  Mesh mesh;
+  mesh.positions = {0.1f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.0f};
+  mesh.triangles = {0, 1, 2};
+  std::string bytes;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kPly, bytes).is_ok());
+  const std::string header =
+      "ply\n"
+      "format binary_little_endian 1.0\n"
+      "element vertex 3\n"
+      "property float x\n"
+      "property float y\n"
+      "property float z\n"
+      "element face 1\n"
+      "property list uchar int vertex_indices\n"
+      "end_header\n";
+  ASSERT_EQ(bytes.substr(0, header.size()), header);
+  ASSERT_EQ(bytes.size(), header.size() + 9 * 4 + 13);
+  // 0.1f is 0x3dcccccd, little-endian.
+  EXPECT_EQ(bytes.substr(header.size(), 4), "\xcd\xcc\xcc\x3d");
+  EXPECT_EQ(bytes.substr(header.size() + 36), "\x03\0\0\0\0\x01\0\0\0\x02\0\0\0"s);
+}
+
+TEST(MeshWriter, WritesBinaryStlLayout) {
+  Mesh mesh;
+  mesh.positions = {0, 0, 0, 2, 0, 0, 0, 2, 0};
+  mesh.triangles = {0, 1, 2, 0, 0, 1};
+  std::string bytes;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kStl, bytes).is_ok());
+  ASSERT_EQ(bytes.size(), 84u + 2 * 50);
+  EXPECT_NE(bytes.substr(0, 5), "solid");
+  EXPECT_EQ(bytes.substr(80, 4), "\x02\0\0\0"s);
+  auto float_at = [&bytes](std::size_t offset) {
+    float value;
+    std::memcpy(&value, bytes.data() + offset, 4);  // the test host is little-endian
+    return value;
+  };
+  // First facet: normal +z, then the corners.
+  EXPECT_EQ(float_at(84), 0.0f);
+  EXPECT_EQ(float_at(88), 0.0f);
+  EXPECT_EQ(float_at(92), 1.0f);
+  EXPECT_EQ(float_at(96 + 12), 2.0f);
+  EXPECT_EQ(bytes.substr(84 + 48, 2), "\0\0"s);
+  // Degenerate facet: zero normal.
+  EXPECT_EQ(float_at(134), 0.0f);
+  EXPECT_EQ(float_at(138), 0.0f);
+  EXPECT_EQ(float_at(142), 0.0f);
+}
+
+TEST(MeshWriter, RoundTripsIndexedFormatsBitExactly) {
+  const Mesh mesh = awkward_mesh();
+  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff}) {
+    SCOPED_TRACE(mesh_format_name(format));
+    std::string bytes;
+    ASSERT_TRUE(write_mesh_to_memory(mesh, format, bytes).is_ok());
+    ReadReport report;
+    Mesh back = read_ok(bytes, format, &report);
+    EXPECT_TRUE(same_positions(mesh.positions, back.positions));
+    EXPECT_EQ(mesh.triangles, back.triangles);
+    EXPECT_EQ(report.polygons_triangulated, 0u);
+    EXPECT_EQ(report.ignored_lines, 0u);
+  }
+}
+
+TEST(MeshWriter, RoundTripsStlFacesBitExactly) {
+  // STL keeps no indices: the reader merges equal positions and drops faces that became
+  // degenerate, so compare faces by their corner positions, without the degenerate one.
+  Mesh mesh = awkward_mesh();
+  mesh.triangles.resize(mesh.triangles.size() - 3);
+  std::string bytes;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kStl, bytes).is_ok());
+  Mesh back = read_ok(bytes, MeshFormat::kStl);
+  EXPECT_TRUE(test::same_faces(mesh, back));
+}
+
+TEST(MeshWriter, RoundTripsSharedMeshes) {
+  PM_SKIP_IF_NO_SHARED();
+  for (const char* name : {"cow.obj", "armadillo.off"}) {
+    SCOPED_TRACE(name);
+    Mesh mesh;
+    ASSERT_TRUE(read_mesh(test::shared_mesh_path(name), mesh).is_ok());
+    for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+      SCOPED_TRACE(mesh_format_name(format));
+      std::string bytes;
+      ASSERT_TRUE(write_mesh_to_memory(mesh, format, bytes).is_ok());
+      Mesh back = read_ok(bytes, format);
+      if (format == MeshFormat::kStl) {
+        EXPECT_TRUE(test::same_faces(mesh, back));
+      } else {
+        EXPECT_TRUE(same_positions(mesh.positions, back.positions));
+        EXPECT_EQ(mesh.triangles, back.triangles);
+      }
+    }
+  }
+}
+
+TEST(MeshWriter, WritesEmptyMesh) {
+  const Mesh empty;
+  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+    std::string bytes = "old contents";
+    EXPECT_TRUE(write_mesh_to_memory(empty, format, bytes).is_ok());
+    EXPECT_NE(bytes, "old contents");
+  }
+}
+
+TEST(MeshWriter, RejectsInvalidMeshes) {
+  std::string bytes;
+  Mesh bad_index;
+  bad_index.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  bad_index.triangles = {0, 1, 3};
+  Status status = write_mesh_to_memory(bad_index, MeshFormat::kObj, bytes);
+  EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(status.message(), "face 0 uses vertex 3 of 3");
+
+  Mesh not_finite;
+  not_finite.positions = {0, 0, 0, 1, std::nanf(""), 0};
+  EXPECT_EQ(write_mesh_to_memory(not_finite, MeshFormat::kPly, bytes).code(), ErrorCode::kInvalidArgument);
+
+  Mesh ragged;
+  ragged.positions = {0, 0};
+  EXPECT_EQ(write_mesh_to_memory(ragged, MeshFormat::kOff, bytes).code(), ErrorCode::kInvalidArgument);
+
+  EXPECT_EQ(write_mesh_to_memory(Mesh(), MeshFormat::kUnknown, bytes).code(), ErrorCode::kUnsupportedFormat);
+}
+
+// ---------------------------------------------------------------------------------------
+// Formats, files
+// ---------------------------------------------------------------------------------------
+
+TEST(MeshFormat, FromPath) {
+  EXPECT_EQ(mesh_format_from_path("mesh.obj"), MeshFormat::kObj);
+  EXPECT_EQ(mesh_format_from_path("MESH.OBJ"), MeshFormat::kObj);
+  EXPECT_EQ(mesh_format_from_path(".obj"), MeshFormat::kObj);
+  EXPECT_EQ(mesh_format_from_path(".Ply"), MeshFormat::kPly);
+  EXPECT_EQ(mesh_format_from_path("/data/scan.v2.ply"), MeshFormat::kPly);
+  EXPECT_EQ(mesh_format_from_path("dir.stl/model.Off"), MeshFormat::kOff);
+  EXPECT_EQ(mesh_format_from_path("C:\\models\\part.STL"), MeshFormat::kStl);
+  EXPECT_EQ(mesh_format_from_path(""), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("-"), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("obj"), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("mesh."), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("mesh.obj.gz"), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("dir.obj/mesh"), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("mesh.objx"), MeshFormat::kUnknown);
+  EXPECT_EQ(mesh_format_from_path("mesh.pm"), MeshFormat::kUnknown);
+}
+
+TEST(MeshFormat, Names) {
+  EXPECT_STREQ(mesh_format_name(MeshFormat::kObj), "obj");
+  EXPECT_STREQ(mesh_format_name(MeshFormat::kPly), "ply");
+  EXPECT_STREQ(mesh_format_name(MeshFormat::kOff), "off");
+  EXPECT_STREQ(mesh_format_name(MeshFormat::kStl), "stl");
+  EXPECT_STREQ(mesh_format_name(MeshFormat::kUnknown), "unknown");
+  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+    EXPECT_EQ(mesh_format_from_path(std::string(".") + mesh_format_name(format)), format);
+  }
+}
+
+TEST(ReadMesh, ReadsFilesOfEachFormat) {
+  test::TempDir dir;
+  test::write_file(dir.file("a.obj"), kTriangleObj);
+  test::write_file(dir.file("b.PLY"), kAsciiPly);
+  test::write_file(dir.file("c.off"), kOff);
+  test::write_file(dir.file("d.stl"), kAsciiStl);
+  const std::pair<const char*, std::size_t> expected_faces[] = {{"a.obj", 1}, {"b.PLY", 3}, {"c.off", 4}, {"d.stl", 2}};
+  for (const auto& [name, faces] : expected_faces) {
+    SCOPED_TRACE(name);
+    Mesh mesh;
+    ReadReport report;
+    Status status = read_mesh(dir.file(name), mesh, &report);
+    ASSERT_TRUE(status.is_ok()) << status.message();
+    EXPECT_EQ(mesh.face_count(), faces);
+  }
+}
+
+TEST(ReadMesh, Errors) {
+  test::TempDir dir;
+  Mesh mesh;
+  Status status = read_mesh(dir.file("missing.obj"), mesh);
+  EXPECT_EQ(status.code(), ErrorCode::kIoError);
+  EXPECT_EQ(status.message(), "cannot open file (no such file or directory)");
+
+  std::filesystem::create_directory(dir.file("folder.obj"));
+  status = read_mesh(dir.file("folder.obj"), mesh);
+  EXPECT_EQ(status.code(), ErrorCode::kIoError);
+  EXPECT_FALSE(status.message().empty());
+
+  test::write_file(dir.file("mesh.txt"), kTriangleObj);
+  EXPECT_EQ(read_mesh(dir.file("mesh.txt"), mesh).code(), ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(read_mesh_from_memory(kTriangleObj, MeshFormat::kUnknown, mesh).code(), ErrorCode::kUnsupportedFormat);
+
+  test::write_file(dir.file("empty.obj"), "");
+  EXPECT_EQ(read_mesh(dir.file("empty.obj"), mesh).code(), ErrorCode::kEmptyMesh);
+}
+
+// OpenMesh's readers are process-wide singletons; reads from several threads must not mix.
+TEST(ReadMesh, ConcurrentOpenMeshReads) {
+  std::string ply;
+  ASSERT_TRUE(write_mesh_to_memory(awkward_mesh(), MeshFormat::kPly, ply).is_ok());
+  std::vector<std::thread> threads;
+  std::vector<int> failures(4, 0);
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 50; ++i) {
+        Mesh mesh;
+        const bool ok = (t % 2 ? read_mesh_from_memory(ply, MeshFormat::kPly, mesh)
+                               : read_mesh_from_memory(kOff, MeshFormat::kOff, mesh))
+                            .is_ok();
+        failures[t] += !ok || mesh.face_count() != 4u;
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(failures, std::vector<int>(4, 0));
+}
+
+// ---------------------------------------------------------------------------------------
+// Robustness: damaged and foreign files must give an error (or a mesh), never a crash
+// ---------------------------------------------------------------------------------------
+
+TEST(Robustness, SurvivesRandomDamage) {
+  const Mesh mesh = awkward_mesh();
+  std::mt19937 random(12345);
+  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+    SCOPED_TRACE(mesh_format_name(format));
+    std::string original;
+    ASSERT_TRUE(write_mesh_to_memory(mesh, format, original).is_ok());
+    for (int trial = 0; trial < 300; ++trial) {
+      std::string damaged = original;
+      const int edits = 1 + static_cast<int>(random() % 4);
+      for (int e = 0; e < edits; ++e) {
+        const std::size_t at = random() % damaged.size();
+        switch (random() % 3) {
+          case 0:
+            damaged[at] = static_cast<char>(random());
+            break;
+          case 1:
+            damaged.erase(at, 1 + random() % 8);
+            break;
+          default:
+            damaged.insert(at, 1, "0123456789 -.\n#e9"[random() % 17]);
+            break;
+        }
+        if (damaged.empty()) damaged = "x";
+      }
+      Mesh result;
+      Status status = read_mesh_from_memory(damaged, format, result);
+      if (!status.is_ok()) {
+        EXPECT_FALSE(status.message().empty());
+      } else {
+        for (uint32_t index : result.triangles) ASSERT_LT(index, result.vertex_count());
+        for (float coordinate : result.positions) ASSERT_TRUE(std::isfinite(coordinate));
+      }
+    }
+  }
+}
+
+TEST(Robustness, ReadsAssimpTestModelsWithoutCrashing) {
+  const std::filesystem::path root = "/usr/share/assimp/models";
+  if (!std::filesystem::is_directory(root)) {
+    GTEST_SKIP() << root << " not found (Debian package assimp-testmodels)";
+  }
+  int files = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string path = entry.path().string();
+    if (mesh_format_from_path(path) == MeshFormat::kUnknown) continue;
+    SCOPED_TRACE(path);
+    ++files;
+    Mesh mesh;
+    Status status = read_mesh(path, mesh);
+    if (status.is_ok()) {
+      for (uint32_t index : mesh.triangles) ASSERT_LT(index, mesh.vertex_count());
+    } else {
+      EXPECT_FALSE(status.message().empty());
+    }
+  }
+  EXPECT_GT(files, 0);
+}
+
+}  // namespace
+}  // namespace pm
