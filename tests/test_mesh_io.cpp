@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -24,7 +26,8 @@ namespace {
 using std::string_literals::operator""s;
 
 // Reads `text` as `format`, expecting success.
-Mesh read_ok(const std::string& text, MeshFormat format = MeshFormat::kObj, ReadReport* report = nullptr) {
+Mesh read_ok(const std::string& text, MeshFormat format = MeshFormat::kObj,
+             ReadReport* report = nullptr) {
   Mesh mesh;
   Status status = read_mesh_from_memory(text, format, mesh, report);
   EXPECT_TRUE(status.is_ok()) << error_code_name(status.code()) << ": " << status.message();
@@ -48,15 +51,17 @@ uint32_t bits_of(float value) {
 }
 
 // Positions compared bit for bit (so -0 differs from +0), with a readable failure message.
-::testing::AssertionResult same_positions(const std::vector<float>& expected, const std::vector<float>& actual) {
+::testing::AssertionResult same_positions(const std::vector<float>& expected,
+                                          const std::vector<float>& actual) {
   if (expected.size() != actual.size()) {
-    return ::testing::AssertionFailure() << "sizes differ: " << expected.size() << " vs " << actual.size();
+    return ::testing::AssertionFailure()
+           << "sizes differ: " << expected.size() << " vs " << actual.size();
   }
   for (std::size_t i = 0; i < expected.size(); ++i) {
     if (bits_of(expected[i]) != bits_of(actual[i])) {
-      return ::testing::AssertionFailure() << "coordinate " << i << ": expected " << expected[i] << " (bits "
-                                           << bits_of(expected[i]) << "), got " << actual[i] << " (bits "
-                                           << bits_of(actual[i]) << ")";
+      return ::testing::AssertionFailure() << "coordinate " << i << ": expected " << expected[i]
+                                           << " (bits " << bits_of(expected[i]) << "), got "
+                                           << actual[i] << " (bits " << bits_of(actual[i]) << ")";
     }
   }
   return ::testing::AssertionSuccess();
@@ -99,9 +104,9 @@ TEST(ObjReader, AcceptsAllCornerForms) {
 TEST(ObjReader, ResolvesNegativeIndicesAgainstVerticesSoFar) {
   const std::string text =
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
-      "f -3 -2 -1\n"    // 2 3 4
+      "f -3 -2 -1\n"  // 2 3 4
       "v 2 2 2\n"
-      "f -1 -5 -2\n"    // 5 1 4
+      "f -1 -5 -2\n"                // 5 1 4
       "f -1/-1/-1 -2//-2 -3/-3\n";  // 5 4 3
   Mesh mesh = read_ok(text);
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{1, 2, 3, 4, 0, 3, 4, 3, 2}));
@@ -122,7 +127,8 @@ TEST(ObjReader, TriangulatesPolygonsAsFans) {
       "f 1 2 3 4 5\n"
       "f 5/1 4/1 3/1 2/1\n",
       MeshFormat::kObj, &report);
-  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 2, 3, 0, 3, 4, 4, 3, 2, 4, 2, 1}));
+  EXPECT_EQ(mesh.triangles,
+            (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 2, 3, 0, 3, 4, 4, 3, 2, 4, 2, 1}));
   EXPECT_EQ(report.polygons_triangulated, 2u);
 }
 
@@ -200,9 +206,10 @@ TEST(ObjReader, ParsesNumberFormsExactly) {
       "v -3.4028235e38 123456.789 3.4028235e+38\n"
       "v 1e-45 1.17549435e-38 00012\n"
       "v 1e-50 -1e-60 0.30000001192092896\n");
-  EXPECT_TRUE(same_positions({1.0f, 2.0f, 0.5f, 100.0f, -0.25f, 310.0f, -0.0f, 0.1f, 1e-30f, -3.4028235e38f,
-                              123456.789f, 3.4028235e38f, 1e-45f, FLT_MIN, 12.0f, 0.0f, -0.0f, 0.3f},
-                             mesh.positions));
+  EXPECT_TRUE(
+      same_positions({1.0f, 2.0f, 0.5f, 100.0f, -0.25f, 310.0f, -0.0f, 0.1f, 1e-30f, -3.4028235e38f,
+                      123456.789f, 3.4028235e38f, 1e-45f, FLT_MIN, 12.0f, 0.0f, -0.0f, 0.3f},
+                     mesh.positions));
 }
 
 TEST(ObjReader, KeepsFacesWithRepeatedVertices) {
@@ -254,8 +261,8 @@ TEST(ObjReader, RejectsHugeIndex) {
 }
 
 TEST(ObjReader, RejectsMalformedVertices) {
-  for (const char* line : {"v 1 2", "v", "v 1 2 x", "v 1 2 3.1+e2", "v 1,5 2 3", "v 0x10 1 2", "v 1 2 3 4 5 6 7 8",
-                           "v 1 2 3 red", "v 1 2 3e"}) {
+  for (const char* line : {"v 1 2", "v", "v 1 2 x", "v 1 2 3.1+e2", "v 1,5 2 3", "v 0x10 1 2",
+                           "v 1 2 3 4 5 6 7 8", "v 1 2 3 red", "v 1 2 3e"}) {
     SCOPED_TRACE(line);
     Status status = read_error("v 0 0 0\n\n"s + line + "\n");
     EXPECT_EQ(status.code(), ErrorCode::kParseError);
@@ -288,12 +295,13 @@ TEST(ObjReader, RejectsFacesWithFewerThanThreeCorners) {
 }
 
 TEST(ObjReader, RejectsMalformedCorners) {
-  for (const char* line : {"f 1 2 a", "f 1/2/3/4 2 3", "f 1.5 2 3", "f 1/x 2 3", "f 1//y 2 3", "f /1 2 3",
-                           "f 1 2 3,"}) {
+  for (const char* line : {"f 1 2 a", "f 1/2/3/4 2 3", "f 1.5 2 3", "f 1/x 2 3", "f 1//y 2 3",
+                           "f /1 2 3", "f 1 2 3,"}) {
     SCOPED_TRACE(line);
     Status status = read_error(kTriangleObj + line + "\n");
     EXPECT_EQ(status.code(), ErrorCode::kParseError);
-    EXPECT_NE(status.message().find("line 5: malformed face corner"), std::string::npos) << status.message();
+    EXPECT_NE(status.message().find("line 5: malformed face corner"), std::string::npos)
+        << status.message();
   }
 }
 
@@ -324,7 +332,8 @@ TEST(ObjReader, RejectsBinaryJunk) {
 }
 
 TEST(ObjReader, EmptyInputIsAnEmptyMesh) {
-  for (const std::string& text : {""s, "\n\n"s, "# only a comment\n"s, "  \r\n\t\n"s, "o name\ng group\n"s}) {
+  for (const std::string& text :
+       {""s, "\n\n"s, "# only a comment\n"s, "  \r\n\t\n"s, "o name\ng group\n"s}) {
     SCOPED_TRACE(text);
     Status status = read_error(text);
     EXPECT_EQ(status.code(), ErrorCode::kEmptyMesh);
@@ -336,7 +345,8 @@ TEST(ObjReader, LeavesMeshAndReportUntouchedOnError) {
   Mesh mesh = read_ok(kTriangleObj);
   ReadReport report;
   report.ignored_lines = 7;
-  EXPECT_FALSE(read_mesh_from_memory("v 0 0 0\nl 1 2\nf 1 2\n", MeshFormat::kObj, mesh, &report).is_ok());
+  EXPECT_FALSE(
+      read_mesh_from_memory("v 0 0 0\nl 1 2\nf 1 2\n", MeshFormat::kObj, mesh, &report).is_ok());
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2}));
   EXPECT_EQ(report.ignored_lines, 7u);
 }
@@ -356,7 +366,7 @@ TEST(ObjReader, AgreesWithTheOracleOnSharedMeshes) {
 }
 
 // ---------------------------------------------------------------------------------------
-// PLY, OFF and STL through OpenMesh
+// PLY and STL through OpenMesh; OFF (own parser, alongside them for comparison)
 // ---------------------------------------------------------------------------------------
 
 const std::string kAsciiPly =
@@ -381,7 +391,8 @@ const std::string kAsciiPly =
 TEST(OpenMeshReaders, ReadsAsciiPly) {
   ReadReport report;
   Mesh mesh = read_ok(kAsciiPly, MeshFormat::kPly, &report);
-  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f}, mesh.positions));
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f},
+                             mesh.positions));
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 4, 0, 2}));
   EXPECT_EQ(report.polygons_triangulated, 1u);
 }
@@ -457,11 +468,12 @@ TEST(OpenMeshReaders, PlyErrors) {
   EXPECT_EQ(read_error(nan_vertex, MeshFormat::kPly).code(), ErrorCode::kParseError);
 
   // Vertex-only PLY with no vertices.
-  EXPECT_EQ(read_error("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
-                       "property float z\nend_header\n",
-                       MeshFormat::kPly)
-                .code(),
-            ErrorCode::kEmptyMesh);
+  EXPECT_EQ(
+      read_error("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+                 "property float z\nend_header\n",
+                 MeshFormat::kPly)
+          .code(),
+      ErrorCode::kEmptyMesh);
 }
 
 TEST(OpenMeshReaders, RejectsEveryTruncationOfPly) {
@@ -472,8 +484,8 @@ TEST(OpenMeshReaders, RejectsEveryTruncationOfPly) {
       SCOPED_TRACE(length);
       Mesh mesh;
       Status status = read_mesh_from_memory(full.substr(0, length), MeshFormat::kPly, mesh);
-      EXPECT_FALSE(status.is_ok()) << "read " << mesh.vertex_count() << " vertices, " << mesh.face_count()
-                                   << " faces";
+      EXPECT_FALSE(status.is_ok())
+          << "read " << mesh.vertex_count() << " vertices, " << mesh.face_count() << " faces";
     }
   }
 }
@@ -493,7 +505,8 @@ const std::string kOff =
 TEST(OpenMeshReaders, ReadsOff) {
   ReadReport report;
   Mesh mesh = read_ok(kOff, MeshFormat::kOff, &report);
-  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f}, mesh.positions));
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f},
+                             mesh.positions));
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 4, 0, 2, 4, 4, 1}));
   EXPECT_EQ(report.polygons_triangulated, 1u);
 }
@@ -501,8 +514,9 @@ TEST(OpenMeshReaders, ReadsOff) {
 TEST(OpenMeshReaders, ReadsOffVariants) {
   const std::vector<uint32_t> triangle = {0, 1, 2};
   // Comments, blank lines, CRLF, counts on the header line, no edge count, no final newline.
-  Mesh mesh = read_ok("# made by hand\r\n\r\nOFF 3 1\r\n# vertices\r\n0 0 0\r\n1 0 0 # x\r\n0 1 0\r\n3 0 1 2",
-                      MeshFormat::kOff);
+  Mesh mesh = read_ok(
+      "# made by hand\r\n\r\nOFF 3 1\r\n# vertices\r\n0 0 0\r\n1 0 0 # x\r\n0 1 0\r\n3 0 1 2",
+      MeshFormat::kOff);
   EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
   EXPECT_EQ(mesh.triangles, triangle);
   // Per-vertex normals and colours are skipped.
@@ -513,6 +527,17 @@ TEST(OpenMeshReaders, ReadsOffVariants) {
                  MeshFormat::kOff);
   EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
   EXPECT_EQ(mesh.triangles, triangle);
+  mesh = read_ok(
+      "STCNOFF\n3 1 0\n0 0 0 0 0 1 9 9 9 0.5 0.5\n1 0 0 0 0 1 9 9 9 1 0\n0 1 0 0 0 1 9 9 9 0 1\n3 "
+      "0 1 2\n",
+      MeshFormat::kOff);
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, triangle);
+  // Per-face colours (integer or float, 3 or 4 values) end face lines.
+  mesh = read_ok(
+      "OFF\n4 3 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2 255 0 0\n3 1 3 2 0.5 0.5 0.5 1\n3 0 0 1 3\n",
+      MeshFormat::kOff);
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2, 0, 0, 1}));
   // A point set.
   mesh = read_ok("OFF\n2 0 0\n1 2 3\n4 5 6", MeshFormat::kOff);
   EXPECT_TRUE(same_positions({1, 2, 3, 4, 5, 6}, mesh.positions));
@@ -550,10 +575,13 @@ TEST(OpenMeshReaders, OffErrors) {
       {"OFF\n3 1 0\n0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError},
       {"OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError},
       // Binary junk after a valid-looking header.
-      {"OFF\n3 1 0\n\x01\x02\x03\x04\x05\x06\x07\x08\x09\x0a\x0b\x0c\x0d\x0e\x0f\x10\x11\x12\x13\x14\n"
+      {"OFF\n3 1 "
+       "0\n\x01\x02\x03\x04\x05\x06\x07\x08\x09\x0a\x0b\x0c\x0d\x0e\x0f\x10\x11\x12\x13\x14\n"
        "\x15\x16\x17\x18\x19\n",
        ErrorCode::kParseError},
-      {"\x7f" "ELF\x02\x01\x01\0\0\0\0\0\0\0\0\0\x03\0\x3e\0"s, ErrorCode::kParseError},
+      {"\x7f"
+       "ELF\x02\x01\x01\0\0\0\0\0\0\0\0\0\x03\0\x3e\0"s,
+       ErrorCode::kParseError},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.text);
@@ -561,7 +589,38 @@ TEST(OpenMeshReaders, OffErrors) {
     EXPECT_EQ(status.code(), c.code) << status.message();
   }
   Status status = read_error("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", MeshFormat::kOff);
-  EXPECT_EQ(status.message(), "face 0 uses vertex 7 of 3");
+  EXPECT_EQ(status.message(), "line 6: face index 7 out of range (3 vertices)");
+  status = read_error("OFF\n353535235358 6 0\n-0.5 -0.5 0.5\n", MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "line 2: vertex count 353535235358 is more than the file holds");
+  status = read_error("OFF\n3 4000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "line 6: file ends after 1 of 4000000000 faces");
+  status = read_error("OFF\n# comment\n3 2 0\n0 0 0\n1 0 0\n0 nan 0\n3 0 1 2\n3 0 1 2\n",
+                      MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "line 6: non-finite coordinate");
+  status = read_error("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n", MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "line 7: face with fewer than 3 corners");
+  status = read_error("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\n# 3 0 1 2\n3 0 1\n",
+                      MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "line 9: malformed face");
+  status = read_error("OFF\n2 0 0\n0 0 0\n1 0\n", MeshFormat::kOff);
+  EXPECT_EQ(status.message(), "line 4: malformed vertex");
+}
+
+// The reason OFF is not read through OpenMesh: its stream reader parses by the variant
+// that the last file-based OpenMesh read of an OFF file detected, process-wide.
+TEST(OpenMeshReaders, OffIsIndependentOfOpenMeshFileReads) {
+  test::TempDir dir;
+  test::write_file(dir.file("normals.off"),
+                   "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
+  using TriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+  TriMesh other;
+  other.request_vertex_normals();
+  OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexNormal;
+  omerr().disable();
+  ASSERT_TRUE(OpenMesh::IO::read_mesh(other, dir.file("normals.off"), options));
+  Mesh mesh = read_ok(kOff, MeshFormat::kOff);
+  EXPECT_EQ(mesh.vertex_count(), 5u);
+  EXPECT_EQ(mesh.face_count(), 4u);
 }
 
 TEST(OpenMeshReaders, RejectsEveryTruncationOfOff) {
@@ -571,8 +630,8 @@ TEST(OpenMeshReaders, RejectsEveryTruncationOfOff) {
     SCOPED_TRACE(prefix);
     Mesh mesh;
     Status status = read_mesh_from_memory(prefix, MeshFormat::kOff, mesh);
-    EXPECT_FALSE(status.is_ok()) << "read " << mesh.vertex_count() << " vertices, " << mesh.face_count()
-                                 << " faces";
+    EXPECT_FALSE(status.is_ok()) << "read " << mesh.vertex_count() << " vertices, "
+                                 << mesh.face_count() << " faces";
   }
 }
 
@@ -619,10 +678,40 @@ TEST(OpenMeshReaders, StlErrors) {
   // A binary STL whose triangle count does not match its size is neither binary nor ASCII.
   std::string binary(84, '\0');
   binary[80] = 5;
-  EXPECT_EQ(read_error(binary + std::string(49, '\0'), MeshFormat::kStl).code(), ErrorCode::kParseError);
+  EXPECT_EQ(read_error(binary + std::string(49, '\0'), MeshFormat::kStl).code(),
+            ErrorCode::kParseError);
   // No triangles.
   EXPECT_EQ(read_error(std::string(84, '\0'), MeshFormat::kStl).code(), ErrorCode::kEmptyMesh);
-  EXPECT_EQ(read_error("solid empty\nendsolid empty\n", MeshFormat::kStl).code(), ErrorCode::kEmptyMesh);
+  EXPECT_EQ(read_error("solid empty\nendsolid empty\n", MeshFormat::kStl).code(),
+            ErrorCode::kEmptyMesh);
+
+  // ASCII STL is checked line by line before OpenMesh, which would turn these into wrong
+  // coordinates or silently drop the facet.
+  const std::string facet_start = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n";
+  const std::string facet_end = "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+  struct Case {
+    std::string text;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {facet_start + "vertex 1,5 0 0\n" + facet_end, "line 5: malformed vertex"},
+      {facet_start + "vertex 1 x 0\n" + facet_end, "line 5: malformed vertex"},
+      {facet_start + "vertex nan 0 0\n" + facet_end, "line 5: malformed vertex"},
+      {facet_start + "vertex 1 0\n" + facet_end, "line 5: malformed vertex"},
+      {facet_start + "vertex 1 0 0 0\n" + facet_end, "line 5: malformed vertex"},
+      {facet_start + facet_end, "line 6: expected vertex x y z"},
+      {facet_start + "vertex 1 0 0\n" + "vertex 0 1 0\nendloop\n",
+       "line 7: file ends inside a solid"},
+      {"solid t\nfacet normal 0 0\n", "line 2: expected facet normal x y z, or endsolid"},
+      {"solid t\nfacet normal 0 0 1\nouter\n", "line 3: expected outer loop"},
+      {"solid t\n\0\0\0\0"s, "line 2: expected facet normal x y z, or endsolid"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    Status status = read_error(c.text, MeshFormat::kStl);
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_EQ(status.message(), c.message);
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -633,11 +722,11 @@ TEST(OpenMeshReaders, StlErrors) {
 // negative zero, a subnormal, the extremes.
 Mesh awkward_mesh() {
   Mesh mesh;
-  mesh.positions = {0.1f,   1e-30f,         -3.4028235e38f,  //
-                    123456.789f, -0.0f,     1e-45f,          //
-                    FLT_MAX, -FLT_MIN,      1.0f / 3.0f,     //
-                    -2.5f,  0.3f,           16777217.0f,     //
-                    7.0f,   -1e-7f,         0.0f};
+  mesh.positions = {0.1f,        1e-30f,   -3.4028235e38f,  //
+                    123456.789f, -0.0f,    1e-45f,          //
+                    FLT_MAX,     -FLT_MIN, 1.0f / 3.0f,     //
+                    -2.5f,       0.3f,     16777217.0f,     //
+                    7.0f,        -1e-7f,   0.0f};
   mesh.triangles = {0, 1, 2, 2, 1, 3, 3, 4, 0, 4, 4, 1};  // the last face is degenerate
   return mesh;
 }
@@ -751,7 +840,8 @@ TEST(MeshWriter, RoundTripsSharedMeshes) {
     SCOPED_TRACE(name);
     Mesh mesh;
     ASSERT_TRUE(read_mesh(test::shared_mesh_path(name), mesh).is_ok());
-    for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+    for (MeshFormat format :
+         {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
       SCOPED_TRACE(mesh_format_name(format));
       std::string bytes;
       ASSERT_TRUE(write_mesh_to_memory(mesh, format, bytes).is_ok());
@@ -768,7 +858,8 @@ TEST(MeshWriter, RoundTripsSharedMeshes) {
 
 TEST(MeshWriter, WritesEmptyMesh) {
   const Mesh empty;
-  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+  for (MeshFormat format :
+       {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
     std::string bytes = "old contents";
     EXPECT_TRUE(write_mesh_to_memory(empty, format, bytes).is_ok());
     EXPECT_NE(bytes, "old contents");
@@ -786,13 +877,16 @@ TEST(MeshWriter, RejectsInvalidMeshes) {
 
   Mesh not_finite;
   not_finite.positions = {0, 0, 0, 1, std::nanf(""), 0};
-  EXPECT_EQ(write_mesh_to_memory(not_finite, MeshFormat::kPly, bytes).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(write_mesh_to_memory(not_finite, MeshFormat::kPly, bytes).code(),
+            ErrorCode::kInvalidArgument);
 
   Mesh ragged;
   ragged.positions = {0, 0};
-  EXPECT_EQ(write_mesh_to_memory(ragged, MeshFormat::kOff, bytes).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(write_mesh_to_memory(ragged, MeshFormat::kOff, bytes).code(),
+            ErrorCode::kInvalidArgument);
 
-  EXPECT_EQ(write_mesh_to_memory(Mesh(), MeshFormat::kUnknown, bytes).code(), ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(write_mesh_to_memory(Mesh(), MeshFormat::kUnknown, bytes).code(),
+            ErrorCode::kUnsupportedFormat);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -823,7 +917,8 @@ TEST(MeshFormat, Names) {
   EXPECT_STREQ(mesh_format_name(MeshFormat::kOff), "off");
   EXPECT_STREQ(mesh_format_name(MeshFormat::kStl), "stl");
   EXPECT_STREQ(mesh_format_name(MeshFormat::kUnknown), "unknown");
-  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+  for (MeshFormat format :
+       {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
     EXPECT_EQ(mesh_format_from_path(std::string(".") + mesh_format_name(format)), format);
   }
 }
@@ -834,7 +929,8 @@ TEST(ReadMesh, ReadsFilesOfEachFormat) {
   test::write_file(dir.file("b.PLY"), kAsciiPly);
   test::write_file(dir.file("c.off"), kOff);
   test::write_file(dir.file("d.stl"), kAsciiStl);
-  const std::pair<const char*, std::size_t> expected_faces[] = {{"a.obj", 1}, {"b.PLY", 3}, {"c.off", 4}, {"d.stl", 2}};
+  const std::pair<const char*, std::size_t> expected_faces[] = {
+      {"a.obj", 1}, {"b.PLY", 3}, {"c.off", 4}, {"d.stl", 2}};
   for (const auto& [name, faces] : expected_faces) {
     SCOPED_TRACE(name);
     Mesh mesh;
@@ -859,7 +955,8 @@ TEST(ReadMesh, Errors) {
 
   test::write_file(dir.file("mesh.txt"), kTriangleObj);
   EXPECT_EQ(read_mesh(dir.file("mesh.txt"), mesh).code(), ErrorCode::kUnsupportedFormat);
-  EXPECT_EQ(read_mesh_from_memory(kTriangleObj, MeshFormat::kUnknown, mesh).code(), ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(read_mesh_from_memory(kTriangleObj, MeshFormat::kUnknown, mesh).code(),
+            ErrorCode::kUnsupportedFormat);
 
   test::write_file(dir.file("empty.obj"), "");
   EXPECT_EQ(read_mesh(dir.file("empty.obj"), mesh).code(), ErrorCode::kEmptyMesh);
@@ -893,7 +990,8 @@ TEST(ReadMesh, ConcurrentOpenMeshReads) {
 TEST(Robustness, SurvivesRandomDamage) {
   const Mesh mesh = awkward_mesh();
   std::mt19937 random(12345);
-  for (MeshFormat format : {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
+  for (MeshFormat format :
+       {MeshFormat::kObj, MeshFormat::kPly, MeshFormat::kOff, MeshFormat::kStl}) {
     SCOPED_TRACE(mesh_format_name(format));
     std::string original;
     ASSERT_TRUE(write_mesh_to_memory(mesh, format, original).is_ok());

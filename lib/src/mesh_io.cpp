@@ -1,25 +1,36 @@
-// Format detection, file reading and dispatch; PLY, OFF and STL through OpenMesh's readers.
+// Format detection, file reading and dispatch. OBJ has its own parser (obj_reader.cpp), OFF
+// is parsed here, PLY and STL go through OpenMesh's readers.
 //
 // OpenMesh's readers normally feed a PolyMesh, whose add_face refuses non-manifold faces and
 // so silently drops data. Here they feed RawMeshImporter instead, which only records the
 // vertices and faces it is given, so what the encoder sees is exactly what the file holds.
 //
 // OpenMesh's stream readers trust their input more than a library reading user files can:
-//  - Counts come from headers and drive loops and reserve(); a garbage count loops for a
-//    very long time. The importer therefore ignores reserve() for allocation, caps the
-//    number of elements by the input size, and aborts (by throwing through the reader) on
-//    the first face that cannot be right.
+//  - Counts come from headers and drive loops; a garbage count loops for a very long time.
+//    The importer therefore ignores reserve() for allocation, caps the number of elements
+//    by the input size, and aborts (by throwing through the reader) on the first face that
+//    cannot be right.
 //  - A truncated or malformed text body leaves the std::istream failed while the reader
-//    keeps going, feeding stale values. For PLY and OFF the stream is switched to throw on
-//    failure once the header has been read (the reader calls reserve() at that point), and
-//    the numbers of vertices and faces received must match the header's.
-//  - The OFF stream reader does not look at the header keyword: it uses whatever variant
-//    (normals, colours, binary) the last file-based OFF read in the process detected, and it
-//    understands neither comments nor counts on the header line. So the OFF text is
-//    normalized first (see normalize_off) into the plain form that reader handles.
+//    keeps going, feeding stale values. For PLY the stream is switched to throw on failure
+//    once the header has been read (the reader calls reserve() at that point), and the
+//    numbers of vertices and faces received must match the header's.
+//  - The PLY header parser loops forever (growing memory) on a header without end_header,
+//    and worse (see normalize_ply); the header is checked and rewritten in canonical form.
 //  - The STL stream reader reads binary only when told to, and then trusts the triangle
-//    count; the type is detected here, and a binary file's size must match its count.
+//    count; the type is detected here, and a binary file's size must match its count. Its
+//    ASCII reader accepts malformed numbers as garbage coordinates, so ASCII STL is
+//    validated first (validate_ascii_stl).
+//  - Text numbers are read with iostreams; ours are imbued with the classic locale, but
+//    streams OpenMesh makes itself (STL ASCII lines) use the global C++ locale, so a
+//    program must not make a locale with a decimal comma global.
 // OpenMesh's readers keep state in process-wide singletons, so reads are serialized.
+//
+// OFF is not read through OpenMesh because its stream reader cannot be made reliable from
+// outside: it ignores the header keyword and parses the body by whatever variant (normals,
+// colours, binary) the last *file-based* OFF read anywhere in the process detected (so a
+// valid file fails after some other code read an NOFF file), it leaves the rest of each
+// face line unread (so per-face colours, which OFF allows, shift every following face), and
+// it knows neither comments nor counts on the header line.
 
 #include "pm/mesh_io.h"
 
@@ -28,7 +39,6 @@
 #include <OpenMesh/Core/IO/Options.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -40,6 +50,7 @@
 #include <filesystem>
 #include <ios>
 #include <limits>
+#include <locale>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -60,7 +71,9 @@ std::string lower_case(std::string_view text) {
   return lower;
 }
 
-Status parse_error(std::string message) { return Status(ErrorCode::kParseError, std::move(message)); }
+Status parse_error(std::string message) {
+  return Status(ErrorCode::kParseError, std::move(message));
+}
 
 // ---------------------------------------------------------------------------------------------
 // RawMeshImporter
@@ -212,15 +225,15 @@ Status build_mesh(RawMeshImporter& raw, Mesh& mesh, ReadReport& report) {
     const int* corners = raw.corners.data() + first_corner;
     for (uint32_t i = 0; i < count; ++i) {
       if (corners[i] < 0 || static_cast<std::size_t>(corners[i]) >= vertices) {
-        return parse_error("face " + std::to_string(face) + " uses vertex " + std::to_string(corners[i]) +
-                           " of " + std::to_string(vertices));
+        return parse_error("face " + std::to_string(face) + " uses vertex " +
+                           std::to_string(corners[i]) + " of " + std::to_string(vertices));
       }
     }
     if (count > 3) ++report.polygons_triangulated;
     for (uint32_t i = 1; i + 1 < count; ++i) {
-      mesh.triangles.insert(mesh.triangles.end(), {static_cast<uint32_t>(corners[0]),
-                                                   static_cast<uint32_t>(corners[i]),
-                                                   static_cast<uint32_t>(corners[i + 1])});
+      mesh.triangles.insert(mesh.triangles.end(),
+                            {static_cast<uint32_t>(corners[0]), static_cast<uint32_t>(corners[i]),
+                             static_cast<uint32_t>(corners[i + 1])});
     }
     first_corner += count;
   }
@@ -229,9 +242,11 @@ Status build_mesh(RawMeshImporter& raw, Mesh& mesh, ReadReport& report) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// OFF normalization
+// Header tokens
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
 
 // Splits a line into blank-separated tokens, up to a '#' comment.
 std::vector<std::string_view> split_tokens(std::string_view line) {
@@ -252,78 +267,261 @@ bool parse_count(std::string_view token, uint64_t& value) {
   return ec == std::errc() && ptr == token.data() + token.size();
 }
 
-// Rewrites an ASCII OFF file into the form OpenMesh's stream reader handles: the line "OFF",
-// the line "<vertices> <faces> 0", then the body without comments and ending in a newline.
-// Accepts comment and blank lines, counts on the header line, and the [ST][C][N]OFF variants
-// (the extra per-vertex values are skipped by the reader). Rejects 4OFF, nOFF and binary OFF.
-Status normalize_off(std::string_view bytes, std::string& normalized, uint64_t& vertices,
-                     uint64_t& faces) {
-  std::size_t pos = 0;
-  auto next_content_line = [&](std::vector<std::string_view>& tokens) {
-    while (pos < bytes.size()) {
-      std::size_t eol = bytes.find('\n', pos);
-      if (eol == std::string_view::npos) eol = bytes.size();
-      tokens = split_tokens(bytes.substr(pos, eol - pos));
-      pos = eol == bytes.size() ? eol : eol + 1;
-      if (!tokens.empty()) return true;
+// ---------------------------------------------------------------------------------------------
+// OFF
+
+// Reads ASCII OFF: an optional [ST][C][N]OFF keyword line, the counts "vertices faces
+// [edges]" (on that line or the next), one vertex per line (x y z, then normals, colours or
+// texture coordinates, ignored), one face per line (n i1 .. in, 0-based, then an optional
+// colour, ignored). '#' starts a comment anywhere. Whatever follows the faces is ignored.
+// Errors name the line, like the OBJ reader's.
+Status read_off(std::string_view bytes, Mesh& mesh, ReadReport& report) {
+  using detail::NumberResult;
+  const char* p = bytes.data();
+  const char* const end = p + bytes.size();
+  std::size_t line = 0;
+  const char* line_begin = p;  // first non-blank of the current line
+  const char* line_end = p;    // its '\n' (or the end of the input)
+  // Advances to the next line holding more than blanks and a comment.
+  auto next_content_line = [&]() {
+    while (p != end) {
+      ++line;
+      const char* eol =
+          static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      if (eol == nullptr) eol = end;
+      line_begin = detail::skip_blanks(p, eol);
+      line_end = eol;
+      p = eol == end ? end : eol + 1;
+      if (line_begin != line_end && *line_begin != '#') return true;
     }
     return false;
   };
+  auto error = [&line](const std::string& what) {
+    return parse_error("line " + std::to_string(line) + ": " + what);
+  };
+  auto at_line_end = [&line_end](const char* q) { return q == line_end || *q == '#'; };
 
-  std::vector<std::string_view> tokens;
-  if (!next_content_line(tokens)) return Status(ErrorCode::kEmptyMesh, "no vertices or faces");
-  std::string_view keyword = tokens[0];
+  if (!next_content_line()) return Status(ErrorCode::kEmptyMesh, "no vertices or faces");
+  const char* q = line_begin;
+  while (!detail::is_token_end(q, line_end)) ++q;
+  const std::string_view keyword(line_begin, static_cast<std::size_t>(q - line_begin));
   const std::string_view off = "OFF";
   if (keyword.size() < off.size() || keyword.substr(keyword.size() - off.size()) != off) {
-    return parse_error("not a valid off file (no OFF header)");
+    return error("not an off file (no OFF header)");
   }
   std::string_view prefix = keyword.substr(0, keyword.size() - off.size());
   if (prefix.substr(0, 2) == "ST") prefix.remove_prefix(2);
   if (!prefix.empty() && prefix[0] == 'C') prefix.remove_prefix(1);
   if (!prefix.empty() && prefix[0] == 'N') prefix.remove_prefix(1);
   if (!prefix.empty()) {
-    return Status(ErrorCode::kUnsupportedFormat,
-                  "unsupported off variant " + std::string(keyword) + " (4OFF and nOFF are not supported)");
+    return Status(ErrorCode::kUnsupportedFormat, "line " + std::to_string(line) + ": off variant " +
+                                                     std::string(keyword) + " is not supported");
   }
-  tokens.erase(tokens.begin());
-  if (!tokens.empty() && lower_case(tokens[0]) == "binary") {
+  q = detail::skip_blanks(q, line_end);
+  if (!at_line_end(q) &&
+      lower_case(std::string_view(
+          q, std::min<std::size_t>(6, static_cast<std::size_t>(line_end - q)))) == "binary") {
     return Status(ErrorCode::kUnsupportedFormat, "binary off is not supported");
   }
-  if (tokens.empty() && !next_content_line(tokens)) return parse_error("off header has no counts");
-  if (tokens.size() < 2 || tokens.size() > 3 || !parse_count(tokens[0], vertices) ||
-      !parse_count(tokens[1], faces)) {
-    return parse_error("malformed off counts (expected: vertices faces edges)");
+  if (at_line_end(q)) {
+    if (!next_content_line()) return error("missing vertex and face counts");
+    q = line_begin;
   }
-  const std::string_view body = bytes.substr(pos);
-  // The shortest vertex line is "0 0 0\n", the shortest face line "3 0 0 0\n".
-  constexpr uint64_t kLimit = uint64_t{1} << 40;
-  if (vertices > kLimit || faces > kLimit || 6 * vertices + 8 * faces > body.size() + 1) {
-    return parse_error("off header declares " + std::to_string(vertices) + " vertices and " +
-                       std::to_string(faces) + " faces, more than the file holds");
-  }
-
-  normalized.clear();
-  normalized.reserve(body.size() + 64);
-  normalized += "OFF\n";
-  normalized += std::to_string(vertices);
-  normalized += ' ';
-  normalized += std::to_string(faces);
-  normalized += " 0\n";
-  // Comments may also follow values; cut each from '#' to the end of its line.
-  std::size_t i = 0;
-  while (i < body.size()) {
-    const std::size_t hash = body.find('#', i);
-    if (hash == std::string_view::npos) {
-      normalized.append(body.substr(i));
-      break;
+  int64_t counts[3] = {0, 0, 0};
+  int count_count = 0;
+  for (; count_count < 3; ++count_count) {
+    q = detail::skip_blanks(q, line_end);
+    if (at_line_end(q)) break;
+    if (detail::parse_int(q, line_end, counts[count_count]) != NumberResult::kOk ||
+        !detail::is_token_end(q, line_end) || counts[count_count] < 0) {
+      return error("malformed counts (expected: vertices faces edges)");
     }
-    normalized.append(body.substr(i, hash - i));
-    const std::size_t eol = body.find('\n', hash);
-    i = eol == std::string_view::npos ? body.size() : eol;
   }
-  // The reader takes the rest of each vertex line with getline, which fails (and so would
-  // abort the read) on a last line without a newline.
-  if (normalized.back() != '\n') normalized += '\n';
+  if (count_count < 2 || !at_line_end(detail::skip_blanks(q, line_end))) {
+    return error("malformed counts (expected: vertices faces edges)");
+  }
+  const uint64_t vertices = static_cast<uint64_t>(counts[0]);
+  const uint64_t faces = static_cast<uint64_t>(counts[1]);
+  const uint64_t remaining = static_cast<uint64_t>(end - p);
+  if (vertices > std::numeric_limits<uint32_t>::max()) {
+    if (vertices > remaining)
+      return error("vertex count " + std::to_string(vertices) + " is more than the file holds");
+    return Status(ErrorCode::kResourceLimit, "more vertices than 32-bit indices can address");
+  }
+  if (vertices == 0 && faces == 0) return Status(ErrorCode::kEmptyMesh, "no vertices or faces");
+
+  mesh.positions.clear();
+  mesh.triangles.clear();
+  report = ReadReport();
+  // Counts are untrusted: reserve no more than the rest of the file can hold (the shortest
+  // vertex line is "0 0 0\n", the shortest face line "3 0 0 0\n"); loops end with the lines.
+  mesh.positions.reserve(3 * std::min(vertices, remaining / 6 + 1));
+  mesh.triangles.reserve(3 * std::min(faces, remaining / 8 + 1));
+  for (uint64_t v = 0; v < vertices; ++v) {
+    if (!next_content_line()) {
+      return error("file ends after " + std::to_string(v) + " of " + std::to_string(vertices) +
+                   " vertices");
+    }
+    q = line_begin;
+    for (int axis = 0; axis < 3; ++axis) {
+      q = detail::skip_blanks(q, line_end);
+      float value = 0;
+      switch (detail::parse_float(q, line_end, value)) {
+        case NumberResult::kOk:
+          break;
+        case NumberResult::kMalformed:
+          return error("malformed vertex");
+        case NumberResult::kOutOfRange:
+          return error("coordinate out of float range");
+      }
+      if (!std::isfinite(value)) return error("non-finite coordinate");
+      mesh.positions.push_back(value);
+    }
+  }
+  std::vector<uint32_t> corners;
+  for (uint64_t f = 0; f < faces; ++f) {
+    if (!next_content_line()) {
+      return error("file ends after " + std::to_string(f) + " of " + std::to_string(faces) +
+                   " faces");
+    }
+    q = line_begin;
+    int64_t corner_count = 0;
+    if (detail::parse_int(q, line_end, corner_count) != NumberResult::kOk ||
+        !detail::is_token_end(q, line_end)) {
+      return error("malformed face");
+    }
+    if (corner_count < 3) return error("face with fewer than 3 corners");
+    // Each corner takes at least two characters: a bound that keeps a bad count cheap.
+    if (corner_count > line_end - q) return error("malformed face");
+    corners.clear();
+    for (int64_t c = 0; c < corner_count; ++c) {
+      q = detail::skip_blanks(q, line_end);
+      int64_t index = 0;
+      if (detail::parse_int(q, line_end, index) != NumberResult::kOk ||
+          !detail::is_token_end(q, line_end)) {
+        return error("malformed face");
+      }
+      if (index < 0 || static_cast<uint64_t>(index) >= vertices) {
+        return error("face index " + std::to_string(index) + " out of range (" +
+                     std::to_string(vertices) + " vertices)");
+      }
+      corners.push_back(static_cast<uint32_t>(index));
+    }
+    if (corners.size() > 3) ++report.polygons_triangulated;
+    for (std::size_t i = 1; i + 1 < corners.size(); ++i) {
+      mesh.triangles.insert(mesh.triangles.end(), {corners[0], corners[i], corners[i + 1]});
+    }
+  }
+  return Status::ok();
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY header normalization
+
+// The scalar types of PLY (both spellings), which OpenMesh's reader knows.
+bool is_ply_scalar_type(std::string_view type) {
+  for (std::string_view known :
+       {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
+        "int16", "uint16", "int32", "uint32", "float32", "float64"}) {
+    if (type == known) return true;
+  }
+  return false;
+}
+
+// OpenMesh reads list counts only as uchar/uint8, uint16 or int; map the other integer types
+// to the one of the same size (counts are never negative nor beyond 2^31 in a real file).
+std::string_view ply_list_count_type(std::string_view type) {
+  if (type == "uchar" || type == "uint8" || type == "char" || type == "int8") return "uchar";
+  if (type == "ushort" || type == "uint16" || type == "short" || type == "int16") return "uint16";
+  if (type == "int" || type == "int32" || type == "uint" || type == "uint32") return "int";
+  return {};
+}
+
+// Re-emits the PLY header in the canonical form OpenMesh's header parser handles, followed by
+// the body unchanged. That parser reads the header as loose tokens: it loops forever (growing
+// memory) without end_header, indexes an empty element list when a property comes first,
+// prints to std::cerr on unknown types, misplaces binary data when a comment line precedes
+// end_header, and takes words inside obj_info lines for keywords. Here the header is read
+// line by line and checked; comments, obj_info and unknown lines are dropped.
+Status normalize_ply(std::string_view bytes, std::string& normalized) {
+  std::string header;
+  std::size_t pos = 0;
+  bool first_line = true;
+  bool saw_format = false;
+  bool saw_element = false;
+  bool saw_vertex = false;
+  bool saw_face = false;
+  for (;;) {
+    if (pos >= bytes.size()) return parse_error("invalid ply file: header has no end_header");
+    std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string_view::npos) eol = bytes.size();
+    const std::string_view line = bytes.substr(pos, eol - pos);
+    pos = eol == bytes.size() ? eol : eol + 1;
+    std::vector<std::string_view> tokens = split_tokens(line);
+    if (first_line) {
+      if (tokens.size() != 1 || lower_case(tokens[0]) != "ply")
+        return parse_error("not a valid ply file");
+      first_line = false;
+      header += "ply\n";
+      continue;
+    }
+    if (tokens.empty()) continue;
+    const std::string_view keyword = tokens[0];
+    if (keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "end_header") break;
+    if (keyword == "format") {
+      if (saw_format || tokens.size() != 3 ||
+          (tokens[1] != "ascii" && tokens[1] != "binary_little_endian" &&
+           tokens[1] != "binary_big_endian")) {
+        return parse_error("invalid ply file: bad format line");
+      }
+      saw_format = true;
+      header += "format " + std::string(tokens[1]) + " 1.0\n";
+    } else if (keyword == "element") {
+      uint64_t count = 0;
+      if (!saw_format || tokens.size() != 3 || !parse_count(tokens[2], count)) {
+        return parse_error("invalid ply file: bad element line");
+      }
+      // Every element takes at least a byte; the reader holds counts in 32 bits.
+      if (count > bytes.size() || count > std::numeric_limits<uint32_t>::max()) {
+        return parse_error("invalid ply file: element " + std::string(tokens[1]) + " declares " +
+                           std::to_string(count) + " items, more than the file holds");
+      }
+      if (tokens[1] == "vertex" || tokens[1] == "face") {
+        bool& seen = tokens[1] == "vertex" ? saw_vertex : saw_face;
+        if (seen)
+          return parse_error("invalid ply file: element " + std::string(tokens[1]) +
+                             " declared twice");
+        seen = true;
+      }
+      saw_element = true;
+      header += "element " + std::string(tokens[1]) + " " + std::to_string(count) + "\n";
+    } else if (keyword == "property") {
+      if (!saw_element) return parse_error("invalid ply file: property outside an element");
+      if (tokens.size() == 5 && tokens[1] == "list") {
+        const std::string_view count_type = ply_list_count_type(tokens[2]);
+        if (count_type.empty() || !is_ply_scalar_type(tokens[3])) {
+          return parse_error("invalid ply file: unsupported list property types");
+        }
+        header += "property list " + std::string(count_type) + " " + std::string(tokens[3]) + " " +
+                  std::string(tokens[4]) + "\n";
+      } else if (tokens.size() == 3 && is_ply_scalar_type(tokens[1])) {
+        header += "property " + std::string(tokens[1]) + " " + std::string(tokens[2]) + "\n";
+      } else {
+        return parse_error("invalid ply file: bad property line");
+      }
+    }
+    // Any other line is skipped, as OpenMesh does: some exporters write free text (Blender
+    // 2.4x: "Created by Blender3D ..."), and a dropped line cannot confuse the reader.
+  }
+  if (!saw_format) return parse_error("invalid ply file: no format line");
+  // OpenMesh finds binary data by seeking 12 bytes ("\nend_header\n") past the end of the
+  // last header token, which is why no line of this header ends in blanks.
+  header += "end_header\n";
+  normalized.clear();
+  normalized.reserve(header.size() + bytes.size() - pos);
+  normalized += header;
+  normalized.append(bytes.substr(pos));
   return Status::ok();
 }
 
@@ -358,19 +556,94 @@ StlKind detect_stl(std::string_view bytes) {
   return StlKind::kInvalid;
 }
 
-Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh, ReadReport& report) {
+// Checks that ASCII STL text follows the grammar, one statement per line:
+//   solid [name] { facet normal x y z / outer loop / vertex x y z (3 times) / endloop /
+//   endfacet } endsolid [name], possibly several solids.
+// OpenMesh's ASCII reader does not check: it reads "vertex 1,5 0 0" as (1, 0, 0), accepts
+// words for numbers, and silently drops a facet with a NaN or with two vertices.
+Status validate_ascii_stl(std::string_view bytes) {
+  enum class Expect { kSolid, kFacetOrEndsolid, kOuterLoop, kVertex, kEndloop, kEndfacet };
+  Expect expect = Expect::kSolid;
+  int vertices_in_loop = 0;
+  std::size_t line_number = 0;
+  std::size_t pos = 0;
+  auto error = [&line_number](const std::string& what) {
+    return parse_error("line " + std::to_string(line_number) + ": " + what);
+  };
+  // Whether tokens[first..] are exactly three finite numbers.
+  auto three_numbers = [](const std::vector<std::string_view>& tokens, std::size_t first) {
+    if (tokens.size() != first + 3) return false;
+    for (std::size_t i = first; i < first + 3; ++i) {
+      const char* p = tokens[i].data();
+      const char* const end = p + tokens[i].size();
+      float value = 0;
+      if (detail::parse_float(p, end, value) != detail::NumberResult::kOk || p != end ||
+          !std::isfinite(value)) {
+        return false;
+      }
+    }
+    return true;
+  };
+  while (pos < bytes.size()) {
+    ++line_number;
+    std::size_t eol = bytes.find('\n', pos);
+    if (eol == std::string_view::npos) eol = bytes.size();
+    const std::string_view line = bytes.substr(pos, eol - pos);
+    pos = eol == bytes.size() ? eol : eol + 1;
+    const std::vector<std::string_view> tokens = split_tokens(line);
+    if (tokens.empty()) continue;
+    const std::string_view keyword = tokens[0];
+    switch (expect) {
+      case Expect::kSolid:
+        // The name is free text.
+        if (keyword != "solid") return error("expected solid");
+        expect = Expect::kFacetOrEndsolid;
+        break;
+      case Expect::kFacetOrEndsolid:
+        if (keyword == "endsolid") {
+          expect = Expect::kSolid;
+        } else if (keyword == "facet" && tokens.size() >= 2 && tokens[1] == "normal" &&
+                   three_numbers(tokens, 2)) {
+          expect = Expect::kOuterLoop;
+        } else {
+          return error("expected facet normal x y z, or endsolid");
+        }
+        break;
+      case Expect::kOuterLoop:
+        if (tokens.size() != 2 || keyword != "outer" || tokens[1] != "loop") {
+          return error("expected outer loop");
+        }
+        expect = Expect::kVertex;
+        vertices_in_loop = 0;
+        break;
+      case Expect::kVertex:
+        if (keyword != "vertex") return error("expected vertex x y z");
+        if (!three_numbers(tokens, 1)) return error("malformed vertex");
+        if (++vertices_in_loop == 3) expect = Expect::kEndloop;
+        break;
+      case Expect::kEndloop:
+        if (tokens.size() != 1 || keyword != "endloop") return error("expected endloop");
+        expect = Expect::kEndfacet;
+        break;
+      case Expect::kEndfacet:
+        if (tokens.size() != 1 || keyword != "endfacet") return error("expected endfacet");
+        expect = Expect::kFacetOrEndsolid;
+        break;
+    }
+  }
+  if (expect != Expect::kSolid) return error("file ends inside a solid");
+  return Status::ok();
+}
+
+Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
+                          ReadReport& report) {
   const char* const name = mesh_format_name(format);
   std::string text;  // what OpenMesh reads, when it is not `bytes` as is
   OpenMesh::IO::Options options;
   bool throw_on_stream_failure = true;
-  uint64_t off_vertices = 0;
-  uint64_t off_faces = 0;
   switch (format) {
-    case MeshFormat::kPly:
-      if (bytes.substr(0, 3) != "ply") return parse_error("not a valid ply file");
-      break;
-    case MeshFormat::kOff: {
-      Status status = normalize_off(bytes, text, off_vertices, off_faces);
+    case MeshFormat::kPly: {
+      Status status = normalize_ply(bytes, text);
       if (!status) return status;
       bytes = text;
       break;
@@ -382,6 +655,9 @@ Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
       const StlKind kind = detect_stl(bytes);
       if (kind == StlKind::kInvalid) return parse_error("not a valid stl file");
       if (kind == StlKind::kBinary) options += OpenMesh::IO::Options::Binary;
+      if (kind == StlKind::kAscii) {
+        if (Status status = validate_ascii_stl(bytes); !status) return status;
+      }
       // The ASCII reader reads lines until the end, which fails the stream at the end.
       throw_on_stream_failure = false;
       break;
@@ -392,6 +668,7 @@ Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
 
   // The reader sees a copy; std::istringstream cannot wrap memory it does not own.
   std::istringstream in(std::string(bytes), std::ios_base::in | std::ios_base::binary);
+  in.imbue(std::locale::classic());
   RawMeshImporter importer(in, bytes.size(), throw_on_stream_failure);
   bool ok = false;
   std::string abort_message;
@@ -404,20 +681,15 @@ Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
   } catch (const std::ios_base::failure&) {
     abort_message = "truncated or malformed data";
   } catch (const std::bad_alloc&) {
-    return Status(ErrorCode::kResourceLimit, std::string("out of memory reading ") + name + " file");
+    return Status(ErrorCode::kResourceLimit,
+                  std::string("out of memory reading ") + name + " file");
   } catch (const std::exception& e) {
     abort_message = lower_case(e.what());
   }
-  if (!abort_message.empty()) return parse_error(std::string("invalid ") + name + " file: " + abort_message);
+  if (!abort_message.empty())
+    return parse_error(std::string("invalid ") + name + " file: " + abort_message);
   if (!ok) return parse_error(std::string("not a valid ") + name + " file");
 
-  if (format == MeshFormat::kOff) {
-    // The reader must have seen the header we wrote (see normalize_off).
-    if (!importer.header_counts_known || importer.header_vertices != off_vertices ||
-        importer.header_faces != off_faces) {
-      return parse_error("invalid off file: the reader did not understand the header");
-    }
-  }
   if (importer.header_counts_known && format != MeshFormat::kStl) {
     if (importer.vertex_count() != importer.header_vertices) {
       return parse_error(std::string("invalid ") + name + " file: header declares " +
@@ -440,7 +712,8 @@ Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
 
 MeshFormat mesh_format_from_path(std::string_view path) {
   const std::size_t slash = path.find_last_of("/\\");
-  const std::string_view file_name = slash == std::string_view::npos ? path : path.substr(slash + 1);
+  const std::string_view file_name =
+      slash == std::string_view::npos ? path : path.substr(slash + 1);
   const std::size_t dot = file_name.rfind('.');
   if (dot == std::string_view::npos) return MeshFormat::kUnknown;
   const std::string extension = lower_case(file_name.substr(dot + 1));
@@ -467,7 +740,8 @@ const char* mesh_format_name(MeshFormat format) {
   return "unknown";
 }
 
-Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh, ReadReport* report) {
+Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
+                             ReadReport* report) {
   Mesh parsed;
   ReadReport parsed_report;
   Status status;
@@ -475,8 +749,10 @@ Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& me
     case MeshFormat::kObj:
       status = detail::read_obj(bytes, parsed, parsed_report);
       break;
-    case MeshFormat::kPly:
     case MeshFormat::kOff:
+      status = read_off(bytes, parsed, parsed_report);
+      break;
+    case MeshFormat::kPly:
     case MeshFormat::kStl:
       if (bytes.empty()) return Status(ErrorCode::kEmptyMesh, "no vertices or faces");
       status = read_with_openmesh(bytes, format, parsed, parsed_report);
@@ -497,10 +773,12 @@ Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
   }
   auto describe_errno = [](const char* what, int error_number) {
     std::string reason = std::strerror(error_number);
-    if (!reason.empty()) reason[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(reason[0])));
+    if (!reason.empty())
+      reason[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(reason[0])));
     return Status(ErrorCode::kIoError, std::string(what) + " (" + reason + ")");
   };
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                       &std::fclose);
   if (!file) return describe_errno("cannot open file", errno);
   // The size from the file system is only a hint (pipes and /dev/stdin have none, files may
   // grow): read until end of file, the first read sized to hit it at once.

@@ -163,11 +163,15 @@ Status write_ply(const Mesh& mesh, std::string& bytes) {
   std::string header =
       "ply\n"
       "format binary_little_endian 1.0\n"
-      "element vertex " + std::to_string(mesh.vertex_count()) + "\n"
+      "element vertex " +
+      std::to_string(mesh.vertex_count()) +
+      "\n"
       "property float x\n"
       "property float y\n"
       "property float z\n"
-      "element face " + std::to_string(mesh.face_count()) + "\n"
+      "element face " +
+      std::to_string(mesh.face_count()) +
+      "\n"
       "property list uchar int vertex_indices\n"
       "end_header\n";
   TextBuilder out(bytes);
@@ -207,8 +211,10 @@ Status write_stl(const Mesh& mesh, std::string& bytes) {
     const double ac[3] = {double{c[0]} - a[0], double{c[1]} - a[1], double{c[2]} - a[2]};
     double normal[3] = {ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2],
                         ab[0] * ac[1] - ab[1] * ac[0]};
-    const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-    for (double& component : normal) component = length > 0 && std::isfinite(length) ? component / length : 0.0;
+    const double length =
+        std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    for (double& component : normal)
+      component = length > 0 && std::isfinite(length) ? component / length : 0.0;
     for (double component : normal) out.put_f32(static_cast<float>(component));
     for (const float* corner : {a, b, c}) {
       out.put_f32(corner[0]);

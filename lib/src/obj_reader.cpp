@@ -5,7 +5,7 @@
 // normals, groups and materials are accepted and skipped; other statements (l, p, curves,
 // surfaces, ...) are skipped and counted in ReadReport::ignored_lines.
 
-#include <cfloat>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -20,82 +20,38 @@
 namespace pm::detail {
 namespace {
 
-bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-// A token ends at a blank, at the end of the line, or where a trailing comment starts.
-bool is_token_end(const char* p, const char* end) { return p == end || is_blank(*p) || *p == '#'; }
-
-const char* skip_blanks(const char* p, const char* end) {
-  while (p != end && is_blank(*p)) ++p;
-  return p;
+bool is_identifier_start(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
 }
-
-bool is_identifier_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
-bool is_identifier_char(char c) { return is_identifier_start(c) || (c >= '0' && c <= '9'); }
+bool is_identifier_char(char c) {
+  return is_identifier_start(c) || (c >= '0' && c <= '9');
+}
 
 // Bytes that never occur in a text OBJ file: NUL and the other C0 controls except the
-// whitespace ones, and DEL. Their presence means the file is binary (or corrupt), which
-// must be an error rather than a mesh made of whatever happened to look like statements.
-struct BinaryByteTable {
-  bool is_binary[256] = {};
-  BinaryByteTable() {
-    for (int c = 0; c < 0x20; ++c) is_binary[c] = true;
-    for (char c : {'\t', '\n', '\v', '\f', '\r'}) is_binary[static_cast<unsigned char>(c)] = false;
-    is_binary[0x7f] = true;
-  }
-};
+// whitespace ones (\t \n \v \f \r), and DEL. Their presence means the file is binary (or
+// corrupt), which must be an error rather than a mesh made of whatever happened to look
+// like statements.
+// Written with bitwise operators, without branches, so that loops over it vectorize.
+inline bool is_binary_byte(unsigned char c) {
+  return (c < 9) | ((c >= 14) & (c < 32)) | (c == 127);
+}
 
-// Returns the offset of the first binary byte, or npos.
+// Returns the offset of the first binary byte, or npos. Scans in blocks with a branch-free
+// test the compiler vectorizes; only a block that has a hit is searched byte by byte.
 std::size_t find_binary_byte(std::string_view bytes) {
-  static const BinaryByteTable table;
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-  for (std::size_t i = 0; i < bytes.size(); ++i) {
-    if (table.is_binary[data[i]]) return i;
+  constexpr std::size_t kBlock = 256;
+  for (std::size_t start = 0; start < bytes.size(); start += kBlock) {
+    const std::size_t stop = std::min(bytes.size(), start + kBlock);
+    unsigned char any = 0;
+    for (std::size_t i = start; i < stop; ++i)
+      any |= static_cast<unsigned char>(is_binary_byte(data[i]));
+    if (any == 0) continue;
+    for (std::size_t i = start; i < stop; ++i) {
+      if (is_binary_byte(data[i])) return i;
+    }
   }
   return std::string_view::npos;
-}
-
-enum class NumberResult { kOk, kMalformed, kOutOfRange };
-
-// Parses one float token at `p` (advanced past it). Accepts a leading '+', which
-// std::from_chars does not. Values too small for float32 become (signed) zero or a
-// subnormal, like a C library would; values too large are kOutOfRange.
-NumberResult parse_float(const char*& p, const char* end, float& value) {
-  const char* start = p;
-  if (p != end && *p == '+' && p + 1 != end && *(p + 1) != '-' && *(p + 1) != '+') ++start;
-  auto [ptr, ec] = std::from_chars(start, end, value);
-  if (ec == std::errc::invalid_argument) return NumberResult::kMalformed;
-  if (!is_token_end(ptr, end)) return NumberResult::kMalformed;
-  if (ec == std::errc::result_out_of_range) {
-    // Tell underflow (harmless: round to zero / subnormal) from overflow.
-    double wide = 0;
-    auto wide_result = std::from_chars(start, end, wide);
-    bool underflow;
-    if (wide_result.ec == std::errc()) {
-      underflow = std::fabs(wide) < 1.0;
-    } else {
-      const std::string_view text(start, static_cast<std::size_t>(ptr - start));
-      underflow = text.find("e-") != std::string_view::npos ||
-                  text.find("E-") != std::string_view::npos;
-      wide = *start == '-' ? -0.0 : 0.0;
-    }
-    if (!underflow) return NumberResult::kOutOfRange;
-    value = static_cast<float>(wide);
-  }
-  p = ptr;
-  return NumberResult::kOk;
-}
-
-// Parses one integer at `p` (advanced past it); accepts a leading '+'. Does not require
-// the token to end there (face corners continue with '/').
-NumberResult parse_int(const char*& p, const char* end, int64_t& value) {
-  const char* start = p;
-  if (p != end && *p == '+' && p + 1 != end && *(p + 1) != '-' && *(p + 1) != '+') ++start;
-  auto [ptr, ec] = std::from_chars(start, end, value);
-  if (ec == std::errc::invalid_argument) return NumberResult::kMalformed;
-  p = ptr;
-  if (ec == std::errc::result_out_of_range) return NumberResult::kOutOfRange;
-  return NumberResult::kOk;
 }
 
 class ObjParser {
@@ -108,8 +64,9 @@ class ObjParser {
     mesh_.triangles.clear();
     report_ = ReadReport();
     if (std::size_t bad = find_binary_byte(bytes_); bad != std::string_view::npos) {
-      return error(line_number_at(bad), bytes_[bad] == '\0' ? "nul byte in text (binary file?)"
-                                                             : "control character in text (binary file?)");
+      return error(line_number_at(bad), bytes_[bad] == '\0'
+                                            ? "nul byte in text (binary file?)"
+                                            : "control character in text (binary file?)");
     }
     const char* p = bytes_.data();
     const char* const end = p + bytes_.size();
@@ -117,7 +74,8 @@ class ObjParser {
     if (bytes_.substr(0, 3) == "\xEF\xBB\xBF") p += 3;
     while (p != end) {
       ++line_;
-      const char* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      const char* eol =
+          static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
       if (eol == nullptr) eol = end;
       Status status = parse_line(p, eol);
       if (!status) return status;
@@ -148,8 +106,8 @@ class ObjParser {
     if (keyword == "v") return parse_vertex(p, eol);
     if (keyword == "f") return parse_face(p, eol);
     // Statements we understand but do not need yet: not worth reporting.
-    if (keyword == "vt" || keyword == "vn" || keyword == "o" || keyword == "g" ||
-        keyword == "s" || keyword == "usemtl" || keyword == "mtllib") {
+    if (keyword == "vt" || keyword == "vn" || keyword == "o" || keyword == "g" || keyword == "s" ||
+        keyword == "usemtl" || keyword == "mtllib") {
       return Status::ok();
     }
     // Any other well-formed statement keyword (l, p, vp, cstype, curv, ...) is skipped and
@@ -186,8 +144,9 @@ class ObjParser {
     }
     if (count < 3 || count > 7) return error("malformed vertex");
     if (vertex_count_ == std::numeric_limits<uint32_t>::max()) {
-      return Status(ErrorCode::kResourceLimit, "line " + std::to_string(line_) +
-                                                   ": more vertices than 32-bit indices can address");
+      return Status(
+          ErrorCode::kResourceLimit,
+          "line " + std::to_string(line_) + ": more vertices than 32-bit indices can address");
     }
     mesh_.positions.insert(mesh_.positions.end(), values, values + 3);
     ++vertex_count_;
@@ -213,7 +172,8 @@ class ObjParser {
         ++p;
         if (p != eol && !is_token_end(p, eol) && *p != '/') {
           int64_t ignored = 0;
-          if (parse_int(p, eol, ignored) != NumberResult::kOk) return malformed_corner(corner_begin, eol);
+          if (parse_int(p, eol, ignored) != NumberResult::kOk)
+            return malformed_corner(corner_begin, eol);
         }
       }
       if (!is_token_end(p, eol)) return malformed_corner(corner_begin, eol);
@@ -229,7 +189,8 @@ class ObjParser {
           max_index_ = index;
           max_index_line_ = line_;
         }
-        if (resolved > std::numeric_limits<uint32_t>::max()) return out_of_range(line_, index, vertex_count_);
+        if (resolved > std::numeric_limits<uint32_t>::max())
+          return out_of_range(line_, index, vertex_count_);
       }
       corners_.push_back(static_cast<uint32_t>(resolved));
     }
@@ -270,7 +231,7 @@ class ObjParser {
   std::size_t line_ = 0;
   std::size_t vertex_count_ = 0;
   bool saw_vertex_or_face_ = false;
-  int64_t max_index_ = 0;          // largest positive face index seen
+  int64_t max_index_ = 0;           // largest positive face index seen
   std::size_t max_index_line_ = 0;  // the line where it first appeared
   std::vector<uint32_t> corners_;   // of the face being parsed, reused between faces
 };

@@ -20,7 +20,7 @@ const char* mesh_format_name(MeshFormat format);  // "obj", "ply", "off", "stl",
 // What a reader did to the data beyond copying it; the CLI reports it on stderr.
 struct ReadReport {
   std::size_t polygons_triangulated = 0;  // faces of 4+ corners split into a fan
-  std::size_t ignored_lines = 0;          // OBJ lines of kinds we do not use (l, p, s, vp, ...)
+  std::size_t ignored_lines = 0;          // OBJ lines of kinds we do not use (l, p, vp, ...)
 };
 
 // Reads a whole file. Errors: kIoError (cannot open/read), kParseError (malformed:
