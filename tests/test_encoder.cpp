@@ -91,6 +91,13 @@ TEST_P(EveryMesh, FaceRequestsGiveNOrNPlusOne) {
     const std::size_t got = faces_at_level(e.pm, level_for_faces(e.pm, n));
     ASSERT_TRUE(got == n || got == n + 1) << "requested " << n << " faces, got " << got;
   }
+  // Every N: the face counts of consecutive levels step by 1 or 2, so the first level
+  // reaching N has N or N + 1 faces.
+  std::size_t level = 0, faces = base;
+  for (std::size_t n = base; n <= full; ++n) {
+    while (faces < n) faces += e.pm.splits[level++].new_face_count();
+    ASSERT_TRUE(faces == n || faces == n + 1) << "level " << level << " has " << faces << " for " << n;
+  }
   EXPECT_EQ(faces_at_level(e.pm, level_for_faces(e.pm, full)), full);
   EXPECT_EQ(level_for_faces(e.pm, full + 100), e.pm.split_count());
   EXPECT_EQ(level_for_faces(e.pm, 0), 0u);
