@@ -40,18 +40,25 @@ bool write_all(int fd, std::string_view bytes) {
 
 ExitCode exit_code_for(ErrorCode code) {
   switch (code) {
-    case ErrorCode::kOk: return kExitOk;
-    case ErrorCode::kInvalidArgument: return kExitUsage;
-    case ErrorCode::kIoError: return kExitCannotRead;
+    case ErrorCode::kOk:
+      return kExitOk;
+    case ErrorCode::kInvalidArgument:
+      return kExitUsage;
+    case ErrorCode::kIoError:
+      return kExitCannotRead;
     case ErrorCode::kParseError:
     case ErrorCode::kCorruptStream:
     case ErrorCode::kTruncatedStream:
     case ErrorCode::kChecksumMismatch:
-    case ErrorCode::kEmptyMesh: return kExitBadInput;
+    case ErrorCode::kEmptyMesh:
+      return kExitBadInput;
     case ErrorCode::kUnsupportedFormat:
-    case ErrorCode::kUnsupportedVersion: return kExitUnsupported;
-    case ErrorCode::kResourceLimit: return kExitTooLarge;
-    case ErrorCode::kInternal: return kExitInternal;
+    case ErrorCode::kUnsupportedVersion:
+      return kExitUnsupported;
+    case ErrorCode::kResourceLimit:
+      return kExitTooLarge;
+    case ErrorCode::kInternal:
+      return kExitInternal;
   }
   return kExitInternal;
 }
@@ -66,7 +73,7 @@ Status read_whole_input(const std::string& path, std::string& bytes) {
   const bool from_stdin = path == "-";
   const int fd = from_stdin ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return io_error("cannot open");
-  struct stat st{};
+  struct stat st {};
   if (fstat(fd, &st) == 0 && S_ISDIR(st.st_mode)) {
     if (!from_stdin) ::close(fd);
     return Status(ErrorCode::kIoError, "is a directory");
@@ -97,17 +104,22 @@ Status write_output_atomically(const std::string& path, std::string_view bytes, 
     return Status::ok();
   }
   std::string temp = path + ".tmp.XXXXXX";
-  if (temp.size() >= sizeof g_temp_path)
-    return Status(ErrorCode::kIoError, "output path too long");
+  if (temp.size() >= sizeof g_temp_path) return Status(ErrorCode::kIoError, "output path too long");
   const int fd = mkstemp(temp.data());
   if (fd < 0) return io_error("cannot create output");
   // Published before the first byte is written, so an interrupt removes the file.
   std::memcpy(g_temp_path, temp.c_str(), temp.size() + 1);
   const bool written = write_all(fd, bytes) && fsync(fd) == 0;
   Status status = written ? Status::ok() : io_error("cannot write output");
-  fchmod(fd, 0644 & ~[] { mode_t m = umask(0); umask(m); return m; }());
+  fchmod(
+      fd, 0644 & ~[] {
+        mode_t m = umask(0);
+        umask(m);
+        return m;
+      }());
   if (::close(fd) != 0 && status) status = io_error("cannot write output");
-  if (status && std::rename(temp.c_str(), path.c_str()) != 0) status = io_error("cannot rename output");
+  if (status && std::rename(temp.c_str(), path.c_str()) != 0)
+    status = io_error("cannot rename output");
   if (!status) unlink(temp.c_str());
   g_temp_path[0] = '\0';
   if (!status) return Status(ErrorCode::kIoError, status.message());
@@ -115,7 +127,7 @@ Status write_output_atomically(const std::string& path, std::string_view bytes, 
 }
 
 void install_cleanup_handlers() {
-  struct sigaction action{};
+  struct sigaction action {};
   action.sa_handler = remove_temp_and_exit;
   sigemptyset(&action.sa_mask);
   for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &action, nullptr);

@@ -1,6 +1,5 @@
 // pmdec: progressive mesh (.pm) in, one level of detail out. Parse, call, report.
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -24,7 +23,8 @@ double bounding_box_diagonal(const pm::ProgressiveMesh& pm) {
     lo[i % 3] = std::min(lo[i % 3], pm.positions[i]);
     hi[i % 3] = std::max(hi[i % 3], pm.positions[i]);
   }
-  return std::sqrt(double(hi[0] - lo[0]) * (hi[0] - lo[0]) + double(hi[1] - lo[1]) * (hi[1] - lo[1]) +
+  return std::sqrt(double(hi[0] - lo[0]) * (hi[0] - lo[0]) +
+                   double(hi[1] - lo[1]) * (hi[1] - lo[1]) +
                    double(hi[2] - lo[2]) * (hi[2] - lo[2]));
 }
 
@@ -49,32 +49,40 @@ int print_info(const std::string& input, std::string_view bytes) {
   std::printf("file:             %s (%zu bytes)\n", input.c_str(), bytes.size());
   std::printf("format version:   %u.%u\n", info.major, info.minor);
   std::printf("flags:            0x%08x\n", info.flags);
-  std::printf("base mesh:        %u vertices, %u faces\n", info.base_vertex_count, info.base_face_count);
+  std::printf("base mesh:        %u vertices, %u faces\n", info.base_vertex_count,
+              info.base_face_count);
   std::printf("vertex splits:    %u\n", info.split_count);
   std::printf("full detail:      %llu vertices, %llu faces\n",
               static_cast<unsigned long long>(info.full_vertex_count),
               static_cast<unsigned long long>(info.full_face_count));
-  std::printf("repairs carried:  %u welded vertices, %u faces with a repeated vertex, %u unreferenced vertices\n",
-              info.weld_count, info.carried_face_count, info.loose_vertex_count);
-  std::printf("error range:      0 (full detail) to %.9g (base mesh), model units\n", info.max_error);
+  std::printf(
+      "repairs carried:  %u welded vertices, %u faces with a repeated vertex, %u unreferenced "
+      "vertices\n",
+      info.weld_count, info.carried_face_count, info.loose_vertex_count);
+  std::printf("error range:      0 (full detail) to %.9g (base mesh), model units\n",
+              info.max_error);
   return pm::cli::kExitOk;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"pmdec: decode a level of detail from a progressive mesh (.pm).\n"
-               "Without a level option, writes full detail: the input mesh, exactly."};
+  CLI::App app{
+      "pmdec: decode a level of detail from a progressive mesh (.pm).\n"
+      "Without a level option, writes full detail: the input mesh, exactly."};
   app.set_version_flag("--version", std::string("pmdec ") + PM_VERSION_STRING);
   std::string input, output, error_text, output_format;
   std::size_t vertices = 0, faces = 0;
   double ratio = 1.0;
   bool quiet = false, info = false;
   app.add_option("input", input, "Input .pm file, or - for standard input")->required();
-  app.add_option("-o,--output", output,
-                 "Output mesh; the extension picks OBJ, PLY, OFF or STL; - writes OBJ to standard output");
-  app.add_option("--format", output_format, "Output format, overriding the extension (obj, ply, off, stl)");
-  auto* by_vertices = app.add_option("--vertices", vertices, "Level with at least this many vertices");
+  app.add_option(
+      "-o,--output", output,
+      "Output mesh; the extension picks OBJ, PLY, OFF or STL; - writes OBJ to standard output");
+  app.add_option("--format", output_format,
+                 "Output format, overriding the extension (obj, ply, off, stl)");
+  auto* by_vertices =
+      app.add_option("--vertices", vertices, "Level with at least this many vertices");
   auto* by_faces = app.add_option("--faces", faces,
                                   "Level with this many faces (one more where a split adds two)");
   auto* by_ratio = app.add_option("--ratio", ratio, "Level with this fraction of the full faces")
@@ -87,8 +95,9 @@ int main(int argc, char** argv) {
   by_ratio->excludes(by_error);
   app.add_flag("--info", info, "Print the header, counts and error range, and exit");
   app.add_flag("-q,--quiet", quiet, "Print errors only");
-  app.footer("Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
-             "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large.");
+  app.footer(
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
+      "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -99,7 +108,8 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
 
   std::string bytes;
-  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s) return pm::cli::fail(kTool, input, s);
+  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s)
+    return pm::cli::fail(kTool, input, s);
   if (info) return print_info(input, bytes);
   if (output.empty()) {
     std::cerr << kTool << ": no output given (use -o FILE, or -o - for OBJ on standard output)\n";
@@ -109,8 +119,9 @@ int main(int argc, char** argv) {
                                                 : pm::mesh_format_from_path("." + output_format);
   if (output == "-" && output_format.empty()) format = pm::MeshFormat::kObj;
   if (format == pm::MeshFormat::kUnknown)
-    return pm::cli::fail(kTool, output, pm::Status(pm::ErrorCode::kUnsupportedFormat,
-                                                   "unknown output format (use .obj .ply .off .stl or --format)"));
+    return pm::cli::fail(kTool, output,
+                         pm::Status(pm::ErrorCode::kUnsupportedFormat,
+                                    "unknown output format (use .obj .ply .off .stl or --format)"));
 
   pm::ProgressiveMesh progressive;
   if (pm::Status s = pm::read_pm(bytes, progressive); !s) return pm::cli::fail(kTool, input, s);
@@ -121,15 +132,18 @@ int main(int argc, char** argv) {
   if (*by_vertices) {
     level = pm::level_for_vertices(progressive, vertices);
   } else if (*by_faces || *by_ratio) {
-    const std::size_t wanted = *by_faces ? faces : static_cast<std::size_t>(std::llround(ratio * full_faces));
+    const std::size_t wanted =
+        *by_faces ? faces : static_cast<std::size_t>(std::llround(ratio * full_faces));
     level = pm::level_for_faces(progressive, wanted);
     if (!quiet && wanted < pm::faces_at_level(progressive, 0))
-      std::cerr << kTool << ": " << input << ": " << wanted << " faces requested; the base mesh has "
-                << pm::faces_at_level(progressive, 0) << "\n";
+      std::cerr << kTool << ": " << input << ": " << wanted
+                << " faces requested; the base mesh has " << pm::faces_at_level(progressive, 0)
+                << "\n";
   } else if (*by_error) {
     double bound = 0;
     if (!parse_error_bound(error_text, progressive, bound)) {
-      std::cerr << kTool << ": --error: not a non-negative number or percentage: " << error_text << "\n";
+      std::cerr << kTool << ": --error: not a non-negative number or percentage: " << error_text
+                << "\n";
       return pm::cli::kExitUsage;
     }
     level = pm::level_for_error(progressive, bound);
@@ -142,12 +156,14 @@ int main(int argc, char** argv) {
   const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl;
   if (pm::Status s = pm::cli::write_output_atomically(output, encoded, binary); !s) {
     pm::cli::fail(kTool, output, s);
-    return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage : pm::cli::kExitCannotWrite;
+    return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage
+                                                       : pm::cli::kExitCannotWrite;
   }
   if (!quiet) {
-    std::fprintf(stderr, "pmdec: %s: level %zu of %zu: %zu faces, %zu vertices, error bound %.6g, %.2f s\n",
-                 input.c_str(), level, progressive.splits.size(), mesh.face_count(), mesh.vertex_count(),
-                 double(pm::error_at_level(progressive, level)), pm::cli::seconds_since(start));
+    std::fprintf(
+        stderr, "pmdec: %s: level %zu of %zu: %zu faces, %zu vertices, error bound %.6g, %.2f s\n",
+        input.c_str(), level, progressive.splits.size(), mesh.face_count(), mesh.vertex_count(),
+        double(pm::error_at_level(progressive, level)), pm::cli::seconds_since(start));
   }
   return pm::cli::kExitOk;
 }

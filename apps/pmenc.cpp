@@ -1,8 +1,7 @@
 // pmenc: mesh in, progressive mesh (.pm) out. Parse, call the library, report.
-#include <CLI/CLI.hpp>
-
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 
@@ -19,7 +18,8 @@ std::string default_output_for(const std::string& input) {
   if (input == "-") return "-";
   const auto slash = input.find_last_of('/');
   const auto dot = input.find_last_of('.');
-  const bool has_extension = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  const bool has_extension =
+      dot != std::string::npos && (slash == std::string::npos || dot > slash);
   return (has_extension ? input.substr(0, dot) : input) + ".pm";
 }
 
@@ -42,9 +42,10 @@ void report_repairs(const std::string& input, const pm::RepairReport& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"pmenc: encode a triangle mesh as a progressive mesh (.pm).\n"
-               "Reads OBJ, PLY, OFF or STL; writes the base mesh and the vertex splits that\n"
-               "restore the input exactly. Decode any level of detail with pmdec."};
+  CLI::App app{
+      "pmenc: encode a triangle mesh as a progressive mesh (.pm).\n"
+      "Reads OBJ, PLY, OFF or STL; writes the base mesh and the vertex splits that\n"
+      "restore the input exactly. Decode any level of detail with pmdec."};
   app.set_version_flag("--version", std::string("pmenc ") + PM_VERSION_STRING);
   std::string input, output;
   pm::EncodeOptions options;
@@ -53,25 +54,31 @@ int main(int argc, char** argv) {
   int zstd_level = pm::WriteOptions{}.zstd_level;
   app.add_option("input", input, "Input mesh (.obj .ply .off .stl), or - for standard input")
       ->required();
-  app.add_option("-o,--output", output, "Output .pm file, or - for standard output "
-                                        "(default: the input's name with .pm)");
-  app.add_option("--format", input_format, "Input format when it cannot be told from the name "
-                                           "(obj, ply, off, stl); needed for standard input");
+  app.add_option("-o,--output", output,
+                 "Output .pm file, or - for standard output "
+                 "(default: the input's name with .pm)");
+  app.add_option("--format", input_format,
+                 "Input format when it cannot be told from the name "
+                 "(obj, ply, off, stl); needed for standard input");
   app.add_option("--feature-angle", options.feature_angle_deg,
                  "Edges whose faces meet at more than this angle (degrees) are sharp features")
-      ->capture_default_str()->check(CLI::Range(0.0, 180.0));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
   app.add_option("--max-normal-flip", options.max_normal_flip_deg,
                  "Reject collapses that turn a face normal by more than this (degrees)")
-      ->capture_default_str()->check(CLI::Range(0.0, 180.0));
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 180.0));
   app.add_flag("--keep-corners", options.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
   app.add_option("--min-faces", options.min_faces, "Stop simplifying at this many faces");
   app.add_option("--min-vertices", options.min_vertices, "Stop simplifying at this many vertices");
   app.add_option("--zstd-level", zstd_level, "zstd compression level")
-      ->capture_default_str()->check(CLI::Range(1, 22));
+      ->capture_default_str()
+      ->check(CLI::Range(1, 22));
   app.add_flag("-q,--quiet", quiet, "Print errors only");
-  app.footer("Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid input,\n"
-             "5 cannot write output, 6 unsupported format or version, 7 input too large.");
+  app.footer(
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid input,\n"
+      "5 cannot write output, 6 unsupported format or version, 7 input too large.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -82,16 +89,18 @@ int main(int argc, char** argv) {
   pm::cli::install_cleanup_handlers();
   const auto start = std::chrono::steady_clock::now();
 
-  pm::MeshFormat format =
-      input_format.empty() ? pm::mesh_format_from_path(input) : pm::mesh_format_from_path("." + input_format);
+  pm::MeshFormat format = input_format.empty() ? pm::mesh_format_from_path(input)
+                                               : pm::mesh_format_from_path("." + input_format);
   if (format == pm::MeshFormat::kUnknown) {
-    return pm::cli::fail(kTool, input,
-                         pm::Status(pm::ErrorCode::kUnsupportedFormat,
-                                    input == "-" ? "standard input needs --format obj|ply|off|stl"
-                                                 : "unknown mesh format (use .obj .ply .off .stl or --format)"));
+    return pm::cli::fail(
+        kTool, input,
+        pm::Status(pm::ErrorCode::kUnsupportedFormat,
+                   input == "-" ? "standard input needs --format obj|ply|off|stl"
+                                : "unknown mesh format (use .obj .ply .off .stl or --format)"));
   }
   std::string bytes;
-  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s) return pm::cli::fail(kTool, input, s);
+  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s)
+    return pm::cli::fail(kTool, input, s);
   pm::Mesh mesh;
   pm::ReadReport read_report;
   if (pm::Status s = pm::read_mesh_from_memory(bytes, format, mesh, &read_report); !s)
@@ -120,13 +129,15 @@ int main(int argc, char** argv) {
     return pm::cli::fail(kTool, input, s);
   if (pm::Status s = pm::cli::write_output_atomically(output, encoded, /*binary=*/true); !s) {
     pm::cli::fail(kTool, output, s);
-    return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage : pm::cli::kExitCannotWrite;
+    return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage
+                                                       : pm::cli::kExitCannotWrite;
   }
   if (!quiet) {
-    std::fprintf(stderr, "pmenc: %s: %zu faces, base mesh %zu faces / %zu vertices, %zu splits, %s in %.2f s\n",
-                 input.c_str(), stats.input_faces, stats.base_faces, stats.base_vertices,
-                 stats.collapses, pm::cli::human_bytes(encoded.size()).c_str(),
-                 pm::cli::seconds_since(start));
+    std::fprintf(
+        stderr,
+        "pmenc: %s: %zu faces, base mesh %zu faces / %zu vertices, %zu splits, %s in %.2f s\n",
+        input.c_str(), stats.input_faces, stats.base_faces, stats.base_vertices, stats.collapses,
+        pm::cli::human_bytes(encoded.size()).c_str(), pm::cli::seconds_since(start));
   }
   return pm::cli::kExitOk;
 }

@@ -1,8 +1,7 @@
 // pmenc and pmdec end to end, as a user runs them: files in, files out, exit codes, and
 // nothing left behind on failure.
-#include <gtest/gtest.h>
-
 #include <dirent.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -47,7 +46,8 @@ std::vector<std::string> listing(const std::string& dir) {
 }
 
 // stderr is one line: "tool: FILE: message".
-void expect_one_line_error(const CommandResult& r, const std::string& tool, const std::string& file) {
+void expect_one_line_error(const CommandResult& r, const std::string& tool,
+                           const std::string& file) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_EQ(r.err.rfind(tool + ": " + file + ": ", 0), 0u) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -80,12 +80,14 @@ TEST_P(EndToEnd, FacesAndRatioRequestsAreHonoured) {
   const std::size_t base = read_or_fail(dir.file("b.obj")).face_count();
   for (std::size_t n : {full / 2, full / 10 + 1, full / 5, base, base + 1, full - 1}) {
     n = std::max(n, base);
-    const CommandResult r = pmdec({dir.file("x.pm"), "--faces", std::to_string(n), "-o", dir.file("l.obj"), "-q"});
+    const CommandResult r =
+        pmdec({dir.file("x.pm"), "--faces", std::to_string(n), "-o", dir.file("l.obj"), "-q"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::size_t got = read_or_fail(dir.file("l.obj")).face_count();
     EXPECT_TRUE(got == n || got == n + 1) << "asked " << n << ", got " << got;
   }
-  const CommandResult r = pmdec({dir.file("x.pm"), "--ratio", "0.1", "-o", dir.file("r.ply"), "-q"});
+  const CommandResult r =
+      pmdec({dir.file("x.pm"), "--ratio", "0.1", "-o", dir.file("r.ply"), "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::size_t want = std::max(base, static_cast<std::size_t>(std::llround(0.1 * full)));
   const std::size_t got = read_or_fail(dir.file("r.ply")).face_count();
@@ -110,7 +112,8 @@ TEST(Cli, EveryOutputFormatDecodesTheSameFaces) {
 
 TEST(Cli, DashWritesObjToStandardOutput) {
   TempDir dir;
-  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code,
+            0);
   const CommandResult r = pmdec({dir.file("s.pm"), "--faces", "100", "-o", "-", "-q"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   Mesh mesh;
@@ -120,22 +123,26 @@ TEST(Cli, DashWritesObjToStandardOutput) {
 
 TEST(Cli, ErrorBoundSelectsALevel) {
   TempDir dir;
-  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code,
+            0);
   const CommandResult coarse = pmdec({dir.file("s.pm"), "--error", "5%", "-o", dir.file("c.obj")});
   ASSERT_EQ(coarse.exit_code, 0) << coarse.err;
   const CommandResult fine = pmdec({dir.file("s.pm"), "--error", "0.01%", "-o", dir.file("f.obj")});
   ASSERT_EQ(fine.exit_code, 0) << fine.err;
-  EXPECT_LT(read_or_fail(dir.file("c.obj")).face_count(), read_or_fail(dir.file("f.obj")).face_count());
+  EXPECT_LT(read_or_fail(dir.file("c.obj")).face_count(),
+            read_or_fail(dir.file("f.obj")).face_count());
   EXPECT_EQ(pmdec({dir.file("s.pm"), "--error", "abc", "-o", dir.file("e.obj")}).exit_code, 2);
   EXPECT_FALSE(test::file_exists(dir.file("e.obj")));
 }
 
 TEST(Cli, InfoPrintsHeaderCountsAndErrorRange) {
   TempDir dir;
-  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code,
+            0);
   const CommandResult r = pmdec({dir.file("s.pm"), "--info"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* field : {"format version:", "base mesh:", "vertex splits:", "full detail:", "error range:"})
+  for (const char* field :
+       {"format version:", "base mesh:", "vertex splits:", "full detail:", "error range:"})
     EXPECT_NE(r.out.find(field), std::string::npos) << field << " missing from\n" << r.out;
 }
 
@@ -167,7 +174,12 @@ struct BadInput {
 TEST(BadInput, MeshFilesGiveOneLineErrorsAndNoOutput) {
   const std::vector<BadInput> cases = {
       {"empty.obj", "", 4},
-      {"blob.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0\xff\xfe\x00\x13\x88", 15) + std::string(300, '\xee'), 4},
+      {"blob.obj",
+       std::string("\x7f"
+                   "ELF\x02\x01\x01\0\0\0\xff\xfe\x00\x13\x88",
+                   15) +
+           std::string(300, '\xee'),
+       4},
       {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4},
       {"zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4},
       {"text.off", "this is not an off file\n", 4},
@@ -199,14 +211,17 @@ TEST(BadInput, MissingInputAndUnwritableOutput) {
 
 TEST(BadInput, TruncatedPmAtManyOffsetsFailsCleanly) {
   TempDir dir;
-  ASSERT_EQ(pmenc({test::sample_mesh_path("terrain_holes.obj"), "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(
+      pmenc({test::sample_mesh_path("terrain_holes.obj"), "-o", dir.file("t.pm"), "-q"}).exit_code,
+      0);
   const std::string whole = test::read_file(dir.file("t.pm"));
   ASSERT_GT(whole.size(), 100u);
   // Every byte of the header region, then offsets spread over the rest (the codec's own
   // tests cut in-process at every single byte).
   std::vector<std::size_t> cuts;
   for (std::size_t i = 0; i < 96; ++i) cuts.push_back(i);
-  for (std::size_t i = 96; i < whole.size(); i += std::max<std::size_t>(1, whole.size() / 60)) cuts.push_back(i);
+  for (std::size_t i = 96; i < whole.size(); i += std::max<std::size_t>(1, whole.size() / 60))
+    cuts.push_back(i);
   cuts.push_back(whole.size() - 1);
   for (std::size_t cut : cuts) {
     SCOPED_TRACE("cut at " + std::to_string(cut));
@@ -220,8 +235,11 @@ TEST(BadInput, TruncatedPmAtManyOffsetsFailsCleanly) {
 
 TEST(BadInput, UsageErrors) {
   TempDir dir;
-  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
-  EXPECT_EQ(pmdec({dir.file("s.pm"), "--faces", "10", "--ratio", "0.5", "-o", dir.file("a.obj")}).exit_code, 2);
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code,
+            0);
+  EXPECT_EQ(pmdec({dir.file("s.pm"), "--faces", "10", "--ratio", "0.5", "-o", dir.file("a.obj")})
+                .exit_code,
+            2);
   EXPECT_EQ(pmdec({dir.file("s.pm"), "--ratio", "1.5", "-o", dir.file("a.obj")}).exit_code, 2);
   EXPECT_EQ(pmdec({dir.file("s.pm"), "-o", dir.file("a.xyz")}).exit_code, 6);
   EXPECT_EQ(pmdec({dir.file("s.pm")}).exit_code, 2);
@@ -231,7 +249,8 @@ TEST(BadInput, UsageErrors) {
 
 TEST(Cli, ReportsRepairsOnStderr) {
   TempDir dir;
-  const CommandResult r = pmenc({test::sample_mesh_path("nonmanifold.obj"), "-o", dir.file("n.pm")});
+  const CommandResult r =
+      pmenc({test::sample_mesh_path("nonmanifold.obj"), "-o", dir.file("n.pm")});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("repaired"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("non-manifold edges cut"), std::string::npos) << r.err;

@@ -96,7 +96,8 @@ TEST_P(EveryMesh, FaceRequestsGiveNOrNPlusOne) {
   std::size_t level = 0, faces = base;
   for (std::size_t n = base; n <= full; ++n) {
     while (faces < n) faces += e.pm.splits[level++].new_face_count();
-    ASSERT_TRUE(faces == n || faces == n + 1) << "level " << level << " has " << faces << " for " << n;
+    ASSERT_TRUE(faces == n || faces == n + 1)
+        << "level " << level << " has " << faces << " for " << n;
   }
   EXPECT_EQ(faces_at_level(e.pm, level_for_faces(e.pm, full)), full);
   EXPECT_EQ(level_for_faces(e.pm, full + 100), e.pm.split_count());
@@ -116,11 +117,13 @@ TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
   if (level > 0) {
     EXPECT_GT(error_at_level(e.pm, level - 1), mid);
   }
-  EXPECT_EQ(level_for_error(e.pm, 0.0), e.pm.split_count() - [&] {
-    std::size_t zero = 0;  // trailing splits of zero error (flat regions) are not needed
-    while (zero < e.pm.split_count() && e.pm.splits[e.pm.split_count() - 1 - zero].error == 0) ++zero;
-    return zero;
-  }());
+  EXPECT_EQ(
+      level_for_error(e.pm, 0.0), e.pm.split_count() - [&] {
+        std::size_t zero = 0;  // trailing splits of zero error (flat regions) are not needed
+        while (zero < e.pm.split_count() && e.pm.splits[e.pm.split_count() - 1 - zero].error == 0)
+          ++zero;
+        return zero;
+      }());
 }
 
 INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh, ::testing::ValuesIn(test::all_test_meshes()),

@@ -12,7 +12,7 @@ namespace pm::test {
 struct TestMesh {
   std::string name;  // "bunny" style, usable in a test name
   std::string path;
-  bool shared;       // from ../shared/meshes (skipped when absent)
+  bool shared;  // from ../shared/meshes (skipped when absent)
 };
 
 inline std::vector<TestMesh> all_test_meshes() {
@@ -41,12 +41,14 @@ inline std::string test_mesh_name(const ::testing::TestParamInfo<TestMesh>& info
 }  // namespace pm::test
 
 // Skips a parameterized test on a real mesh when ../shared/meshes is absent.
-#define PM_SKIP_IF_MISSING(mesh)                \
-  do {                                          \
-    if ((mesh).shared) PM_SKIP_IF_NO_SHARED();  \
+#define PM_SKIP_IF_MISSING(mesh)               \
+  do {                                         \
+    if ((mesh).shared) PM_SKIP_IF_NO_SHARED(); \
   } while (false)
 
 namespace pm::test {
 // GoogleTest prints parameters with this instead of a byte dump.
-inline void PrintTo(const TestMesh& mesh, std::ostream* out) { *out << mesh.path; }
+inline void PrintTo(const TestMesh& mesh, std::ostream* out) {
+  *out << mesh.path;
+}
 }  // namespace pm::test

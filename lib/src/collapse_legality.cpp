@@ -34,9 +34,9 @@ bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHan
     }
     const Vec3 n0 = area_vector(before[0], before[1], before[2]);
     const Vec3 n1 = area_vector(after[0], after[1], after[2]);
-    const double longest = std::max({(after[1] - after[0]).sqrnorm(),
-                                     (after[2] - after[1]).sqrnorm(),
-                                     (after[0] - after[2]).sqrnorm()});
+    const double longest =
+        std::max({(after[1] - after[0]).sqrnorm(), (after[2] - after[1]).sqrnorm(),
+                  (after[0] - after[2]).sqrnorm()});
     const double len1 = n1.norm();
     if (len1 <= kDegenerate * longest) return false;
     const double len0 = n0.norm();
@@ -49,7 +49,8 @@ bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle
                           const WeldGroups& welds) {
   if (welds.empty()) return true;
   const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
-  auto members_of = [&](HalfEdgeMesh::VertexHandle x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
+  auto members_of = [&](HalfEdgeMesh::VertexHandle x,
+                        uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
     const int g = welds.group[x.idx()];
     if (g < 0) {
       single = static_cast<uint32_t>(x.idx());

@@ -29,8 +29,8 @@ bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHan
 // weld_group[x] is the canonical vertex of x's group, or -1 when x is not welded;
 // weld_members[c] lists the members of group c.
 struct WeldGroups {
-  std::vector<int> group;                        // per vertex
-  std::vector<std::vector<uint32_t>> members;    // per canonical vertex
+  std::vector<int> group;                      // per vertex
+  std::vector<std::vector<uint32_t>> members;  // per canonical vertex
   bool empty() const { return members.empty(); }
 };
 bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,

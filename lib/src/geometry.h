@@ -9,13 +9,17 @@ namespace pm {
 
 using Vec3 = OpenMesh::Vec3d;
 
-inline Vec3 to_vec3(const HalfEdgeMesh::Point& p) { return Vec3(p[0], p[1], p[2]); }
+inline Vec3 to_vec3(const HalfEdgeMesh::Point& p) {
+  return Vec3(p[0], p[1], p[2]);
+}
 inline Vec3 point_of(const HalfEdgeMesh& mesh, HalfEdgeMesh::VertexHandle v) {
   return to_vec3(mesh.point(v));
 }
 
 // Twice the area vector of triangle (a, b, c): its direction is the normal.
-inline Vec3 area_vector(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a) % (c - a); }
+inline Vec3 area_vector(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return (b - a) % (c - a);
+}
 
 // Distance from p to the segment [a, b].
 double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b);

@@ -8,7 +8,6 @@
 #include "manifold_repair.h"
 
 #include <OpenMesh/Core/System/omstream.hh>
-
 #include <algorithm>
 #include <numeric>
 #include <string>
@@ -39,9 +38,13 @@ class CornerSets {
   std::vector<uint32_t> parent_;
 };
 
-inline uint32_t next_corner(uint32_t c) { return c - c % 3 + (c + 1) % 3; }
+inline uint32_t next_corner(uint32_t c) {
+  return c - c % 3 + (c + 1) % 3;
+}
 
-bool has_repeated_index(const uint32_t* t) { return t[0] == t[1] || t[1] == t[2] || t[0] == t[2]; }
+bool has_repeated_index(const uint32_t* t) {
+  return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+}
 
 }  // namespace
 

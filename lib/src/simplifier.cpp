@@ -181,9 +181,11 @@ class SchroederSimplifier {
     c.fl = fl.idx();
     c.fr = fr.idx();
     c.vl = fl.is_valid() ? mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h)).idx() : kNoVertex;
-    c.vr = fr.is_valid()
-               ? mesh_.to_vertex_handle(mesh_.next_halfedge_handle(mesh_.opposite_halfedge_handle(h))).idx()
-               : kNoVertex;
+    c.vr =
+        fr.is_valid()
+            ? mesh_.to_vertex_handle(mesh_.next_halfedge_handle(mesh_.opposite_halfedge_handle(h)))
+                  .idx()
+            : kNoVertex;
     c.moved_begin = static_cast<uint32_t>(moved_faces.size());
     for (auto f : mesh_.vf_range(v))
       if (f != fl && f != fr) moved_faces.push_back(f.idx());

@@ -16,5 +16,8 @@ int main() {
     return 1;
   const pm::Mesh full = pm::extract_level(progressive, progressive.split_count());
   std::printf("%zu faces, %zu splits\n", full.face_count(), progressive.split_count());
-  return full.face_count() == 4 && progressive.split_count() >= 1 && progressive.base_face_count() < 4 ? 0 : 1;
+  return full.face_count() == 4 && progressive.split_count() >= 1 &&
+                 progressive.base_face_count() < 4
+             ? 0
+             : 1;
 }

@@ -29,10 +29,10 @@ struct EncodeOptions {
 // What the encoder changed to make the input a manifold half-edge mesh. Nothing is lost:
 // each repair is undone at full detail.
 struct RepairReport {
-  std::size_t vertices_duplicated = 0;    // copies made at pinched vertices and complex edges
-  std::size_t complex_edges = 0;          // edges with more than two faces or inconsistent ones
-  std::size_t carried_faces = 0;          // faces with a repeated vertex, carried as-is
-  std::size_t loose_vertices = 0;         // vertices no face uses
+  std::size_t vertices_duplicated = 0;  // copies made at pinched vertices and complex edges
+  std::size_t complex_edges = 0;        // edges with more than two faces or inconsistent ones
+  std::size_t carried_faces = 0;        // faces with a repeated vertex, carried as-is
+  std::size_t loose_vertices = 0;       // vertices no face uses
   bool any() const {
     return vertices_duplicated || complex_edges || carried_faces || loose_vertices;
   }

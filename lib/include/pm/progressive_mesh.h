@@ -54,11 +54,11 @@ struct Weld {
 struct ProgressiveMesh {
   uint32_t base_vertex_count = 0;
   uint32_t loose_vertex_count = 0;
-  std::vector<float> positions;         // x, y, z per vertex id
-  std::vector<uint32_t> base_faces;     // 3 per base face
-  std::vector<VertexSplit> splits;      // refinement order: coarse to fine
-  std::vector<uint32_t> moved_faces;    // the splits' moved face ids, back to back
-  std::vector<Weld> welds;              // copies are never removed (complex vertices)
+  std::vector<float> positions;       // x, y, z per vertex id
+  std::vector<uint32_t> base_faces;   // 3 per base face
+  std::vector<VertexSplit> splits;    // refinement order: coarse to fine
+  std::vector<uint32_t> moved_faces;  // the splits' moved face ids, back to back
+  std::vector<Weld> welds;            // copies are never removed (complex vertices)
   // Input faces with a repeated vertex index ((a, a, b)): no half-edge mesh can hold
   // them, so they are carried as-is. Their vertices are never removed; they are output
   // at every level.

@@ -11,17 +11,17 @@ namespace pm {
 // Stable codes: the numbers never change meaning; new codes are appended.
 enum class ErrorCode : int {
   kOk = 0,
-  kInvalidArgument = 1,    // a caller's argument is out of range
-  kIoError = 2,            // a file could not be opened, read or written
-  kParseError = 3,         // a mesh file is malformed
-  kUnsupportedFormat = 4,  // unknown file extension or mesh format
-  kCorruptStream = 5,      // a .pm stream violates the format
-  kTruncatedStream = 6,    // a .pm stream ends early
-  kUnsupportedVersion = 7, // a .pm stream of a version this reader does not know
-  kChecksumMismatch = 8,   // a header or section checksum does not match
-  kEmptyMesh = 9,          // the input has no faces and no vertices
-  kResourceLimit = 10,     // a count exceeds what this build can hold
-  kInternal = 11,          // a bug: an invariant of the library itself failed
+  kInvalidArgument = 1,     // a caller's argument is out of range
+  kIoError = 2,             // a file could not be opened, read or written
+  kParseError = 3,          // a mesh file is malformed
+  kUnsupportedFormat = 4,   // unknown file extension or mesh format
+  kCorruptStream = 5,       // a .pm stream violates the format
+  kTruncatedStream = 6,     // a .pm stream ends early
+  kUnsupportedVersion = 7,  // a .pm stream of a version this reader does not know
+  kChecksumMismatch = 8,    // a header or section checksum does not match
+  kEmptyMesh = 9,           // the input has no faces and no vertices
+  kResourceLimit = 10,      // a count exceeds what this build can hold
+  kInternal = 11,           // a bug: an invariant of the library itself failed
 };
 
 // The stable name of a code, e.g. "corrupt-stream".
