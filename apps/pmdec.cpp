@@ -9,6 +9,7 @@
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
+#include "pm/surface_distance.h"
 
 namespace {
 
@@ -64,6 +65,36 @@ int print_info(const std::string& input, std::string_view bytes) {
   return pm::cli::kExitOk;
 }
 
+// --compare: one line for people, or one JSON object for scripts (--json). A percentage of
+// a zero diagonal (a flat point) has no value: "n/a", or null in JSON.
+void print_comparison(const pm::SurfaceDistance& d, const pm::Mesh& lod, std::size_t level,
+                      double seconds, bool json) {
+  const bool has_diagonal = d.diagonal > 0;
+  const double hausdorff_percent = has_diagonal ? 100 * d.hausdorff / d.diagonal : 0;
+  const double rms_percent = has_diagonal ? 100 * d.rms / d.diagonal : 0;
+  if (!json) {
+    char percents[2][32] = {"n/a", "n/a"};
+    if (has_diagonal) {
+      std::snprintf(percents[0], sizeof percents[0], "%.3g%%", hausdorff_percent);
+      std::snprintf(percents[1], sizeof percents[1], "%.3g%%", rms_percent);
+    }
+    std::printf("hausdorff %.6g (%s of diagonal) rms %.6g (%s) faces %zu samples %zu\n",
+                d.hausdorff, percents[0], d.rms, percents[1], lod.face_count(), d.samples);
+    return;
+  }
+  char percents[2][32] = {"null", "null"};
+  if (has_diagonal) {
+    std::snprintf(percents[0], sizeof percents[0], "%.17g", hausdorff_percent);
+    std::snprintf(percents[1], sizeof percents[1], "%.17g", rms_percent);
+  }
+  std::printf(
+      "{\"faces\":%zu,\"vertices\":%zu,\"level\":%zu,\"hausdorff\":%.17g,\"rms\":%.17g,"
+      "\"hausdorff_percent\":%s,\"rms_percent\":%s,\"diagonal\":%.17g,\"samples\":%zu,"
+      "\"seconds\":%.3f}\n",
+      lod.face_count(), lod.vertex_count(), level, d.hausdorff, d.rms, percents[0], percents[1],
+      d.diagonal, d.samples, seconds);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -71,10 +102,10 @@ int main(int argc, char** argv) {
       "pmdec: decode a level of detail from a progressive mesh (.pm).\n"
       "Without a level option, writes full detail: the input mesh, exactly."};
   app.set_version_flag("--version", std::string("pmdec ") + PM_VERSION_STRING);
-  std::string input, output, error_text, output_format;
+  std::string input, output, error_text, output_format, compare_path;
   std::size_t vertices = 0, faces = 0;
   double ratio = 1.0;
-  bool quiet = false, info = false;
+  bool quiet = false, info = false, json = false;
   app.add_option("input", input, "Input .pm file, or - for standard input")->required();
   app.add_option(
       "-o,--output", output,
@@ -93,6 +124,10 @@ int main(int argc, char** argv) {
   by_vertices->excludes(by_faces)->excludes(by_ratio)->excludes(by_error);
   by_faces->excludes(by_ratio)->excludes(by_error);
   by_ratio->excludes(by_error);
+  auto* compare = app.add_option("--compare", compare_path,
+                                 "Measure the level's distance (Hausdorff, RMS) to this original "
+                                 "mesh and print it on standard output; -o becomes optional");
+  app.add_flag("--json", json, "With --compare: print one JSON object instead")->needs(compare);
   app.add_flag("--info", info, "Print the header, counts and error range, and exit");
   app.add_flag("-q,--quiet", quiet, "Print errors only");
   app.footer(
@@ -111,17 +146,28 @@ int main(int argc, char** argv) {
   if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s)
     return pm::cli::fail(kTool, input, s);
   if (info) return print_info(input, bytes);
-  if (output.empty()) {
+  if (output.empty() && compare_path.empty()) {
     std::cerr << kTool << ": no output given (use -o FILE, or -o - for OBJ on standard output)\n";
+    return pm::cli::kExitUsage;
+  }
+  if (output == "-" && !compare_path.empty()) {
+    std::cerr << kTool << ": --compare prints on standard output: write the mesh to a file\n";
     return pm::cli::kExitUsage;
   }
   pm::MeshFormat format = output_format.empty() ? pm::mesh_format_from_path(output)
                                                 : pm::mesh_format_from_path("." + output_format);
   if (output == "-" && output_format.empty()) format = pm::MeshFormat::kObj;
-  if (format == pm::MeshFormat::kUnknown)
+  if (!output.empty() && format == pm::MeshFormat::kUnknown)
     return pm::cli::fail(kTool, output,
                          pm::Status(pm::ErrorCode::kUnsupportedFormat,
                                     "unknown output format (use .obj .ply .off .stl or --format)"));
+
+  // Read before any work is done or any file written, so that a bad ORIGINAL costs nothing.
+  pm::Mesh original;
+  if (!compare_path.empty()) {
+    if (pm::Status s = pm::read_mesh(compare_path, original); !s)
+      return pm::cli::fail(kTool, compare_path, s);
+  }
 
   pm::ProgressiveMesh progressive;
   if (pm::Status s = pm::read_pm(bytes, progressive); !s) return pm::cli::fail(kTool, input, s);
@@ -150,14 +196,23 @@ int main(int argc, char** argv) {
   }
 
   const pm::Mesh mesh = pm::extract_level(progressive, level);
-  std::string encoded;
-  if (pm::Status s = pm::write_mesh_to_memory(mesh, format, encoded); !s)
-    return pm::cli::fail(kTool, output, s);
-  const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl;
-  if (pm::Status s = pm::cli::write_output_atomically(output, encoded, binary); !s) {
-    pm::cli::fail(kTool, output, s);
-    return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage
-                                                       : pm::cli::kExitCannotWrite;
+  if (!output.empty()) {
+    std::string encoded;
+    if (pm::Status s = pm::write_mesh_to_memory(mesh, format, encoded); !s)
+      return pm::cli::fail(kTool, output, s);
+    const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl;
+    if (pm::Status s = pm::cli::write_output_atomically(output, encoded, binary); !s) {
+      pm::cli::fail(kTool, output, s);
+      return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage
+                                                         : pm::cli::kExitCannotWrite;
+    }
+  }
+  if (!compare_path.empty()) {
+    const auto compare_start = std::chrono::steady_clock::now();
+    pm::SurfaceDistance distance;
+    if (pm::Status s = pm::measure_surface_distance(original, mesh, {}, distance); !s)
+      return pm::cli::fail(kTool, compare_path, s);
+    print_comparison(distance, mesh, level, pm::cli::seconds_since(compare_start), json);
   }
   if (!quiet) {
     std::fprintf(
