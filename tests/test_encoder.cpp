@@ -210,3 +210,38 @@ TEST(Limits, MinFacesAndMinVerticesStopTheSimplification) {
 
 }  // namespace
 }  // namespace pm
+
+namespace pm {
+namespace {
+
+// Odd real-world files (Debian's assimp-testmodels): every one that parses must come back
+// exactly at full detail, whatever repairs it needed.
+TEST(Robustness, AssimpModelsThatParseRoundTripExactly) {
+  const std::string root = "/usr/share/assimp/models";
+  if (!test::file_exists(root)) GTEST_SKIP() << root << " not found (package assimp-testmodels)";
+  const test::CommandResult found =
+      test::run_command({"find", root, "-type", "f", "(", "-iname", "*.obj", "-o", "-iname",
+                         "*.ply", "-o", "-iname", "*.off", "-o", "-iname", "*.stl", ")"});
+  ASSERT_EQ(found.exit_code, 0) << found.err;
+  std::size_t parsed = 0;
+  std::size_t start = 0;
+  for (std::size_t end; (end = found.out.find('\n', start)) != std::string::npos; start = end + 1) {
+    const std::string path = found.out.substr(start, end - start);
+    Mesh input;
+    if (!read_mesh(path, input)) continue;
+    ++parsed;
+    ProgressiveMesh pm;
+    const Status s = encode(input, EncodeOptions{}, pm);
+    if (!s) {  // a mesh with vertices but no face is the only thing that may not encode
+      EXPECT_EQ(s.code(), ErrorCode::kEmptyMesh) << path << ": " << s.message();
+      continue;
+    }
+    const Mesh full = extract_level(pm, pm.split_count());
+    EXPECT_TRUE(test::same_faces(input, full)) << path;
+    EXPECT_EQ(full.vertex_count(), input.vertex_count()) << path;
+  }
+  EXPECT_GT(parsed, 20u);
+}
+
+}  // namespace
+}  // namespace pm
