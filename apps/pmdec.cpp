@@ -15,20 +15,6 @@ namespace {
 
 constexpr const char* kTool = "pmdec";
 
-// The diagonal of the full mesh's bounding box, the unit of `--error N%`.
-double bounding_box_diagonal(const pm::ProgressiveMesh& pm) {
-  if (pm.positions.empty()) return 0;
-  float lo[3] = {pm.positions[0], pm.positions[1], pm.positions[2]};
-  float hi[3] = {lo[0], lo[1], lo[2]};
-  for (std::size_t i = 0; i < pm.positions.size(); ++i) {
-    lo[i % 3] = std::min(lo[i % 3], pm.positions[i]);
-    hi[i % 3] = std::max(hi[i % 3], pm.positions[i]);
-  }
-  return std::sqrt(double(hi[0] - lo[0]) * (hi[0] - lo[0]) +
-                   double(hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                   double(hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 // "0.5" is in model units; "0.5%" is a percentage of the bounding-box diagonal.
 bool parse_error_bound(std::string text, const pm::ProgressiveMesh& pm, double& bound) {
   const bool percent = !text.empty() && text.back() == '%';
@@ -40,7 +26,7 @@ bool parse_error_bound(std::string text, const pm::ProgressiveMesh& pm, double& 
   } catch (const std::exception&) {
     return false;
   }
-  if (percent) bound *= bounding_box_diagonal(pm) / 100.0;
+  if (percent) bound *= pm::bounding_box_diagonal(pm.positions) / 100.0;
   return true;
 }
 

@@ -45,6 +45,23 @@ class TextBuilder {
   }
   void put(float value) { cursor_ = std::to_chars(cursor_, end_, value).ptr; }
   void put(uint64_t value) { cursor_ = std::to_chars(cursor_, end_, value).ptr; }
+  // "x y z\n" and "a b c\n" (indices plus first_index), the lines OBJ and OFF share.
+  void put_xyz_line(const float* p) {
+    put(p[0]);
+    put(' ');
+    put(p[1]);
+    put(' ');
+    put(p[2]);
+    put('\n');
+  }
+  void put_index_line(const uint32_t* t, uint64_t first_index) {
+    put(t[0] + first_index);
+    put(' ');
+    put(t[1] + first_index);
+    put(' ');
+    put(t[2] + first_index);
+    put('\n');
+  }
 
   void put_u8(uint8_t value) { *cursor_++ = static_cast<char>(value); }
   void put_u16(uint16_t value) {
@@ -102,23 +119,13 @@ void write_obj(const Mesh& mesh, std::string& bytes) {
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v, p += 3) {
     out.ensure(kMaxVertexLine);
     out.put("v ");
-    out.put(p[0]);
-    out.put(' ');
-    out.put(p[1]);
-    out.put(' ');
-    out.put(p[2]);
-    out.put('\n');
+    out.put_xyz_line(p);
   }
   const uint32_t* t = mesh.triangles.data();
   for (std::size_t f = 0; f < mesh.face_count(); ++f, t += 3) {
     out.ensure(kMaxFaceLine);
     out.put("f ");
-    out.put(uint64_t{t[0]} + 1);
-    out.put(' ');
-    out.put(uint64_t{t[1]} + 1);
-    out.put(' ');
-    out.put(uint64_t{t[2]} + 1);
-    out.put('\n');
+    out.put_index_line(t, 1);
   }
   out.finish();
 }
@@ -134,23 +141,13 @@ void write_off(const Mesh& mesh, std::string& bytes) {
   const float* p = mesh.positions.data();
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v, p += 3) {
     out.ensure(kMaxVertexLine);
-    out.put(p[0]);
-    out.put(' ');
-    out.put(p[1]);
-    out.put(' ');
-    out.put(p[2]);
-    out.put('\n');
+    out.put_xyz_line(p);
   }
   const uint32_t* t = mesh.triangles.data();
   for (std::size_t f = 0; f < mesh.face_count(); ++f, t += 3) {
     out.ensure(kMaxFaceLine);
     out.put("3 ");
-    out.put(uint64_t{t[0]});
-    out.put(' ');
-    out.put(uint64_t{t[1]});
-    out.put(' ');
-    out.put(uint64_t{t[2]});
-    out.put('\n');
+    out.put_index_line(t, 0);
   }
   out.finish();
 }

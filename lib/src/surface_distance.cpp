@@ -50,18 +50,6 @@ Status check_mesh(const Mesh& mesh, const char* role) {
   return Status::ok();
 }
 
-double bounding_box_diagonal(const Mesh& mesh) {
-  if (mesh.vertex_count() == 0) return 0;
-  double lo[3], hi[3];
-  for (int axis = 0; axis < 3; ++axis) lo[axis] = hi[axis] = mesh.positions[axis];
-  for (std::size_t i = 0; i < 3 * mesh.vertex_count(); ++i) {
-    lo[i % 3] = std::min(lo[i % 3], double(mesh.positions[i]));
-    hi[i % 3] = std::max(hi[i % 3], double(mesh.positions[i]));
-  }
-  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 double largest_coordinate(const Mesh& mesh) {
   double largest = 0;
   for (std::size_t i = 0; i < 3 * mesh.vertex_count(); ++i)
@@ -384,9 +372,21 @@ Status measure_surface_distance(const Mesh& reference, const Mesh& other,
   both.merge(backward);
   result.rms = both.rms();
   result.samples = both.count;
-  result.diagonal = bounding_box_diagonal(reference);
+  result.diagonal = bounding_box_diagonal(reference.positions);
   out = result;
   return Status::ok();
+}
+
+double bounding_box_diagonal(const std::vector<float>& positions) {
+  if (positions.size() < 3) return 0;
+  double lo[3], hi[3];
+  for (int axis = 0; axis < 3; ++axis) lo[axis] = hi[axis] = positions[axis];
+  for (std::size_t i = 0; i < positions.size() / 3 * 3; ++i) {
+    lo[i % 3] = std::min(lo[i % 3], double(positions[i]));
+    hi[i % 3] = std::max(hi[i % 3], double(positions[i]));
+  }
+  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
 }
 
 }  // namespace pm

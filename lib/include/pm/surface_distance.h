@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "pm/mesh.h"
 #include "pm/status.h"
@@ -40,5 +41,9 @@ struct SurfaceDistance {
 // non-finite coordinate, samples_per_face below 1 or not finite).
 Status measure_surface_distance(const Mesh& reference, const Mesh& other,
                                 const DistanceOptions& options, SurfaceDistance& out);
+
+// The diagonal of the bounding box of x, y, z triples (0 for none): the unit of errors
+// given in percent.
+double bounding_box_diagonal(const std::vector<float>& positions);
 
 }  // namespace pm
