@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <map>
 
 #include "cli_common.h"
 #include "pm/encoder.h"
@@ -60,6 +61,14 @@ int main(int argc, char** argv) {
   app.add_option("--format", input_format,
                  "Input format when it cannot be told from the name "
                  "(obj, ply, off, stl); needed for standard input");
+  app.add_option("--metric", options.metric,
+                 "Collapse cost: schroeder (distance to plane or feature line, Schroeder 1992) "
+                 "or quadric (Garland and Heckbert 1997)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, pm::Metric>{{"schroeder", pm::Metric::kSchroeder},
+                                            {"quadric", pm::Metric::kQuadric}},
+          CLI::ignore_case))
+      ->default_str("schroeder");
   app.add_option("--feature-angle", options.feature_angle_deg,
                  "Edges whose faces meet at more than this angle (degrees) are sharp features")
       ->capture_default_str()

@@ -259,3 +259,22 @@ TEST(Cli, ReportsRepairsOnStderr) {
 
 }  // namespace
 }  // namespace pm
+
+namespace pm {
+namespace {
+
+TEST(Cli, MetricOptionSelectsTheCost) {
+  TempDir dir;
+  const std::string input = test::sample_mesh_path("block_features.obj");
+  ASSERT_EQ(pmenc({input, "--metric", "quadric", "-o", dir.file("q.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({input, "--metric", "schroeder", "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  // Different costs give different sequences, and each decodes to the input.
+  EXPECT_NE(test::read_file(dir.file("q.pm")), test::read_file(dir.file("s.pm")));
+  ASSERT_EQ(pmdec({dir.file("q.pm"), "-o", dir.file("q.obj"), "-q"}).exit_code, 0);
+  EXPECT_TRUE(test::same_faces(read_or_fail(input), read_or_fail(dir.file("q.obj"))));
+  EXPECT_EQ(pmenc({input, "--metric", "volume", "-o", dir.file("x.pm")}).exit_code, 2);
+  EXPECT_FALSE(test::file_exists(dir.file("x.pm")));
+}
+
+}  // namespace
+}  // namespace pm

@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
 
 #include "manifold_repair.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
+#include "pm/surface_distance.h"
 #include "test_meshes.h"
 #include "test_util.h"
 #include "vertex_classification.h"
@@ -40,11 +42,26 @@ Encoded encode_file(const std::string& path, const EncodeOptions& options = {}) 
   return e;
 }
 
-class EveryMesh : public ::testing::TestWithParam<TestMesh> {};
+// Every acceptance property holds for both metrics.
+class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Metric>> {
+ protected:
+  const TestMesh& mesh() const { return std::get<0>(GetParam()); }
+  EncodeOptions options() const {
+    EncodeOptions o;
+    o.metric = std::get<1>(GetParam());
+    return o;
+  }
+  Encoded encoded() const { return encode_file(mesh().path, options()); }
+};
+
+std::string every_mesh_name(const ::testing::TestParamInfo<std::tuple<TestMesh, Metric>>& info) {
+  return std::get<0>(info.param).name +
+         (std::get<1>(info.param) == Metric::kQuadric ? "_quadric" : "_schroeder");
+}
 
 TEST_P(EveryMesh, FullDetailIsTheInputExactly) {
-  PM_SKIP_IF_MISSING(GetParam());
-  const Encoded e = encode_file(GetParam().path);
+  PM_SKIP_IF_MISSING(mesh());
+  const Encoded e = encoded();
   const Mesh full = extract_level(e.pm, e.pm.split_count());
   EXPECT_TRUE(test::same_faces(e.input, full));
   EXPECT_EQ(full.vertex_count(), e.input.vertex_count());
@@ -54,8 +71,8 @@ TEST_P(EveryMesh, FullDetailIsTheInputExactly) {
 }
 
 TEST_P(EveryMesh, EveryLevelKeepsTheInputTopology) {
-  PM_SKIP_IF_MISSING(GetParam());
-  const Encoded e = encode_file(GetParam().path);
+  PM_SKIP_IF_MISSING(mesh());
+  const Encoded e = encoded();
   const test::TopologySummary in = test::summarize_topology(e.input);
   const std::size_t n = e.pm.split_count();
   ASSERT_GT(n, 0u);
@@ -81,8 +98,8 @@ TEST_P(EveryMesh, EveryLevelKeepsTheInputTopology) {
 }
 
 TEST_P(EveryMesh, FaceRequestsGiveNOrNPlusOne) {
-  PM_SKIP_IF_MISSING(GetParam());
-  const Encoded e = encode_file(GetParam().path);
+  PM_SKIP_IF_MISSING(mesh());
+  const Encoded e = encoded();
   const std::size_t base = faces_at_level(e.pm, 0);
   const std::size_t full = faces_at_level(e.pm, e.pm.split_count());
   // Every N on small meshes; a dense spread of N on large ones.
@@ -105,8 +122,8 @@ TEST_P(EveryMesh, FaceRequestsGiveNOrNPlusOne) {
 }
 
 TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
-  PM_SKIP_IF_MISSING(GetParam());
-  const Encoded e = encode_file(GetParam().path);
+  PM_SKIP_IF_MISSING(mesh());
+  const Encoded e = encoded();
   for (std::size_t i = 1; i < e.pm.split_count(); ++i)
     ASSERT_LE(e.pm.splits[i].error, e.pm.splits[i - 1].error) << "split " << i;
   EXPECT_EQ(error_at_level(e.pm, e.pm.split_count()), 0.0f);
@@ -126,8 +143,35 @@ TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
       }());
 }
 
-INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh, ::testing::ValuesIn(test::all_test_meshes()),
-                         test::test_mesh_name);
+INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh,
+                         ::testing::Combine(::testing::ValuesIn(test::all_test_meshes()),
+                                            ::testing::Values(Metric::kSchroeder,
+                                                              Metric::kQuadric)),
+                         every_mesh_name);
+
+// The quadric metric must stay closer to the input than Schroeder's criteria (measured,
+// Metro-style) on the samples with curvature and features, at 10% and 2% of the faces.
+TEST(Quality, QuadricIsCloserThanSchroederOnTheSamples) {
+  for (const char* name : {"sphere.obj", "block_features.obj", "terrain_holes.obj"}) {
+    EncodeOptions schroeder, quadric;
+    quadric.metric = Metric::kQuadric;
+    const Encoded s = encode_file(test::sample_mesh_path(name), schroeder);
+    const Encoded q = encode_file(test::sample_mesh_path(name), quadric);
+    for (double ratio : {0.1, 0.02}) {
+      const std::size_t faces = static_cast<std::size_t>(ratio * s.input.face_count());
+      SurfaceDistance ds, dq;
+      ASSERT_TRUE(measure_surface_distance(s.input,
+                                           extract_level(s.pm, level_for_faces(s.pm, faces)),
+                                           DistanceOptions{}, ds)
+                      .is_ok());
+      ASSERT_TRUE(measure_surface_distance(q.input,
+                                           extract_level(q.pm, level_for_faces(q.pm, faces)),
+                                           DistanceOptions{}, dq)
+                      .is_ok());
+      EXPECT_LE(dq.rms, ds.rms) << name << " at " << ratio;
+    }
+  }
+}
 
 TEST(BaseMesh, UnderOnePercentOfVerticesOnClosedOrganicMeshes) {
   PM_SKIP_IF_NO_SHARED();

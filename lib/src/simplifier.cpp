@@ -10,6 +10,7 @@
 #include "collapse_legality.h"
 #include "manifold_repair.h"
 #include "pm/encoder.h"
+#include "quadric.h"
 #include "schroeder_error.h"
 #include "vertex_classification.h"
 
@@ -34,6 +35,7 @@ struct Collapse {
 struct Candidate {
   uint8_t tier;
   float priority;
+  float distance;  // the error in model units, for the record
   uint32_t vertex;
   uint32_t halfedge;
   uint32_t version;
@@ -78,6 +80,7 @@ class SchroederSimplifier {
     faces_.area.resize(n_faces);
     for (auto f : mesh_.faces()) faces_.update(mesh_, f);
     accumulated_.assign(n_vertices, 0.0);
+    if (options_.metric == Metric::kQuadric) initialize_quadrics();
     version_.assign(n_vertices, 0);
     faces_alive_ = n_faces;
     vertices_alive_ = n_vertices;
@@ -138,6 +141,29 @@ class SchroederSimplifier {
     });
     HalfedgeHandle chosen;
     double error = 0;
+    if (options_.metric == Metric::kQuadric) {
+      // Garland and Heckbert 1997, §4: the cheapest pair; here among v's legal half-edge
+      // collapses, with u staying where it is (subset placement, §4 "optimal placement" is
+      // not possible for a progressive mesh that keeps input positions).
+      double best = HUGE_VAL, best_distance = 0;
+      const Quadric& qv = quadrics_[v.idx()];
+      for (int i = 0; i < count; ++i) {
+        if (chosen.is_valid() && options[i].special != options[0].special) break;
+        if (!legal(options[i].h)) continue;
+        const VertexHandle u = mesh_.to_vertex_handle(options[i].h);
+        const Quadric merged = qv + quadrics_[u.idx()];
+        const double cost = merged.error(point_of(mesh_, u));
+        if (cost < best) {
+          best = cost, chosen = options[i].h;
+          best_distance = merged.weight > 0 ? std::sqrt(cost / merged.weight) : 0;
+        }
+      }
+      if (!chosen.is_valid()) return;
+      queue_.push({0, static_cast<float>(best), static_cast<float>(best_distance),
+                   static_cast<uint32_t>(v.idx()), static_cast<uint32_t>(chosen.idx()),
+                   version_[v.idx()]});
+      return;
+    }
     if (vertex_class.kind == VertexKind::kCorner) {
       double best = HUGE_VAL;
       for (int i = 0; i < count; ++i) {
@@ -154,9 +180,9 @@ class SchroederSimplifier {
     }
     if (!chosen.is_valid()) return;
     const uint8_t tier = vertex_class.kind == VertexKind::kCorner ? 1 : 0;
-    queue_.push({tier, static_cast<float>(accumulated_[v.idx()] + error),
-                 static_cast<uint32_t>(v.idx()), static_cast<uint32_t>(chosen.idx()),
-                 version_[v.idx()]});
+    const float priority = static_cast<float>(accumulated_[v.idx()] + error);
+    queue_.push({tier, priority, priority, static_cast<uint32_t>(v.idx()),
+                 static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
   }
 
   void apply(const Candidate& candidate) {
@@ -193,7 +219,7 @@ class SchroederSimplifier {
     // Schroeder 1997, §3.3: the error of a removed vertex accumulates in the vertices
     // around it. We carry the maximum, which is what the triangle inequality bounds.
     const double removed_error = candidate.priority;
-    bound_ = std::max(bound_, removed_error);
+    bound_ = std::max(bound_, double(candidate.distance));
     c.bound = static_cast<float>(bound_);
     collapses.push_back(c);
 
@@ -204,12 +230,52 @@ class SchroederSimplifier {
     --vertices_alive_;
     for (uint32_t i = c.moved_begin; i < moved_faces.size(); ++i)
       faces_.update(mesh_, mesh_.face_handle(moved_faces[i]));
-    for (auto w : ring_) accumulated_[w.idx()] = std::max(accumulated_[w.idx()], removed_error);
+    if (options_.metric == Metric::kQuadric) {
+      quadrics_[u.idx()] += quadrics_[v.idx()];  // Garland and Heckbert 1997, §4: Q = Q1 + Q2
+    } else {
+      for (auto w : ring_) accumulated_[w.idx()] = std::max(accumulated_[w.idx()], removed_error);
+    }
     ++version_[v.idx()];
 
     evaluate(u);
     for (auto w : mesh_.vv_range(u)) evaluate(w);
     report_progress();
+  }
+
+  // Per-vertex quadrics of the input: the planes of its faces, weighted by area
+  // (Garland and Heckbert 1997, §6.1), plus, along each boundary and feature edge, a plane
+  // through the edge perpendicular to its face, which holds the edge in place (§6.2,
+  // "preserving boundaries"; Garland and Heckbert 1998 §4 use the same for discontinuities).
+  void initialize_quadrics() {
+    // Constraint planes weigh like a face a few times the edge's square: strong enough to
+    // keep borders and creases, not so strong that they alone decide.
+    constexpr double kConstraintWeight = 4.0;
+    quadrics_.assign(mesh_.n_vertices(), Quadric{});
+    for (auto f : mesh_.faces()) {
+      const double area = faces_.area[f.idx()];
+      if (area == 0) continue;
+      const Vec3& n = faces_.normal[f.idx()];
+      const auto any_vertex = *mesh_.cfv_iter(f);
+      const Quadric plane = Quadric::from_plane(n, point_of(mesh_, any_vertex), area);
+      for (auto w : mesh_.fv_range(f)) quadrics_[w.idx()] += plane;
+    }
+    for (auto e : mesh_.edges()) {
+      if (!is_special_edge(mesh_, faces_, e, cos_feature_angle_)) continue;
+      for (int side = 0; side < 2; ++side) {
+        const auto h = mesh_.halfedge_handle(e, side);
+        const auto f = mesh_.face_handle(h);
+        if (!f.is_valid()) continue;
+        const Vec3 a = point_of(mesh_, mesh_.from_vertex_handle(h));
+        const Vec3 b = point_of(mesh_, mesh_.to_vertex_handle(h));
+        Vec3 n = (b - a) % faces_.normal[f.idx()];
+        const double length = n.norm();
+        if (length == 0) continue;
+        n /= length;
+        const Quadric plane = Quadric::from_plane(n, a, kConstraintWeight * (b - a).sqrnorm());
+        quadrics_[mesh_.from_vertex_handle(h).idx()] += plane;
+        quadrics_[mesh_.to_vertex_handle(h).idx()] += plane;
+      }
+    }
   }
 
   void report_progress() {
@@ -223,7 +289,8 @@ class SchroederSimplifier {
   const EncodeOptions& options_;
   const double cos_feature_angle_, cos_max_flip_;
   FaceGeometry faces_;
-  std::vector<double> accumulated_;
+  std::vector<double> accumulated_;  // Schroeder: carried error per vertex
+  std::vector<Quadric> quadrics_;    // quadric metric: per vertex
   std::vector<uint32_t> version_;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
   std::vector<VertexHandle> ring_;

@@ -11,7 +11,14 @@
 
 namespace pm {
 
+// How the cost of a collapse is measured.
+enum class Metric {
+  kSchroeder,  // Schroeder 1992/1997: distance to the average plane or feature line, accumulated
+  kQuadric,    // Garland and Heckbert 1997: quadric error, accumulated by summing quadrics
+};
+
 struct EncodeOptions {
+  Metric metric = Metric::kSchroeder;
   // Edges whose two faces' normals differ by more than this are feature edges
   // (Schroeder 1992, §3 "feature angle").
   double feature_angle_deg = 30.0;
