@@ -366,14 +366,8 @@ Status read_off(std::string_view bytes, Mesh& mesh, ReadReport& report) {
     for (int axis = 0; axis < 3; ++axis) {
       q = detail::skip_blanks(q, line_end);
       float value = 0;
-      switch (detail::parse_float(q, line_end, value)) {
-        case NumberResult::kOk:
-          break;
-        case NumberResult::kMalformed:
-          return error("malformed vertex");
-        case NumberResult::kOutOfRange:
-          return error("coordinate out of float range");
-      }
+      if (const char* problem = detail::coordinate_problem(detail::parse_float(q, line_end, value)))
+        return error(problem);
       if (!std::isfinite(value)) return error("non-finite coordinate");
       mesh.positions.push_back(value);
     }

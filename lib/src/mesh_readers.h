@@ -66,6 +66,19 @@ inline NumberResult parse_float(const char*& p, const char* end, float& value) {
   return NumberResult::kOk;
 }
 
+// The message a text reader gives for a coordinate that did not parse, or nullptr.
+inline const char* coordinate_problem(NumberResult result) {
+  switch (result) {
+    case NumberResult::kOk:
+      return nullptr;
+    case NumberResult::kMalformed:
+      return "malformed vertex";
+    case NumberResult::kOutOfRange:
+      return "coordinate out of float range";
+  }
+  return "malformed vertex";
+}
+
 // Parses one integer at `p` (advanced past it); accepts a leading '+'. Does not require the
 // token to end there (OBJ face corners continue with '/').
 inline NumberResult parse_int(const char*& p, const char* end, int64_t& value) {

@@ -128,14 +128,8 @@ class ObjParser {
       p = skip_blanks(p, eol);
       if (p == eol || *p == '#') break;
       float value;
-      switch (parse_float(p, eol, value)) {
-        case NumberResult::kOk:
-          break;
-        case NumberResult::kMalformed:
-          return error("malformed vertex");
-        case NumberResult::kOutOfRange:
-          return error("coordinate out of float range");
-      }
+      if (const char* problem = coordinate_problem(parse_float(p, eol, value)))
+        return error(problem);
       if (count < 3) {
         if (!std::isfinite(value)) return error("non-finite coordinate");
         values[count] = value;
