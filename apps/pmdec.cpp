@@ -7,6 +7,7 @@
 
 #include "cli_common.h"
 #include "pm/lod.h"
+#include "pm/measured_level.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
 #include "pm/surface_distance.h"
@@ -15,10 +16,13 @@ namespace {
 
 constexpr const char* kTool = "pmdec";
 
-// "0.5" is in model units; "0.5%" is a percentage of the bounding-box diagonal.
-bool parse_error_bound(std::string text, const pm::ProgressiveMesh& pm, double& bound) {
-  const bool percent = !text.empty() && text.back() == '%';
-  if (percent) text.pop_back();
+// "0.5" and "0.5%" are a percentage of the bounding-box diagonal; with --absolute, "0.5" is
+// in model units.
+bool parse_error_bound(std::string text, bool absolute, const pm::ProgressiveMesh& pm,
+                       double& bound) {
+  const bool percent_sign = !text.empty() && text.back() == '%';
+  if (percent_sign) text.pop_back();
+  if (percent_sign && absolute) return false;
   try {
     std::size_t used = 0;
     bound = std::stod(text, &used);
@@ -26,7 +30,7 @@ bool parse_error_bound(std::string text, const pm::ProgressiveMesh& pm, double& 
   } catch (const std::exception&) {
     return false;
   }
-  if (percent) bound *= pm::bounding_box_diagonal(pm.positions) / 100.0;
+  if (!absolute) bound *= pm::bounding_box_diagonal(pm.positions) / 100.0;
   return true;
 }
 
@@ -91,7 +95,7 @@ int main(int argc, char** argv) {
   std::string input, output, error_text, output_format, compare_path;
   std::size_t vertices = 0, faces = 0;
   double ratio = 1.0;
-  bool quiet = false, info = false, json = false;
+  bool quiet = false, info = false, json = false, absolute = false, estimate = false;
   app.add_option("input", input, "Input .pm file, or - for standard input")->required();
   app.add_option(
       "-o,--output", output,
@@ -104,9 +108,15 @@ int main(int argc, char** argv) {
                                   "Level with this many faces (one more where a split adds two)");
   auto* by_ratio = app.add_option("--ratio", ratio, "Level with this fraction of the full faces")
                        ->check(CLI::Range(0.0, 1.0));
-  auto* by_error = app.add_option("--error", error_text,
-                                  "Coarsest level whose error bound is at most E (model units), "
-                                  "or E% of the bounding-box diagonal");
+  auto* by_error = app.add_option(
+      "--error", error_text,
+      "Coarsest level whose measured Hausdorff distance to full detail is at most E percent "
+      "of the bounding-box diagonal (E or E%); see --absolute and --estimate");
+  app.add_flag("--absolute", absolute, "With --error: E is in model units")->needs(by_error);
+  app.add_flag("--estimate", estimate,
+               "With --error: select by the errors recorded in the file, without measuring "
+               "(instant, but not a guarantee)")
+      ->needs(by_error);
   by_vertices->excludes(by_faces)->excludes(by_ratio)->excludes(by_error);
   by_faces->excludes(by_ratio)->excludes(by_error);
   by_ratio->excludes(by_error);
@@ -173,12 +183,30 @@ int main(int argc, char** argv) {
                 << "\n";
   } else if (*by_error) {
     double bound = 0;
-    if (!parse_error_bound(error_text, progressive, bound)) {
-      std::cerr << kTool << ": --error: not a non-negative number or percentage: " << error_text
-                << "\n";
+    if (!parse_error_bound(error_text, absolute, progressive, bound)) {
+      std::cerr << kTool << ": --error: not a non-negative number"
+                << (absolute ? " (no % with --absolute)" : " or percentage") << ": "
+                << error_text << "\n";
       return pm::cli::kExitUsage;
     }
-    level = pm::level_for_error(progressive, bound);
+    if (estimate) {
+      level = pm::level_for_error(progressive, bound);
+    } else {
+      const auto search_start = std::chrono::steady_clock::now();
+      pm::MeasuredLevel found;
+      if (pm::Status s = pm::level_for_measured_error(progressive, bound, {}, found); !s)
+        return pm::cli::fail(kTool, input, s);
+      level = found.level;
+      if (!quiet) {
+        const double diagonal = found.distance.diagonal;
+        std::fprintf(stderr,
+                     "pmdec: %s: measured Hausdorff %.6g (%.4g%% of diagonal) <= %.6g, "
+                     "%zu levels measured, %.2f s\n",
+                     input.c_str(), found.distance.hausdorff,
+                     diagonal > 0 ? 100 * found.distance.hausdorff / diagonal : 0.0, bound,
+                     found.measurements, pm::cli::seconds_since(search_start));
+      }
+    }
   }
 
   const pm::Mesh mesh = pm::extract_level(progressive, level);
@@ -202,7 +230,7 @@ int main(int argc, char** argv) {
   }
   if (!quiet) {
     std::fprintf(
-        stderr, "pmdec: %s: level %zu of %zu: %zu faces, %zu vertices, error bound %.6g, %.2f s\n",
+        stderr, "pmdec: %s: level %zu of %zu: %zu faces, %zu vertices, recorded error %.6g, %.2f s\n",
         input.c_str(), level, progressive.splits.size(), mesh.face_count(), mesh.vertex_count(),
         double(pm::error_at_level(progressive, level)), pm::cli::seconds_since(start));
   }

@@ -70,8 +70,8 @@ int main(int argc, char** argv) {
           CLI::ignore_case))
       ->default_str("schroeder");
   app.add_option("--feature-angle", options.feature_angle_deg,
-                 "Edges whose faces meet at more than this angle (degrees) are sharp features")
-      ->capture_default_str()
+                 "Edges whose faces meet at more than this angle (degrees) are sharp features "
+                 "(default: 30 for schroeder, 180 for quadric, which holds boundaries only)")
       ->check(CLI::Range(0.0, 180.0));
   app.add_option("--max-normal-flip", options.max_normal_flip_deg,
                  "Reject collapses that turn a face normal by more than this (degrees)")

@@ -211,7 +211,7 @@ std::set<std::array<float, 3>> corner_positions(const Mesh& input, double featur
 TEST(Features, FandiskKeepsEveryCornerAtTenPercent) {
   PM_SKIP_IF_NO_SHARED();
   const Encoded e = encode_file(test::shared_mesh_path("fandisk.obj"));
-  const auto corners = corner_positions(e.input, EncodeOptions{}.feature_angle_deg);
+  const auto corners = corner_positions(e.input, effective_feature_angle(EncodeOptions{}));
   ASSERT_GT(corners.size(), 10u) << "fandisk should have many corners";
   const Mesh lod = extract_level(e.pm, level_for_faces(e.pm, e.input.face_count() / 10));
   std::set<std::array<float, 3>> present;
@@ -228,7 +228,7 @@ TEST(Features, KeepCornersNeverRemovesACorner) {
   EncodeOptions options;
   options.keep_corners = true;
   const Encoded e = encode_file(path, options);
-  const auto corners = corner_positions(e.input, options.feature_angle_deg);
+  const auto corners = corner_positions(e.input, effective_feature_angle(options));
   ASSERT_FALSE(corners.empty());
   const Mesh base = extract_level(e.pm, 0);
   std::set<std::array<float, 3>> present;

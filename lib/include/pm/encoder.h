@@ -20,8 +20,8 @@ enum class Metric {
 struct EncodeOptions {
   Metric metric = Metric::kSchroeder;
   // Edges whose two faces' normals differ by more than this are feature edges
-  // (Schroeder 1992, §3 "feature angle").
-  double feature_angle_deg = 30.0;
+  // (Schroeder 1992, §3 "feature angle"). Negative: the metric's default_feature_angle().
+  double feature_angle_deg = -1;
   // A collapse may not turn any face normal by more than this.
   double max_normal_flip_deg = 90.0;
   // Never remove corner vertices (the report's behaviour; may stall early).
@@ -32,6 +32,14 @@ struct EncodeOptions {
   // Called now and then with the fraction of work done, in [0, 1]. May be empty.
   std::function<void(double)> progress;
 };
+
+// 30 degrees for schroeder, whose error needs feature lines (Schroeder 1992, §3). 180 for
+// quadric: no edge is a feature by its angle, only boundaries are held. The quadrics'
+// planes keep creases on their own, and angle features would forbid the collapses that
+// keep the measured error lowest (tests/bench/quality.md).
+double default_feature_angle(Metric metric);
+// options.feature_angle_deg, or the metric's default when it is negative.
+double effective_feature_angle(const EncodeOptions& options);
 
 // What the encoder changed to make the input a manifold half-edge mesh. Nothing is lost:
 // each repair is undone at full detail.

@@ -1,0 +1,139 @@
+// Removed points and their faces: see removed_points.h (Klein, Liebich and Straßer 1996).
+#include "removed_points.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace pm {
+
+RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh)
+    : mesh_(mesh), first_(mesh.n_faces(), kNone), next_(mesh.n_vertices(), kNone) {
+  // The input's faces and, per vertex, the faces around it (compressed rows), kept
+  // because the mesh's own connectivity changes with every collapse.
+  input_corners_.reserve(3 * mesh.n_faces());
+  std::vector<uint32_t> count(mesh.n_vertices() + 1, 0);
+  for (auto f : mesh.faces()) {
+    for (auto w : mesh.fv_range(f)) {
+      input_corners_.push_back(uint32_t(w.idx()));
+      ++count[w.idx() + 1];
+    }
+  }
+  faces_of_begin_.assign(mesh.n_vertices() + 1, 0);
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    faces_of_begin_[v + 1] = faces_of_begin_[v] + count[v + 1];
+  faces_of_.resize(input_corners_.size());
+  std::vector<uint32_t> fill(faces_of_begin_.begin(), faces_of_begin_.end() - 1);
+  for (std::size_t i = 0; i < input_corners_.size(); ++i)
+    faces_of_[fill[input_corners_[i]]++] = uint32_t(i / 3);
+  stamp_.assign(input_corners_.size() / 3, 0);
+}
+
+void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan,
+                                        uint32_t stride) const {
+  if (++query_ == 0) {  // the stamps wrapped around: start afresh
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    query_ = 1;
+  }
+  region_.clear();
+  auto add_faces_of = [&](uint32_t v) {
+    for (uint32_t i = faces_of_begin_[v]; i < faces_of_begin_[v + 1]; ++i) {
+      const uint32_t f = faces_of_[i];
+      if (stamp_[f] != query_) stamp_[f] = query_, region_.push_back(f);
+    }
+  };
+  for_each_point(h, stride, add_faces_of);
+  for (int i = 0; i < fan.count; ++i)
+    for (auto w : mesh_.fv_range(mesh_.face_handle(fan.face[i]))) add_faces_of(uint32_t(w.idx()));
+  add_faces_of(uint32_t(mesh_.to_vertex_handle(h).idx()));
+}
+
+bool RemovedPoints::make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const {
+  const auto v = mesh_.from_vertex_handle(h), u = mesh_.to_vertex_handle(h);
+  const HalfEdgeMesh::FaceHandle fl = mesh_.face_handle(h), fr = mesh_.opposite_face_handle(h);
+  const Vec3 target = point_of(mesh_, u);
+  fan.count = 0;
+  for (auto f : mesh_.vf_range(v)) {
+    if (f == fl || f == fr) continue;
+    if (fan.count == 64) return false;
+    int c = 0;
+    for (auto w : mesh_.fv_range(f)) fan.corner[fan.count][c++] = w == v ? target : point_of(mesh_, w);
+    fan.face[fan.count++] = f.idx();
+  }
+  return fan.count > 0;
+}
+
+template <typename Visit>
+void RemovedPoints::for_each_point(HalfEdgeMesh::HalfedgeHandle h, uint32_t stride,
+                                   Visit visit) const {
+  const auto v = mesh_.from_vertex_handle(h);
+  visit(uint32_t(v.idx()));
+  uint32_t i = 0;
+  for (auto f : mesh_.vf_range(v))
+    for (uint32_t p = first_[f.idx()]; p != kNone; p = next_[p])
+      if (i++ % stride == 0) visit(p);
+}
+
+uint32_t RemovedPoints::measuring_stride(HalfEdgeMesh::HalfedgeHandle h) const {
+  uint32_t count = 0;
+  for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h)))
+    for (uint32_t p = first_[f.idx()]; p != kNone; p = next_[p]) ++count;
+  return count / kMeasuredPoints + 1;
+}
+
+double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
+  Fan fan;
+  if (!make_fan(h, fan)) return 0;
+  const uint32_t stride = measuring_stride(h);
+  double worst = 0;
+  for_each_point(h, stride, [&](uint32_t p) {
+    const Vec3 x = point_of(mesh_, mesh_.vertex_handle(p));
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < fan.count && nearest > worst; ++i)
+      nearest = std::min(nearest, point_triangle_distance(x, fan.corner[i][0], fan.corner[i][1],
+                                                          fan.corner[i][2]));
+    // Once a point is nearer than the worst so far to some face, it cannot raise the max.
+    if (nearest > worst) worst = nearest;
+  });
+
+  collect_input_faces(h, fan, stride);
+  auto input_point = [&](uint32_t f, int c) {
+    return point_of(mesh_, mesh_.vertex_handle(input_corners_[3 * f + c]));
+  };
+  for (int i = 0; i < fan.count; ++i) {
+    const Vec3* corner = fan.corner[i];
+    const Vec3 samples[4] = {(corner[0] + corner[1] + corner[2]) / 3.0,
+                             (corner[0] + corner[1]) * 0.5, (corner[1] + corner[2]) * 0.5,
+                             (corner[2] + corner[0]) * 0.5};
+    for (const Vec3& x : samples) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < region_.size() && nearest > worst; ++k)
+        nearest = std::min(nearest, point_triangle_distance(x, input_point(region_[k], 0),
+                                                            input_point(region_[k], 1),
+                                                            input_point(region_[k], 2)));
+      if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
+    }
+  }
+  return worst;
+}
+
+void RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
+  Fan fan;
+  if (!make_fan(h, fan)) return;
+  moving_.clear();
+  for_each_point(h, 1, [&](uint32_t p) { moving_.push_back(p); });
+  for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h))) first_[f.idx()] = kNone;
+  for (uint32_t p : moving_) {
+    const Vec3 x = point_of(mesh_, mesh_.vertex_handle(p));
+    double nearest = std::numeric_limits<double>::infinity();
+    int best = 0;
+    for (int i = 0; i < fan.count; ++i) {
+      const double d =
+          point_triangle_distance(x, fan.corner[i][0], fan.corner[i][1], fan.corner[i][2]);
+      if (d < nearest) nearest = d, best = i;
+    }
+    next_[p] = first_[fan.face[best]];
+    first_[fan.face[best]] = p;
+  }
+}
+
+}  // namespace pm

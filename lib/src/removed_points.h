@@ -1,0 +1,69 @@
+// The distance from removed input vertices to the simplified surface, tracked through the
+// collapses (after Klein, Liebich and Straßer 1996, "Mesh reduction with error control",
+// who keep the correspondence between the input and the reduced mesh to bound their
+// distance): every removed vertex belongs to one face of the current mesh, the nearest
+// of the faces that replaced its own, and a collapse is charged the largest distance of
+// the points it moves. Quadrics measure a mean; this measures the worst case, which is
+// what the Hausdorff distance of a level to the input is made of. Both ways round, as the
+// Hausdorff distance is: removed vertices to the new faces, and points of the new faces to
+// the input faces around them (the input one-rings of the region's vertices).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry.h"
+#include "half_edge_mesh.h"
+
+namespace pm {
+
+class RemovedPoints {
+ public:
+  explicit RemovedPoints(const HalfEdgeMesh& mesh);
+
+  // If half-edge h (v -> u) were collapsed, v's faces other than the two at h would
+  // replace v's faces, with u in place of v. Returns the larger of: the largest distance
+  // from v and the points of v's faces to those faces, and the largest distance from the
+  // centroid and edge midpoints of those faces to the input faces around the region.
+  double collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const;
+
+  // Hands v and the points of its faces to the nearest replacing face. Call just before
+  // the mesh collapses h.
+  void collapse(HalfEdgeMesh::HalfedgeHandle h);
+
+ private:
+  static constexpr uint32_t kNone = 0xffffffffu;
+
+  struct Fan {  // the faces replacing v's, as (face id, corners with u in place of v)
+    int count = 0;
+    int face[64];
+    Vec3 corner[64][3];
+  };
+  // False when v has more faces than Fan holds (such a collapse is then charged nothing
+  // extra and its points stay where they are, which only loosens the estimate).
+  bool make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const;
+  // v, then every stride-th point of v's faces.
+  template <typename Visit>
+  void for_each_point(HalfEdgeMesh::HalfedgeHandle h, uint32_t stride, Visit visit) const;
+  // Near the base mesh a face holds thousands of points; measuring an evenly spread
+  // subset of kMeasuredPoints keeps a collapse's cost bounded where errors are large
+  // anyway. Every point still moves with every collapse.
+  static constexpr uint32_t kMeasuredPoints = 512;
+  uint32_t measuring_stride(HalfEdgeMesh::HalfedgeHandle h) const;
+
+  // The input faces around the points and corners of the fan, each once.
+  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan, uint32_t stride) const;
+
+  const HalfEdgeMesh& mesh_;
+  std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
+  std::vector<uint32_t> faces_of_begin_;     // per vertex: its input faces in faces_of_
+  std::vector<uint32_t> faces_of_;
+  mutable std::vector<uint32_t> stamp_;      // per input face: last query that collected it
+  mutable uint32_t query_ = 0;
+  mutable std::vector<uint32_t> region_;     // scratch: input faces of the current query
+  std::vector<uint32_t> first_;  // per face: first point of its list, kNone if empty
+  std::vector<uint32_t> next_;   // per vertex: the next point in its face's list
+  std::vector<uint32_t> moving_;  // scratch for collapse(), kept to avoid reallocation
+};
+
+}  // namespace pm
