@@ -42,7 +42,7 @@ void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fa
     }
   };
   for_each_point(h, stride, add_faces_of);
-  for (int i = 0; i < fan.count; ++i)
+  for (int i = 0; i < fan.moved; ++i)
     for (auto w : mesh_.fv_range(mesh_.face_handle(fan.face[i]))) add_faces_of(uint32_t(w.idx()));
   add_faces_of(uint32_t(mesh_.to_vertex_handle(h).idx()));
 }
@@ -52,12 +52,24 @@ bool RemovedPoints::make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const {
   const HalfEdgeMesh::FaceHandle fl = mesh_.face_handle(h), fr = mesh_.opposite_face_handle(h);
   const Vec3 target = point_of(mesh_, u);
   fan.count = 0;
-  for (auto f : mesh_.vf_range(v)) {
-    if (f == fl || f == fr) continue;
-    if (fan.count == 64) return false;
+  auto add = [&](HalfEdgeMesh::FaceHandle f) {
     int c = 0;
     for (auto w : mesh_.fv_range(f)) fan.corner[fan.count][c++] = w == v ? target : point_of(mesh_, w);
     fan.face[fan.count++] = f.idx();
+  };
+  for (auto f : mesh_.vf_range(v)) {
+    if (f == fl || f == fr) continue;
+    if (fan.count == kMaxFan) return false;
+    add(f);
+  }
+  fan.moved = fan.count;
+  // u's other faces do not change, but a point near the border of v's one-ring may be
+  // nearer to one of them; and where v's faces all go (a boundary vertex with one face),
+  // they are the only place left.
+  for (auto f : mesh_.vf_range(u)) {
+    if (f == fl || f == fr) continue;
+    if (fan.count == kMaxFan) break;
+    add(f);
   }
   return fan.count > 0;
 }
@@ -99,7 +111,7 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   auto input_point = [&](uint32_t f, int c) {
     return point_of(mesh_, mesh_.vertex_handle(input_corners_[3 * f + c]));
   };
-  for (int i = 0; i < fan.count; ++i) {
+  for (int i = 0; i < fan.moved; ++i) {  // the faces that change
     const Vec3* corner = fan.corner[i];
     const Vec3 samples[4] = {(corner[0] + corner[1] + corner[2]) / 3.0,
                              (corner[0] + corner[1]) * 0.5, (corner[1] + corner[2]) * 0.5,
@@ -116,9 +128,10 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   return worst;
 }
 
-void RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
+double RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
   Fan fan;
-  if (!make_fan(h, fan)) return;
+  if (!make_fan(h, fan)) return 0;
+  double farthest = 0;
   moving_.clear();
   for_each_point(h, 1, [&](uint32_t p) { moving_.push_back(p); });
   for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h))) first_[f.idx()] = kNone;
@@ -133,7 +146,9 @@ void RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
     }
     next_[p] = first_[fan.face[best]];
     first_[fan.face[best]] = p;
+    farthest = std::max(farthest, nearest);
   }
+  return farthest;
 }
 
 }  // namespace pm

@@ -27,20 +27,25 @@ class RemovedPoints {
   // centroid and edge midpoints of those faces to the input faces around the region.
   double collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const;
 
-  // Hands v and the points of its faces to the nearest replacing face. Call just before
-  // the mesh collapses h.
-  void collapse(HalfEdgeMesh::HalfedgeHandle h);
+  // Hands v and the points of its faces to the nearest replacing face, and returns the
+  // largest distance of a point to its new face (every point, not a subset). Call just
+  // before the mesh collapses h. The running maximum of these bounds the distance from
+  // every removed input vertex to the current surface: a point's face changes only here.
+  double collapse(HalfEdgeMesh::HalfedgeHandle h);
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
 
-  struct Fan {  // the faces replacing v's, as (face id, corners with u in place of v)
-    int count = 0;
-    int face[64];
-    Vec3 corner[64][3];
+  static constexpr int kMaxFan = 128;
+  // The faces the points may go to, as (face id, corners after the collapse): first the
+  // `moved` faces replacing v's (u in place of v), then u's other faces.
+  struct Fan {
+    int count = 0, moved = 0;
+    int face[kMaxFan];
+    Vec3 corner[kMaxFan][3];
   };
-  // False when v has more faces than Fan holds (such a collapse is then charged nothing
-  // extra and its points stay where they are, which only loosens the estimate).
+  // False when v has more faces than Fan holds; the simplifier never collapses a vertex
+  // of valence above 64, so this does not happen.
   bool make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const;
   // v, then every stride-th point of v's faces.
   template <typename Visit>

@@ -85,11 +85,12 @@ class SchroederSimplifier {
     faces_.normal.resize(n_faces);
     faces_.area.resize(n_faces);
     for (auto f : mesh_.faces()) faces_.update(mesh_, f);
-    accumulated_.assign(n_vertices, 0.0);
-    if (options_.metric == Metric::kQuadric) {
-      initialize_quadrics();
-      removed_ = std::make_unique<RemovedPoints>(mesh_);
-    }
+    if (options_.metric == Metric::kQuadric) initialize_quadrics();
+    removed_ = std::make_unique<RemovedPoints>(mesh_);
+    input_corner_.assign(n_vertices, 0);
+    for (auto v : mesh_.vertices())
+      input_corner_[v.idx()] = classify_vertex(mesh_, faces_, v, cos_feature_angle_,
+                                               pinned_[v.idx()]).kind == VertexKind::kCorner;
     version_.assign(n_vertices, 0);
     faces_alive_ = n_faces;
     vertices_alive_ = n_vertices;
@@ -104,7 +105,7 @@ class SchroederSimplifier {
         const Candidate top = queue_.top();
         queue_.pop();
         if (top.version != version_[top.vertex]) continue;
-        if (options_.metric == Metric::kQuadric && !top.measured && remeasure(top)) continue;
+        if (removed_ && !top.measured && remeasure(top)) continue;
         apply(top);
       }
       if (stopped_ || collapses.size() == before) break;
@@ -124,8 +125,12 @@ class SchroederSimplifier {
   void evaluate(VertexHandle v) {
     ++version_[v.idx()];
     if (mesh_.status(v).deleted()) return;
-    const VertexClass vertex_class =
+    VertexClass vertex_class =
         classify_vertex(mesh_, faces_, v, cos_feature_angle_, pinned_[v.idx()]);
+    // A corner of the input stays one: collapses around it can wear its feature edges
+    // down to fewer than three, but the shape's extremity it marks is still there.
+    if (input_corner_[v.idx()] && vertex_class.kind != VertexKind::kComplex)
+      vertex_class.kind = VertexKind::kCorner;
     CollapseEdges edges = kCollapseEdges[static_cast<int>(vertex_class.kind)];
     if (vertex_class.kind == VertexKind::kCorner && options_.keep_corners)
       edges = CollapseEdges::kNone;
@@ -187,7 +192,7 @@ class SchroederSimplifier {
     }
     if (!chosen.is_valid()) return;
     const uint8_t tier = vertex_class.kind == VertexKind::kCorner ? 1 : 0;
-    const float priority = static_cast<float>(accumulated_[v.idx()] + error);
+    const float priority = static_cast<float>(error);
     queue_.push({tier, priority, priority, static_cast<uint32_t>(v.idx()),
                  static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
   }
@@ -200,17 +205,27 @@ class SchroederSimplifier {
     return q.weight > 0 ? q.error(p) / q.weight : 0;
   }
 
-  // A candidate's quadric cost is a mean and can hide one removed vertex left far from the
-  // surface. Before applying it, add the removed points' worst distance (RemovedPoints);
-  // if that makes it dearer than the next candidate, queue it again. Costs only grow, so
-  // the greedy order stays exact (lazy evaluation).
+  // A candidate's cost is local: the quadric's is a mean, Schroeder's the distance of v
+  // alone to a plane or line. Either can hide input vertices, removed earlier, that this
+  // collapse would leave far from the surface. Before applying it, charge the removed
+  // points' worst distance (RemovedPoints); if that makes it dearer than the next
+  // candidate, queue it again. Costs only grow, so the greedy order stays exact (lazy
+  // evaluation).
+  //
+  // For Schroeder's metric this takes the place of his error accumulation (Schroeder 1997,
+  // §3.3: a removed vertex's error is added to its neighbours', an estimate of how far
+  // the surface has drifted from the input): the drift is measured instead. The
+  // priority is the larger of the local error and the measured one; on the benchmark
+  // meshes that beats both summing them and carrying the maximum as an accumulation.
   bool remeasure(const Candidate& top) {
     const HalfedgeHandle h = mesh_.halfedge_handle(top.halfedge);
     if (mesh_.status(h).deleted()) return false;  // apply() re-evaluates it
     const double worst = removed_->collapse_distance(h);
     Candidate measured = top;
     measured.measured = true;
-    measured.priority = static_cast<float>(top.priority + kWorstCaseWeight * worst * worst);
+    measured.priority = static_cast<float>(options_.metric == Metric::kQuadric
+                                               ? top.priority + kWorstCaseWeight * worst * worst
+                                               : std::max<double>(top.priority, worst));
     measured.distance = static_cast<float>(std::max<double>(top.distance, worst));
     if (queue_.empty() || !(measured > queue_.top())) {
       apply(measured);
@@ -251,26 +266,21 @@ class SchroederSimplifier {
     for (auto f : mesh_.vf_range(v))
       if (f != fl && f != fr) moved_faces.push_back(f.idx());
     c.moved_count = static_cast<uint32_t>(moved_faces.size()) - c.moved_begin;
-    // Schroeder 1997, §3.3: the error of a removed vertex accumulates in the vertices
-    // around it. We carry the maximum, which is what the triangle inequality bounds.
-    const double removed_error = candidate.priority;
+    // The record's error: the largest so far of the candidates' errors and of the removed
+    // points' distances to their faces, so non-increasing from base to full detail, and
+    // at least the distance of every input vertex to the level's surface.
     bound_ = std::max(bound_, double(candidate.distance));
+    bound_ = std::max(bound_, removed_->collapse(h));  // before mesh_ changes
     c.bound = static_cast<float>(bound_);
     collapses.push_back(c);
 
-    ring_.clear();
-    for (auto w : mesh_.vv_range(v)) ring_.push_back(w);
-    if (removed_) removed_->collapse(h);
     mesh_.collapse(h);
     faces_alive_ -= removed_faces;
     --vertices_alive_;
     for (uint32_t i = c.moved_begin; i < moved_faces.size(); ++i)
       faces_.update(mesh_, mesh_.face_handle(moved_faces[i]));
-    if (options_.metric == Metric::kQuadric) {
+    if (options_.metric == Metric::kQuadric)
       quadrics_[u.idx()] += quadrics_[v.idx()];  // Garland and Heckbert 1997, §4: Q = Q1 + Q2
-    } else {
-      for (auto w : ring_) accumulated_[w.idx()] = std::max(accumulated_[w.idx()], removed_error);
-    }
     ++version_[v.idx()];
 
     evaluate(u);
@@ -325,12 +335,11 @@ class SchroederSimplifier {
   const EncodeOptions& options_;
   const double cos_feature_angle_, cos_max_flip_;
   FaceGeometry faces_;
-  std::vector<double> accumulated_;  // Schroeder: carried error per vertex
   std::vector<Quadric> quadrics_;    // quadric metric: per vertex
-  std::unique_ptr<RemovedPoints> removed_;  // quadric metric: worst-case distances
+  std::unique_ptr<RemovedPoints> removed_;  // worst-case distances to the input
   std::vector<uint32_t> version_;
+  std::vector<uint8_t> input_corner_;  // classified a corner on the input
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
-  std::vector<VertexHandle> ring_;
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
   double bound_ = 0;
   bool stopped_ = false;
