@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
           std::map<std::string, pm::Metric>{{"schroeder", pm::Metric::kSchroeder},
                                             {"quadric", pm::Metric::kQuadric}},
           CLI::ignore_case))
-      ->default_str("schroeder");
+      ->default_str("quadric");
   app.add_option("--feature-angle", options.feature_angle_deg,
                  "Edges whose faces meet at more than this angle (degrees) are sharp features "
                  "(default: 30 for schroeder, 180 for quadric, which holds boundaries only)")

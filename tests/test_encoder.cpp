@@ -154,6 +154,7 @@ INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh,
 TEST(Quality, QuadricIsCloserThanSchroederOnTheSamples) {
   for (const char* name : {"sphere.obj", "block_features.obj", "terrain_holes.obj"}) {
     EncodeOptions schroeder, quadric;
+    schroeder.metric = Metric::kSchroeder;
     quadric.metric = Metric::kQuadric;
     const Encoded s = encode_file(test::sample_mesh_path(name), schroeder);
     const Encoded q = encode_file(test::sample_mesh_path(name), quadric);
@@ -210,8 +211,11 @@ std::set<std::array<float, 3>> corner_positions(const Mesh& input, double featur
 
 TEST(Features, FandiskKeepsEveryCornerAtTenPercent) {
   PM_SKIP_IF_NO_SHARED();
-  const Encoded e = encode_file(test::shared_mesh_path("fandisk.obj"));
-  const auto corners = corner_positions(e.input, effective_feature_angle(EncodeOptions{}));
+  // Schroeder's classification decides corners; the quadric metric has none by default.
+  EncodeOptions options;
+  options.metric = Metric::kSchroeder;
+  const Encoded e = encode_file(test::shared_mesh_path("fandisk.obj"), options);
+  const auto corners = corner_positions(e.input, effective_feature_angle(options));
   ASSERT_GT(corners.size(), 10u) << "fandisk should have many corners";
   const Mesh lod = extract_level(e.pm, level_for_faces(e.pm, e.input.face_count() / 10));
   std::set<std::array<float, 3>> present;
@@ -226,6 +230,7 @@ TEST(Features, FandiskKeepsEveryCornerAtTenPercent) {
 TEST(Features, KeepCornersNeverRemovesACorner) {
   const std::string path = test::sample_mesh_path("block_features.obj");
   EncodeOptions options;
+  options.metric = Metric::kSchroeder;
   options.keep_corners = true;
   const Encoded e = encode_file(path, options);
   const auto corners = corner_positions(e.input, effective_feature_angle(options));

@@ -18,7 +18,9 @@ enum class Metric {
 };
 
 struct EncodeOptions {
-  Metric metric = Metric::kSchroeder;
+  // Quadric by default: its levels measure closer to the input than Schroeder's on every
+  // mesh and target of tests/bench/quality.md.
+  Metric metric = Metric::kQuadric;
   // Edges whose two faces' normals differ by more than this are feature edges
   // (Schroeder 1992, §3 "feature angle"). Negative: the metric's default_feature_angle().
   double feature_angle_deg = -1;
