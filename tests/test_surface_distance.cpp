@@ -1,13 +1,17 @@
 // measure_surface_distance against answers known in closed form, and pmdec --compare.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
 #include <utility>
+#include <vector>
 
+#include "geometry.h"
 #include "pm/mesh_io.h"
 #include "pm/surface_distance.h"
 #include "test_util.h"
@@ -190,6 +194,183 @@ TEST(SurfaceDistance, DeterministicWhateverTheThreadCount) {
   DistanceOptions other_seed;
   other_seed.seed = 7;
   EXPECT_NE(measure(sphere, coarser, other_seed).forward_rms, a.forward_rms);
+}
+
+// The full detail of a .pm has the input's faces in another order, and pmdec --error measures
+// against it while users measure against their file: the answers must be the same. Faces
+// reversed and each rotated, vertices renumbered: the same maxima and sample count, and RMS
+// the same up to the rounding of the face areas' sum.
+TEST(SurfaceDistance, TheSameWhateverTheOrderOfFacesVerticesAndCorners) {
+  const Mesh sphere = unit_icosphere(3);
+  const Mesh coarser = scaled(unit_icosphere(1), 1.02f);
+  Mesh shuffled;
+  const uint32_t n = uint32_t(sphere.vertex_count());
+  shuffled.positions.resize(sphere.positions.size());
+  for (uint32_t v = 0; v < n; ++v)  // vertex v becomes n - 1 - v
+    for (int k = 0; k < 3; ++k) shuffled.positions[3 * (n - 1 - v) + k] = sphere.positions[3 * v + k];
+  for (std::size_t f = sphere.face_count(); f-- > 0;) {
+    const uint32_t* t = &sphere.triangles[3 * f];
+    const int r = int(f % 3);  // a different rotation for each face
+    for (int c = 0; c < 3; ++c) shuffled.triangles.push_back(n - 1 - t[(r + c) % 3]);
+  }
+  const SurfaceDistance a = measure(sphere, coarser), b = measure(shuffled, coarser);
+  EXPECT_EQ(a.forward_max, b.forward_max);
+  EXPECT_EQ(a.backward_max, b.backward_max);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_NEAR(a.rms, b.rms, 1e-12 * a.rms);
+  const SurfaceDistance c = measure(coarser, sphere), d = measure(coarser, shuffled);
+  EXPECT_EQ(c.hausdorff, d.hausdorff);
+  EXPECT_EQ(c.samples, d.samples);
+}
+
+// The measurement done the slow way, from the contract: the same samples (every vertex used
+// by a face, with the first face that uses it; then m x m cells per face, one random point
+// in each, from a SplitMix64 stream seeded by the face's positions, taken from the corner
+// rotation whose coordinate bits are the smallest), each against every triangle of the other
+// mesh. The library must find the very same nearest distances through its hierarchy.
+struct BruteForce {
+  double max = 0, sum_squared = 0;
+  std::size_t count = 0;
+};
+
+BruteForce brute_force_one_way(const Mesh& from, const Mesh& to, const DistanceOptions& options,
+                               uint64_t stream, double noise_floor) {
+  auto position = [](const Mesh& mesh, uint32_t v) {
+    return Vec3(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+  };
+  auto corner = [&](const Mesh& mesh, std::size_t f, int c) {
+    return position(mesh, mesh.triangles[3 * f + c]);
+  };
+  // The corners from the rotation with the smallest coordinate bits, and their hash.
+  auto canonical = [&](std::size_t f, Vec3 out[3], uint64_t& hash) {
+    std::array<uint32_t, 9> rotations[3];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        std::memcpy(&rotations[r][3 * c], &from.positions[3 * from.triangles[3 * f + (r + c) % 3]],
+                    12);
+    const int first = int(std::min_element(rotations, rotations + 3) - rotations);
+    hash = 0x9e3779b97f4a7c15ULL;
+    for (uint32_t bits : rotations[first]) {
+      uint64_t z = (hash ^ bits) + 0x9e3779b97f4a7c15ULL;
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+      hash = z ^ (z >> 31);
+    }
+    for (int c = 0; c < 3; ++c) out[c] = corner(from, f, (first + c) % 3);
+  };
+  auto area = [&](std::size_t f) {
+    Vec3 c[3];
+    uint64_t hash;
+    canonical(f, c, hash);
+    return 0.5 * area_vector(c[0], c[1], c[2]).norm();
+  };
+  std::vector<uint32_t> first_face(from.vertex_count(), std::numeric_limits<uint32_t>::max());
+  for (std::size_t i = from.triangles.size(); i-- > 0;) first_face[from.triangles[i]] = i / 3;
+  double mean_area = 0;
+  for (std::size_t f = 0; f < from.face_count(); ++f) mean_area += area(f);
+  mean_area /= double(from.face_count());
+  BruteForce result;
+  auto measure = [&](const Vec3& p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < to.face_count(); ++t)
+      d = std::min(
+          d, point_triangle_distance(p, corner(to, t, 0), corner(to, t, 1), corner(to, t, 2)));
+    if (d <= noise_floor) d = 0;
+    result.max = std::max(result.max, d);
+    result.sum_squared += d * d;
+    ++result.count;
+  };
+  uint64_t state = 0;
+  auto uniform = [&] {  // SplitMix64 (Steele, Lea and Flood 2014)
+    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  for (std::size_t f = 0; f < from.face_count(); ++f) {
+    Vec3 c[3];
+    uint64_t hash;
+    canonical(f, c, hash);
+    state = stream ^ hash;
+    const uint32_t* v = &from.triangles[3 * f];
+    for (int c = 0; c < 3; ++c) {
+      const bool repeated = (c > 0 && v[c] == v[0]) || (c == 2 && v[2] == v[1]);
+      if (first_face[v[c]] == f && !repeated) measure(position(from, v[c]));
+    }
+    double wanted = options.samples_per_face;
+    if (mean_area > 0) wanted = std::max(wanted, wanted * area(f) / mean_area);
+    const auto m = std::size_t(std::ceil(std::sqrt(wanted)));
+    const Vec3 a = c[0];
+    const Vec3 ab = (c[1] - a) / double(m), ac = (c[2] - a) / double(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      for (std::size_t j = 0; i + j < m; ++j) {
+        for (bool downward : {false, true}) {
+          if (downward && i + j + 2 > m) continue;
+          double r1 = uniform(), r2 = uniform();
+          if (r1 + r2 > 1) {
+            r1 = 1 - r1;
+            r2 = 1 - r2;
+          }
+          const double u = downward ? double(i + 1) - r1 : double(i) + r1;
+          const double w = downward ? double(j) + r1 + r2 : double(j) + r2;
+          measure(a + ab * u + ac * w);
+        }
+      }
+    }
+  }
+  return result;
+}
+
+// A copy of `mesh` with every vertex moved by up to `amount` in each coordinate,
+// deterministically, so that distances vary from sample to sample.
+Mesh jittered(Mesh mesh, float amount) {
+  uint32_t state = 12345;
+  for (float& x : mesh.positions) {
+    state = state * 1664525u + 1013904223u;  // Numerical Recipes' LCG
+    x += amount * (float(state >> 8) / float(1 << 24) - 0.5f);
+  }
+  return mesh;
+}
+
+TEST(SurfaceDistance, FindsTheSameNearestTrianglesAsBruteForce) {
+  // A fine sphere against a coarse one, both ways, with shuffled-looking face orders and
+  // degenerate faces: the fine faces are small next to the coarse triangles (few candidate
+  // triangles per face) and the coarse ones large next to the fine triangles (the full
+  // hierarchy), so both ways of querying are checked.
+  Mesh fine = jittered(unit_icosphere(3), 0.02f);
+  std::reverse(fine.triangles.begin(), fine.triangles.end());
+  fine.triangles.insert(fine.triangles.end(), {5, 5, 7, 1, 2, 1});  // repeated corners
+  const Mesh coarse = scaled(jittered(unit_icosphere(1), 0.05f), 1.01f);
+  Mesh offset = square_grid(30, 0);
+  offset.positions.insert(offset.positions.end(), {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f});
+  offset.triangles.insert(offset.triangles.end(),
+                          {uint32_t(offset.vertex_count() - 1), uint32_t(offset.vertex_count() - 2),
+                           0});  // a sliver reaching up to the other plane
+  const std::pair<Mesh, Mesh> pairs[] = {
+      {fine, coarse}, {coarse, fine}, {offset, jittered(square_grid(4, 0.1f), 0.05f)}};
+  for (const auto& [reference, other] : pairs) {
+    for (unsigned threads : {1u, 2u, 3u}) {
+      DistanceOptions options;
+      options.threads = threads;
+      options.seed = 3;
+      const SurfaceDistance d = measure(reference, other, options);
+      double largest = 0;
+      for (const Mesh* mesh : {&reference, &other})
+        for (float x : mesh->positions) largest = std::max(largest, std::abs(double(x)));
+      const BruteForce forward =
+          brute_force_one_way(reference, other, options, options.seed * 2, 1e-12 * largest);
+      const BruteForce backward =
+          brute_force_one_way(other, reference, options, options.seed * 2 + 1, 1e-12 * largest);
+      EXPECT_EQ(d.forward_max, forward.max);
+      EXPECT_EQ(d.backward_max, backward.max);
+      EXPECT_EQ(d.samples, forward.count + backward.count);
+      // The library sums exactly; the plain sums here are good to about 1e-14.
+      EXPECT_NEAR(d.forward_rms, std::sqrt(forward.sum_squared / double(forward.count)),
+                  1e-12 * d.forward_rms);
+      EXPECT_NEAR(d.backward_rms, std::sqrt(backward.sum_squared / double(backward.count)),
+                  1e-12 * d.backward_rms);
+    }
+  }
 }
 
 TEST(SurfaceDistance, Errors) {

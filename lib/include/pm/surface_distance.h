@@ -17,10 +17,12 @@ struct DistanceOptions {
   // Each face gets at least this many samples, more in proportion to its area where it is
   // larger than the mean; every vertex used by a face is a sample too. At least 1.
   double samples_per_face = 10;
-  // The random points inside each face come from this seed: results are reproducible,
-  // and do not depend on the thread count.
+  // The random points inside each face come from this seed and the face's own positions:
+  // results are reproducible, and do not depend on the thread count, on the order of the
+  // faces, on vertex numbering or on which corner of a face is written first.
   uint64_t seed = 1;
-  // Worker threads; 0 uses every hardware thread.
+  // Worker threads; 0 uses every hardware thread. With one, the two meshes' hierarchies
+  // are built one after the other, so that only one is in memory at a time.
   unsigned threads = 0;
 };
 
@@ -37,6 +39,8 @@ struct SurfaceDistance {
 // each face: at least options.samples_per_face per face) and measures the exact distance
 // from each sample to the nearest triangle of the other mesh, found through a bounding
 // volume hierarchy. Unreferenced vertices are not part of the surface and are ignored.
+// The sums of squares are exact, so the results do not depend on the order of the work.
+// Memory: about 150 bytes per face of both meshes together (with one thread, less).
 // Errors: kInvalidArgument (a mesh with no faces, a vertex index out of range, a
 // non-finite coordinate, samples_per_face below 1 or not finite).
 Status measure_surface_distance(const Mesh& reference, const Mesh& other,
