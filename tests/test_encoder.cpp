@@ -324,5 +324,63 @@ TEST(Robustness, AssimpModelsThatParseRoundTripExactly) {
   EXPECT_GT(parsed, 20u);
 }
 
+// A 3 x 3 grid at z = -h, its centre raised to z = +h, spacing s; faces a-b-c and a-c-d of
+// each cell, from its lower left corner a:
+//
+//   6---7---8
+//   | / | / |
+//   3---4---5      4 at z = +h, the others at z = -h
+//   | / | / |
+//   0---1---2
+Mesh spike_grid(float s, float h) {
+  Mesh mesh;
+  for (int y = 0; y < 3; ++y) {
+    for (int x = 0; x < 3; ++x)
+      mesh.positions.insert(mesh.positions.end(), {x * s, y * s, x == 1 && y == 1 ? h : -h});
+  }
+  for (uint32_t y = 0; y < 2; ++y) {
+    for (uint32_t x = 0; x < 2; ++x) {
+      const uint32_t a = 3 * y + x;
+      mesh.triangles.insert(mesh.triangles.end(), {a, a + 1, a + 4, a, a + 4, a + 3});
+    }
+  }
+  return mesh;
+}
+
+// Found by fuzz_ply_reader: with finite coordinates near the float32 limit, the error a
+// collapse records (a distance across the mesh) overflowed float32, and encode() failed with
+// kInternal. Errors are at most the bounding-box diagonal, so a mesh within
+// kMaxEncodeDiagonal records finite ones, and a wider one is refused.
+TEST(Robustness, MeshesTooWideForFloatErrorsAreRefused) {
+  for (Metric metric : {Metric::kSchroeder, Metric::kQuadric}) {
+    SCOPED_TRACE(metric == Metric::kQuadric ? "quadric" : "schroeder");
+    EncodeOptions options;
+    options.metric = metric;
+    ProgressiveMesh pm;
+    // 6.6e37 across; the spike is 6e37 tall.
+    const Status within = encode(spike_grid(1e37f, 3e37f), options, pm);
+    ASSERT_TRUE(within.is_ok()) << within.message();
+    ASSERT_FALSE(pm.splits.empty());
+    EXPECT_GT(pm.splits[0].error, 1e37f);
+    EXPECT_TRUE(std::isfinite(pm.splits[0].error));
+    // 6.6e38 across: the spike, 6e38 tall, is beyond float32's 3.4e38.
+    const Status beyond = encode(spike_grid(1e38f, 3e38f), options, pm);
+    EXPECT_EQ(beyond.code(), ErrorCode::kResourceLimit) << beyond.message();
+    EXPECT_EQ(beyond.message(), "the mesh is 6.63e+38 units across, more than 1e+38");
+  }
+}
+
+// The readers refuse them; a caller's mesh may still hold them.
+TEST(Robustness, NonFiniteCoordinatesAreAParseError) {
+  for (float bad : {NAN, INFINITY, -INFINITY}) {
+    Mesh mesh = spike_grid(1.0f, 1.0f);
+    mesh.positions[3 * 4 + 1] = bad;
+    ProgressiveMesh pm;
+    const Status status = encode(mesh, EncodeOptions{}, pm);
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_EQ(status.message(), "vertex 5 has a non-finite coordinate");
+  }
+}
+
 }  // namespace
 }  // namespace pm

@@ -9,6 +9,8 @@
 
 #include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <string>
 
@@ -63,6 +65,25 @@ Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
       return Status(ErrorCode::kParseError, "face " + std::to_string(i / 3 + 1) + " uses vertex " +
                                                 std::to_string(tri[i] + 1) + " of " +
                                                 std::to_string(vertex_count));
+  }
+  // Every distance the encoder records must fit a float32 (encoder.h, kMaxEncodeDiagonal).
+  double low[3], high[3];
+  for (int axis = 0; axis < 3; ++axis) low[axis] = high[axis] = input.positions[axis];
+  for (std::size_t i = 0; i < input.positions.size(); ++i) {
+    const double x = input.positions[i];
+    if (!std::isfinite(x)) {
+      return Status(ErrorCode::kParseError,
+                    "vertex " + std::to_string(i / 3 + 1) + " has a non-finite coordinate");
+    }
+    low[i % 3] = std::min(low[i % 3], x);
+    high[i % 3] = std::max(high[i % 3], x);
+  }
+  const double diagonal = std::hypot(high[0] - low[0], high[1] - low[1], high[2] - low[2]);
+  if (diagonal > kMaxEncodeDiagonal) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g units across, more than %.3g", diagonal,
+                  kMaxEncodeDiagonal);
+    return Status(ErrorCode::kResourceLimit, std::string("the mesh is ") + text);
   }
 
   // OpenMesh reports rejected faces on its error stream; the library never prints.

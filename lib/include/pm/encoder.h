@@ -63,8 +63,13 @@ struct EncodeStats {
   std::size_t collapses = 0;
 };
 
-// Errors: kEmptyMesh (no vertices), kParseError when an index is out of range,
-// kResourceLimit above 2^31 vertices or faces.
+// Recorded errors are float32 distances between points of the mesh, so at most its
+// bounding-box diagonal: encode() refuses a wider mesh, whose errors could overflow.
+inline constexpr double kMaxEncodeDiagonal = 1e38;
+
+// Errors: kEmptyMesh (no vertices), kParseError when an index is out of range or a
+// coordinate is not finite, kResourceLimit from 2^30 vertices or faces, or when the
+// bounding-box diagonal exceeds kMaxEncodeDiagonal.
 Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
               EncodeStats* stats = nullptr);
 
