@@ -52,22 +52,83 @@ std::size_t level_for_error(const ProgressiveMesh& pm, double e) {
   return lo;
 }
 
+namespace {
+
+// The corner attribute ids of a level, renumbered into the output's value table. At full
+// detail the table is the input's whole table, so ids come back as the input wrote them;
+// at other levels it holds the values the level uses, in the order of the input's table.
+void output_attribute(const std::vector<uint32_t>& ids, const std::vector<float>& table,
+                      std::size_t dims, bool full, std::vector<float>& out_table,
+                      std::vector<uint32_t>& out_ids) {
+  const std::size_t count = table.size() / dims;
+  std::vector<uint32_t> new_id(count, kNoAttribute);
+  if (full) {
+    for (std::size_t i = 0; i < count; ++i) new_id[i] = static_cast<uint32_t>(i);
+    out_table = table;
+  } else {
+    for (uint32_t id : ids)
+      if (id != kNoAttribute) new_id[id] = 0;
+    uint32_t next = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (new_id[i] == kNoAttribute) continue;
+      new_id[i] = next++;
+      out_table.insert(out_table.end(), table.begin() + dims * i, table.begin() + dims * (i + 1));
+    }
+  }
+  out_ids.resize(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    out_ids[i] = ids[i] == kNoAttribute ? kNoAttribute : new_id[ids[i]];
+}
+
+// Appends entries [3 * first, 3 * (first + count)) of per-face-corner data (or
+// [first, first + count) when per_face is 1).
+void append_created(std::vector<uint32_t>& out, const std::vector<uint32_t>& created,
+                    std::size_t per_face, std::size_t first, std::size_t count) {
+  out.insert(out.end(), created.begin() + per_face * first,
+             created.begin() + per_face * (first + count));
+}
+
+}  // namespace
+
 Mesh extract_level(const ProgressiveMesh& pm, std::size_t level) {
   level = std::min(level, pm.splits.size());
-  std::vector<uint32_t> faces(pm.base_faces);
+  const std::size_t base_faces = pm.base_face_count();
+  // Corner attributes live beside the faces: the base faces' as created, then each split
+  // sets its moved corners' and appends its new faces' (Hoppe 1996, §3: wedges).
+  const bool uvs = pm.has_uvs(), normals = pm.has_normals(), materials = pm.has_materials();
+  std::vector<uint32_t> faces(pm.base_faces), corner_uvs, corner_normals, face_materials;
   faces.reserve(3 * faces_at_level(pm, level));
+  if (uvs) append_created(corner_uvs, pm.face_uvs, 3, 0, base_faces);
+  if (normals) append_created(corner_normals, pm.face_normals, 3, 0, base_faces);
+  if (materials) append_created(face_materials, pm.face_materials, 1, 0, base_faces);
+  std::size_t created = base_faces;  // faces so far, in creation order
   for (std::size_t i = 0; i < level; ++i) {
     const VertexSplit& s = pm.splits[i];
     const uint32_t v = pm.base_vertex_count + static_cast<uint32_t>(i);
     for (uint32_t k = 0; k < s.moved_count; ++k) {
-      uint32_t* face = &faces[3 * pm.moved_faces[s.moved_begin + k]];
-      for (int c = 0; c < 3; ++c)
-        if (face[c] == s.u) face[c] = v;
+      const std::size_t f = pm.moved_faces[s.moved_begin + k];
+      uint32_t* face = &faces[3 * f];
+      for (int c = 0; c < 3; ++c) {
+        if (face[c] != s.u) continue;
+        face[c] = v;
+        if (uvs) corner_uvs[3 * f + c] = pm.moved_uvs[s.moved_begin + k];
+        if (normals) corner_normals[3 * f + c] = pm.moved_normals[s.moved_begin + k];
+      }
     }
     if (s.vl != kNoVertex) faces.insert(faces.end(), {v, s.u, s.vl});
     if (s.vr != kNoVertex) faces.insert(faces.end(), {s.u, v, s.vr});
+    const std::size_t added = s.new_face_count();
+    if (uvs) append_created(corner_uvs, pm.face_uvs, 3, created, added);
+    if (normals) append_created(corner_normals, pm.face_normals, 3, created, added);
+    if (materials) append_created(face_materials, pm.face_materials, 1, created, added);
+    created += added;
   }
   faces.insert(faces.end(), pm.carried_faces.begin(), pm.carried_faces.end());
+  const std::size_t carried = pm.carried_faces.size() / 3;
+  const std::size_t first_carried = pm.total_face_count() - carried;
+  if (uvs) append_created(corner_uvs, pm.face_uvs, 3, first_carried, carried);
+  if (normals) append_created(corner_normals, pm.face_normals, 3, first_carried, carried);
+  if (materials) append_created(face_materials, pm.face_materials, 1, first_carried, carried);
 
   // Output numbering: active vertices in id order, copies merged into their canonical
   // vertex, loose vertices at full detail only.
@@ -80,15 +141,27 @@ Mesh extract_level(const ProgressiveMesh& pm, std::size_t level) {
   const uint32_t emitted = full ? total : active;
   std::vector<uint32_t> output_id(emitted, kNoVertex);
   Mesh mesh;
+  const std::size_t cc = pm.color_components;
+  mesh.color_components = pm.color_components;
   mesh.positions.reserve(3 * vertices_at_level(pm, level));
+  mesh.colors.reserve(cc * vertices_at_level(pm, level));
   for (uint32_t v = 0; v < emitted; ++v) {
     if (v < active && canonical[v] != v) continue;
     output_id[v] = static_cast<uint32_t>(mesh.positions.size() / 3);
     mesh.positions.insert(mesh.positions.end(), pm.positions.begin() + 3 * v,
                           pm.positions.begin() + 3 * v + 3);
+    mesh.colors.insert(mesh.colors.end(), pm.colors.begin() + cc * v,
+                       pm.colors.begin() + cc * (v + 1));
   }
   mesh.triangles.resize(faces.size());
   for (std::size_t i = 0; i < faces.size(); ++i) mesh.triangles[i] = output_id[canonical[faces[i]]];
+
+  if (uvs) output_attribute(corner_uvs, pm.uvs, 2, full, mesh.uvs, mesh.uv_indices);
+  if (normals)
+    output_attribute(corner_normals, pm.normals, 3, full, mesh.normals, mesh.normal_indices);
+  mesh.face_materials = std::move(face_materials);
+  mesh.material_names = pm.material_names;
+  mesh.material_libraries = pm.material_libraries;
   return mesh;
 }
 

@@ -216,11 +216,66 @@ bool check_carried_faces(const ProgressiveMesh& pm, std::string* message) {
   return true;
 }
 
+// An attribute id array: empty, or exactly expected_size ids, each below count or none.
+bool check_attribute_ids(const std::vector<uint32_t>& ids, std::size_t expected_size,
+                         std::size_t count, const char* what, std::string* message) {
+  if (ids.empty()) return true;
+  if (ids.size() != expected_size) {
+    return fail(message, std::string(what) + " has " + std::to_string(ids.size()) +
+                             " entries, expected " + std::to_string(expected_size));
+  }
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] != kNoAttribute && ids[i] >= count) {
+      return fail(message, std::string(what) + " entry " + std::to_string(i) + " is " +
+                               std::to_string(ids[i]) + " of " + std::to_string(count));
+    }
+  }
+  return true;
+}
+
+bool check_attributes(const ProgressiveMesh& pm, std::string* message) {
+  if (pm.color_components != 0 && pm.color_components != 3 && pm.color_components != 4) {
+    return fail(message, "colours have " + std::to_string(pm.color_components) +
+                             " components, not 3 or 4");
+  }
+  if (pm.colors.size() != std::size_t{pm.color_components} * pm.vertex_count()) {
+    return fail(message, "colours hold " + std::to_string(pm.colors.size()) + " values for " +
+                             std::to_string(pm.vertex_count()) + " vertices");
+  }
+  if (pm.uvs.size() % 2 != 0) return fail(message, "texture coordinates: odd value count");
+  if (pm.normals.size() % 3 != 0) return fail(message, "normals: value count not a multiple of 3");
+  const std::size_t faces = pm.total_face_count();
+  const std::size_t moved = pm.moved_faces.size();
+  // A kind present on faces is present on every moved corner too, and absent together.
+  if (pm.face_uvs.empty() ? !pm.moved_uvs.empty() : pm.moved_uvs.size() != moved)
+    return fail(message, "moved_uvs has " + std::to_string(pm.moved_uvs.size()) +
+                             " entries for " + std::to_string(moved) + " moved faces");
+  if (pm.face_normals.empty() ? !pm.moved_normals.empty() : pm.moved_normals.size() != moved)
+    return fail(message, "moved_normals has " + std::to_string(pm.moved_normals.size()) +
+                             " entries for " + std::to_string(moved) + " moved faces");
+  return check_attribute_ids(pm.face_uvs, 3 * faces, pm.uv_count(), "face_uvs", message) &&
+         check_attribute_ids(pm.face_normals, 3 * faces, pm.normal_count(), "face_normals",
+                             message) &&
+         check_attribute_ids(pm.face_materials, faces, pm.material_names.size(),
+                             "face_materials", message) &&
+         check_attribute_ids(pm.moved_uvs, pm.moved_uvs.size(), pm.uv_count(), "moved_uvs",
+                             message) &&
+         check_attribute_ids(pm.moved_normals, pm.moved_normals.size(), pm.normal_count(),
+                             "moved_normals", message);
+}
+
 }  // namespace
+
+std::size_t ProgressiveMesh::total_face_count() const {
+  std::size_t faces = base_face_count() + carried_faces.size() / 3;
+  for (const VertexSplit& s : splits) faces += s.new_face_count();
+  return faces;
+}
 
 bool validate(const ProgressiveMesh& pm, std::string* message) {
   return check_counts(pm, message) && check_base_faces(pm, message) && check_splits(pm, message) &&
-         check_welds(pm, message) && check_carried_faces(pm, message);
+         check_welds(pm, message) && check_carried_faces(pm, message) &&
+         check_attributes(pm, message);
 }
 
 }  // namespace pm

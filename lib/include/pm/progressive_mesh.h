@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "pm/mesh.h"  // kNoAttribute
+
 namespace pm {
 
 inline constexpr uint32_t kNoVertex = 0xFFFFFFFFu;
@@ -64,9 +66,41 @@ struct ProgressiveMesh {
   // at every level.
   std::vector<uint32_t> carried_faces;  // 3 per face
 
+  // Attributes (Hoppe 1996, §3: each corner refers to a "wedge" of attribute values).
+  // Every kind is optional: its vectors are empty when the input had none.
+  //
+  // Colours are per vertex id, like positions (color_components floats each).
+  uint32_t color_components = 0;
+  std::vector<float> colors;
+  // Value tables, the input's own, in its order: texture coordinates (2 floats each) and
+  // normals (3 floats each). Corners refer to them by id; kNoAttribute is none.
+  std::vector<float> uvs;
+  std::vector<float> normals;
+  std::vector<std::string> material_names;
+  std::vector<std::string> material_libraries;
+  // What each face has when it appears, by creation order: the base faces, then the faces
+  // the splits add (fl before fr, split by split), then the carried faces. face_uvs and
+  // face_normals hold 3 ids per face (its corners, in the order of its vertices);
+  // face_materials one material id per face.
+  std::vector<uint32_t> face_uvs;
+  std::vector<uint32_t> face_normals;
+  std::vector<uint32_t> face_materials;
+  // Parallel to moved_faces: the attribute the moved face's corner takes when the split
+  // turns it from u into v (the collapse had given it one of u's wedges). A split changes
+  // no other corner: u keeps its wedges, as the half-edge collapse kept u's position.
+  std::vector<uint32_t> moved_uvs;
+  std::vector<uint32_t> moved_normals;
+
   std::size_t vertex_count() const { return positions.size() / 3; }  // all levels, all kinds
   std::size_t base_face_count() const { return base_faces.size() / 3; }
   std::size_t split_count() const { return splits.size(); }
+  std::size_t uv_count() const { return uvs.size() / 2; }
+  std::size_t normal_count() const { return normals.size() / 3; }
+  // Faces of all levels: base, added by splits, carried.
+  std::size_t total_face_count() const;
+  bool has_uvs() const { return !face_uvs.empty(); }
+  bool has_normals() const { return !face_normals.empty(); }
+  bool has_materials() const { return !face_materials.empty(); }
 };
 
 // Validates every invariant a decoder relies on (ids in range, faces that hold u,
