@@ -606,6 +606,11 @@ Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::str
 }
 
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
+  return read_pm(bytes, pm, ReadOptions{});
+}
+
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
+  (void)options;  // TODO(issue 9): bound the allocation by options.max_memory
   Header h;
   if (Status status = parse_header(bytes, h); !status) return status;
 

@@ -21,9 +21,17 @@ struct WriteOptions {
 // Serializes pm (which must be valid) to bytes.
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
 
+struct ReadOptions {
+  // Upper bound in bytes on what decoding may allocate for the mesh (0: no bound beyond
+  // the format's own limits). Checked against the header's counts before anything is
+  // allocated; a stream that needs more is kResourceLimit.
+  uint64_t max_memory = 0;
+};
+
 // Parses and validates a whole stream. Errors: kTruncatedStream, kCorruptStream,
 // kChecksumMismatch, kUnsupportedVersion, kResourceLimit. Never reads out of bounds.
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm);
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options);
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm);  // default ReadOptions
 
 // The header fields, for `pmdec --info`.
 struct PmInfo {
