@@ -28,6 +28,9 @@ struct EncodeOptions {
   double max_normal_flip_deg = 90.0;
   // Never remove corner vertices (the report's behaviour; may stall early).
   bool keep_corners = false;
+  // Geometry only: colours, texture coordinates, normals and materials are not encoded
+  // (pmenc --drop-attributes). By default every attribute of the input is kept.
+  bool drop_attributes = false;
   // Stop when the mesh would go below either count (0: no limit).
   std::size_t min_faces = 0;
   std::size_t min_vertices = 0;
