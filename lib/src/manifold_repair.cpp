@@ -140,6 +140,8 @@ Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
   out.pinned.clear();
   out.canonical.clear();
   out.carried_faces.clear();
+  out.carried_input_faces.clear();
+  out.input_face.clear();
   out.loose_vertices.clear();
   out.report = RepairReport{};
 
@@ -191,8 +193,10 @@ Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
         out.carried_faces.push_back(v);
         out.pinned[v] = 1;
       }
+      out.carried_input_faces.push_back(f);
       continue;
     }
+    out.input_face.push_back(f);  // add_face below adds exactly one face, or fails
     HalfEdgeMesh::VertexHandle corners[3];
     for (int k = 0; k < 3; ++k) corners[k] = mesh.vertex_handle(fan_vertex[fans.find(3 * f + k)]);
     if (mesh.add_face(corners[0], corners[1], corners[2]).is_valid()) continue;

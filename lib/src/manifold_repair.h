@@ -23,8 +23,11 @@ struct ManifoldMesh {
   std::vector<uint8_t> pinned;
   // Per half-edge-mesh vertex: the vertex it is a copy of, or itself.
   std::vector<uint32_t> canonical;
+  // Per half-edge-mesh face: the input face it is.
+  std::vector<uint32_t> input_face;
   // Faces with a repeated index, as half-edge-mesh vertex ids (canonical copies).
   std::vector<uint32_t> carried_faces;
+  std::vector<uint32_t> carried_input_faces;  // per carried face: the input face it is
   // Input vertices no face uses, in input order.
   std::vector<uint32_t> loose_vertices;
   RepairReport report;

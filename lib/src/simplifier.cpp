@@ -9,6 +9,7 @@
 #include <string>
 
 #include "collapse_legality.h"
+#include "corner_attributes.h"
 #include "manifold_repair.h"
 #include "pm/encoder.h"
 #include "quadric.h"
@@ -29,6 +30,7 @@ struct Collapse {
   uint32_t vl, vr;  // kNoVertex on a boundary side
   int fl, fr;       // removed faces, -1 when absent
   uint32_t moved_begin, moved_count;
+  uint32_t new_faces_begin;  // fl's (then fr's) entry in CollapseAttributes' new-face lists
   float bound;  // error bound of the mesh after this collapse
 };
 
@@ -78,18 +80,24 @@ class SchroederSimplifier {
   // The removed points' worst squared distance counts as much as the quadric's mean
   // squared distance: on the benchmark meshes, 0.5 and 2 were each worse on some mesh.
   static constexpr double kWorstCaseWeight = 1.0;
-  SchroederSimplifier(ManifoldMesh& input, const EncodeOptions& options)
+  SchroederSimplifier(const Mesh& original, ManifoldMesh& input, const EncodeOptions& options)
       : mesh_(input.mesh),
         pinned_(input.pinned),
         welds_(weld_groups(input)),
         options_(options),
         cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
-        cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)) {}
+        cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)) {
+    if (!options.drop_attributes) {
+      attributes_ = std::make_unique<CornerAttributes>(original, input);
+      if (!attributes_->any()) attributes_.reset();
+    }
+  }
 
   void run() {
     const std::size_t n_vertices = mesh_.n_vertices(), n_faces = mesh_.n_faces();
     faces_.normal.resize(n_faces);
     faces_.area.resize(n_faces);
+    faces_.attributes = attributes_.get();
     for (auto f : mesh_.faces()) faces_.update(mesh_, f);
     if (options_.metric == Metric::kQuadric) initialize_quadrics();
     removed_ = std::make_unique<RemovedPoints>(mesh_);
@@ -128,11 +136,14 @@ class SchroederSimplifier {
 
   std::vector<Collapse> collapses;
   std::vector<uint32_t> moved_faces;  // half-edge-mesh face ids
+  CollapseAttributes attribute_record;  // corner ids the splits restore
+  const CornerAttributes* attributes() const { return attributes_.get(); }
 
  private:
   bool legal(HalfedgeHandle h) {
     return collapse_keeps_topology(mesh_, h) && collapse_keeps_welds(mesh_, h, welds_) &&
-           collapse_keeps_geometry(mesh_, h, cos_max_flip_);
+           collapse_keeps_geometry(mesh_, h, cos_max_flip_) &&
+           (!attributes_ || attributes_->collapse_keeps_attributes(mesh_, h));
   }
 
   // Finds how v would be removed now and queues it; a stale entry is dropped by version.
@@ -180,9 +191,11 @@ class SchroederSimplifier {
         if (chosen.is_valid() && options[i].special != options[0].special) break;
         if (!legal(options[i].h)) continue;
         const VertexHandle u = mesh_.to_vertex_handle(options[i].h);
-        // v's planes at u, as a mean over their area (cost_of_moving).
-        const double cost = cost_of_moving(qv, point_of(mesh_, u));
-        if (cost < best) best = cost, chosen = options[i].h, best_distance = std::sqrt(cost);
+        // v's planes at u, as a mean over their area (cost_of_moving), plus the
+        // attributes' error in the same units (Hoppe 1999, §4).
+        const double geometric = cost_of_moving(qv, point_of(mesh_, u));
+        const double cost = geometric + attribute_cost(options[i].h);
+        if (cost < best) best = cost, chosen = options[i].h, best_distance = std::sqrt(geometric);
       }
       if (!chosen.is_valid()) return;
       queue_.push({static_cast<float>(best), static_cast<float>(best_distance),
@@ -196,19 +209,26 @@ class SchroederSimplifier {
         if (chosen.is_valid() && options[i].special != options[0].special) break;
         if (!legal(options[i].h)) continue;
         const double e = collapse_distance(mesh_, options[i].h);
-        if (e < best) best = e, chosen = options[i].h;
+        const double priority = std::max(e, std::sqrt(attribute_cost(options[i].h)));
+        if (priority < best) best = priority, chosen = options[i].h, error = e;
       }
-      error = best;
     } else {
       for (int i = 0; i < count && !chosen.is_valid(); ++i)
         if (legal(options[i].h)) chosen = options[i].h;
       if (chosen.is_valid()) error = vertex_removal_error(mesh_, faces_, vertex_class, chosen);
     }
     if (!chosen.is_valid()) return;
+    // Schroeder's error is a distance; the attributes' error, in model units, joins it as
+    // the larger of the two.
+    const double local = std::max(error, std::sqrt(attribute_cost(chosen)));
     const float priority =
-        static_cast<float>(sharp_corner_[v.idx()] ? kSharpCornerWeight * error : error);
+        static_cast<float>(sharp_corner_[v.idx()] ? kSharpCornerWeight * local : local);
     queue_.push({priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
                  static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
+  }
+
+  double attribute_cost(HalfedgeHandle h) const {
+    return attributes_ ? attributes_->collapse_cost(mesh_, h) : 0.0;
   }
 
   // The mean squared distance of q's planes to p. Area-weighted quadrics summed over
@@ -280,6 +300,9 @@ class SchroederSimplifier {
     for (auto f : mesh_.vf_range(v))
       if (f != fl && f != fr) moved_faces.push_back(f.idx());
     c.moved_count = static_cast<uint32_t>(moved_faces.size()) - c.moved_begin;
+    c.new_faces_begin = new_faces_recorded_;
+    new_faces_recorded_ += static_cast<uint32_t>(removed_faces);
+    if (attributes_) attributes_->collapse(mesh_, h, attribute_record);
     // The record's error: the largest so far of the candidates' errors and of the removed
     // points' distances to their faces, so non-increasing from base to full detail, and
     // at least the distance of every input vertex to the level's surface.
@@ -351,6 +374,8 @@ class SchroederSimplifier {
   FaceGeometry faces_;
   std::vector<Quadric> quadrics_;    // quadric metric: per vertex
   std::unique_ptr<RemovedPoints> removed_;  // worst-case distances to the input
+  std::unique_ptr<CornerAttributes> attributes_;  // null: geometry only
+  uint32_t new_faces_recorded_ = 0;
   std::vector<uint32_t> version_;
   std::vector<uint8_t> input_corner_;  // classified a corner on the input
   std::vector<uint8_t> sharp_corner_;  // ... with a feature edge sharper than kSharpCornerDeg
@@ -363,16 +388,24 @@ class SchroederSimplifier {
 // Numbers vertices and faces as the decoder will create them (base first, then one
 // vertex and one or two faces per split, coarse to fine) and turns the collapses,
 // last first, into vertex splits.
+// Carried faces' corners straight from the input.
+void copy_corners(const std::vector<uint32_t>& ids, uint32_t face, std::vector<uint32_t>& to) {
+  to.insert(to.end(), ids.begin() + 3 * std::size_t{face}, ids.begin() + 3 * std::size_t{face} + 3);
+}
+
 void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSimplifier& run,
-              ProgressiveMesh& out) {
+              bool keep_attributes, ProgressiveMesh& out) {
   const HalfEdgeMesh& mesh = repaired.mesh;
   std::vector<uint32_t> vertex_id(mesh.n_vertices(), kNoVertex);
   std::vector<uint32_t> face_id(mesh.n_faces(), kNoVertex);
   out = ProgressiveMesh{};
   out.positions.reserve(3 * (mesh.n_vertices() + repaired.loose_vertices.size()));
+  std::vector<uint32_t> vertex_order;  // half-edge-mesh vertex of each vertex id
+  vertex_order.reserve(mesh.n_vertices());
   auto add_position = [&](VertexHandle v) {
     const auto& p = mesh.point(v);
     out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
+    vertex_order.push_back(static_cast<uint32_t>(v.idx()));
   };
 
   uint32_t next_vertex = 0, next_face = 0;
@@ -381,10 +414,27 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
     add_position(v);
   }
   out.base_vertex_count = next_vertex;
+  // Attributes: what each face has when it appears (Hoppe 1996, §3), base faces first.
+  const CornerAttributes* attributes = run.attributes();
+  const bool uvs = attributes && attributes->has_uvs();
+  const bool normals = attributes && attributes->has_normals();
+  const bool materials = attributes && attributes->has_materials();
   for (auto f : mesh.faces()) {
     face_id[f.idx()] = next_face++;
-    for (auto w : mesh.fv_range(f)) out.base_faces.push_back(vertex_id[w.idx()]);
+    VertexHandle at[3];
+    int k = 0;
+    for (auto w : mesh.fv_range(f)) {
+      out.base_faces.push_back(vertex_id[w.idx()]);
+      at[k++] = w;
+    }
+    if (!attributes) continue;
+    uint32_t uv[3], normal[3];
+    attributes->corner_ids(f, at, uv, normal);
+    if (uvs) out.face_uvs.insert(out.face_uvs.end(), uv, uv + 3);
+    if (normals) out.face_normals.insert(out.face_normals.end(), normal, normal + 3);
+    if (materials) out.face_materials.push_back(attributes->material(f));
   }
+  const CollapseAttributes& record = run.attribute_record;
 
   const auto& collapses = run.collapses;
   out.splits.reserve(collapses.size());
@@ -404,6 +454,24 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
     if (c->fl >= 0) face_id[c->fl] = next_face++;
     if (c->fr >= 0) face_id[c->fr] = next_face++;
     out.splits.push_back(split);
+    const uint32_t added = (c->fl >= 0) + (c->fr >= 0);
+    auto copy = [](const std::vector<uint32_t>& from, std::size_t begin, std::size_t count,
+                   std::vector<uint32_t>& to) {
+      to.insert(to.end(), from.begin() + begin, from.begin() + begin + count);
+    };
+    if (uvs) {
+      copy(record.moved_uvs, c->moved_begin, c->moved_count, out.moved_uvs);
+      copy(record.new_face_uvs, 3 * std::size_t{c->new_faces_begin}, 3 * added, out.face_uvs);
+    }
+    if (normals) {
+      copy(record.moved_normals, c->moved_begin, c->moved_count, out.moved_normals);
+      copy(record.new_face_normals, 3 * std::size_t{c->new_faces_begin}, 3 * added,
+           out.face_normals);
+    }
+    if (materials) {
+      if (c->fl >= 0) out.face_materials.push_back(attributes->material(mesh.face_handle(c->fl)));
+      if (c->fr >= 0) out.face_materials.push_back(attributes->material(mesh.face_handle(c->fr)));
+    }
   }
 
   for (uint32_t v = 0; v < mesh.n_vertices(); ++v)
@@ -414,6 +482,31 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
     out.positions.insert(out.positions.end(), input.positions.begin() + 3 * v,
                          input.positions.begin() + 3 * v + 3);
   out.loose_vertex_count = static_cast<uint32_t>(repaired.loose_vertices.size());
+
+  // Carried faces keep the input's corners as they are, at every level.
+  for (uint32_t f : repaired.carried_input_faces) {
+    if (uvs) copy_corners(input.uv_indices, f, out.face_uvs);
+    if (normals) copy_corners(input.normal_indices, f, out.face_normals);
+    if (materials) out.face_materials.push_back(input.face_materials[f]);
+  }
+  if (uvs) out.uvs = input.uvs;
+  if (normals) out.normals = input.normals;
+  if (keep_attributes) {
+    out.material_names = input.material_names;
+    out.material_libraries = input.material_libraries;
+    if (input.has_colors()) {
+      // Per vertex id, like positions: each vertex takes its input vertex's colour.
+      const std::size_t cc = input.color_components;
+      out.color_components = input.color_components;
+      out.colors.reserve(cc * out.vertex_count());
+      auto add_color = [&](uint32_t input_vertex) {
+        out.colors.insert(out.colors.end(), input.colors.begin() + cc * input_vertex,
+                          input.colors.begin() + cc * (input_vertex + 1));
+      };
+      for (uint32_t x : vertex_order) add_color(repaired.input_vertex[x]);
+      for (uint32_t v : repaired.loose_vertices) add_color(v);
+    }
+  }
 }
 
 }  // namespace
@@ -434,16 +527,19 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
     return Status(ErrorCode::kInvalidArgument, "normal flip limit must be within [0, 180] degrees");
 
+  if (std::string problem; !validate_attributes(input, &problem))
+    return Status(ErrorCode::kInvalidArgument, "mesh attributes: " + problem);
+
   // Stage 1: a manifold half-edge mesh, so that collapses can keep topology exactly.
   ManifoldMesh repaired;
   if (Status s = build_manifold_mesh(input, repaired); !s) return s;
 
   // Stage 2: the collapse sequence.
-  SchroederSimplifier simplifier(repaired, options);
+  SchroederSimplifier simplifier(input, repaired, options);
   simplifier.run();
 
   // Stage 3: the progressive mesh, checked as a decoder would check it.
-  assemble(input, repaired, simplifier, out);
+  assemble(input, repaired, simplifier, !options.drop_attributes, out);
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
 

@@ -3,6 +3,8 @@
 // boundary with a feature edge, is a corner).
 #include "vertex_classification.h"
 
+#include "corner_attributes.h"
+
 namespace pm {
 
 void FaceGeometry::update(const HalfEdgeMesh& mesh, HalfEdgeMesh::FaceHandle f) {
@@ -27,7 +29,8 @@ bool is_feature_edge(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
   const auto f1 = mesh.face_handle(mesh.halfedge_handle(e, 1));
   // A degenerate face has no normal; its edges count as features so that nothing
   // is collapsed across it on a guess.
-  return (faces.normal[f0.idx()] | faces.normal[f1.idx()]) < cos_feature_angle;
+  return (faces.normal[f0.idx()] | faces.normal[f1.idx()]) < cos_feature_angle ||
+         (faces.attributes && faces.attributes->is_seam(mesh, e));
 }
 
 VertexClass classify_vertex(const HalfEdgeMesh& mesh, const FaceGeometry& faces,

@@ -1,0 +1,284 @@
+// Attributes through the encoder and the levels of detail (Hoppe 1996, §3 wedges): every
+// face's corner attributes come back bit for bit at full detail; at coarser levels the
+// seams and material borders stay on the input's, and no texture triangle turns over.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/mesh_io.h"
+#include "test_util.h"
+
+namespace pm {
+namespace {
+
+uint32_t bits(float x) {
+  uint32_t b;
+  std::memcpy(&b, &x, 4);
+  return b;
+}
+
+// A face as the bits of everything its corners carry, rotated so the smallest corner comes
+// first, and its material's name; sorted, two meshes have the same attributed faces iff
+// these lists are equal, whatever the numbering of vertices and values.
+using Corner = std::vector<uint32_t>;
+struct AttributedFace {
+  std::array<Corner, 3> corners;
+  std::string material;
+  bool operator<(const AttributedFace& o) const {
+    return std::tie(corners, material) < std::tie(o.corners, o.material);
+  }
+  bool operator==(const AttributedFace& o) const {
+    return corners == o.corners && material == o.material;
+  }
+};
+
+Corner corner_of(const Mesh& m, std::size_t face, int k) {
+  const uint32_t v = m.triangles[3 * face + k];
+  Corner c;
+  for (int i = 0; i < 3; ++i) c.push_back(bits(m.positions[3 * v + i]));
+  for (uint32_t i = 0; i < m.color_components; ++i)
+    c.push_back(bits(m.colors[m.color_components * v + i]));
+  if (m.has_uvs()) {
+    const uint32_t t = m.uv_indices[3 * face + k];
+    for (int i = 0; i < 2; ++i) c.push_back(t == kNoAttribute ? 0xFFFFFFFFu : bits(m.uvs[2 * t + i]));
+  }
+  if (m.has_normals()) {
+    const uint32_t n = m.normal_indices[3 * face + k];
+    for (int i = 0; i < 3; ++i)
+      c.push_back(n == kNoAttribute ? 0xFFFFFFFFu : bits(m.normals[3 * n + i]));
+  }
+  return c;
+}
+
+std::vector<AttributedFace> attributed_faces(const Mesh& m) {
+  std::vector<AttributedFace> faces;
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    AttributedFace face;
+    for (int k = 0; k < 3; ++k) face.corners[k] = corner_of(m, f, k);
+    const int first = static_cast<int>(std::min_element(face.corners.begin(), face.corners.end()) -
+                                       face.corners.begin());
+    std::rotate(face.corners.begin(), face.corners.begin() + first, face.corners.end());
+    if (m.has_materials() && m.face_materials[f] != kNoAttribute)
+      face.material = m.material_names[m.face_materials[f]];
+    faces.push_back(face);
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// A bumpy n x n grid over [0, 1]^2 (n even) with three kinds of discontinuity crossing it:
+// a UV seam along x = 0.5 (two charts), a normal crease along y = 0.5, a material border
+// along the diagonal x = y (which the triangles' diagonals follow); and a colour per vertex.
+Mesh seamed_grid(int n) {
+  Mesh m;
+  auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const float x = float(i) / n, y = float(j) / n;
+      m.positions.insert(m.positions.end(),
+                         {x, y, 0.05f * std::sin(7.0f * x) * std::cos(5.0f * y)});
+      m.colors.insert(m.colors.end(), {x, y, 0.5f});
+    }
+  m.color_components = 3;
+  // UV charts: left keeps (x, y); right is shifted, so x = 0.5 has two UVs per vertex.
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.uvs.insert(m.uvs.end(), {float(i) / n, float(j) / n});
+  const uint32_t right_chart = static_cast<uint32_t>(m.uvs.size() / 2);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.uvs.insert(m.uvs.end(), {float(i) / n + 0.25f, float(j) / n});
+  m.normals = {0, 0, 1, 0, 0.6f, 0.8f};
+  m.material_names = {"red", "blue"};
+  m.material_libraries = {"grid.mtl"};
+  auto add = [&](int ai, int aj, int bi, int bj, int ci, int cj) {
+    const int cx2 = ai + bi + ci, cy2 = aj + bj + cj;  // 3 x centroid, in grid steps
+    const bool right = 2 * cx2 > 3 * n, top = 2 * cy2 > 3 * n;
+    m.triangles.insert(m.triangles.end(), {id(ai, aj), id(bi, bj), id(ci, cj)});
+    for (auto [i, j] : {std::pair{ai, aj}, {bi, bj}, {ci, cj}}) {
+      m.uv_indices.push_back((right ? right_chart : 0) + id(i, j));
+      m.normal_indices.push_back(top ? 1 : 0);
+    }
+    m.face_materials.push_back(cy2 > cx2 ? 1 : 0);
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      add(i, j, i + 1, j, i + 1, j + 1);
+      add(i, j, i + 1, j + 1, i, j + 1);
+    }
+  return m;
+}
+
+ProgressiveMesh encode_ok(const Mesh& mesh, Metric metric, bool drop = false) {
+  EncodeOptions options;
+  options.metric = metric;
+  options.drop_attributes = drop;
+  ProgressiveMesh pm;
+  const Status status = encode(mesh, options, pm);
+  EXPECT_TRUE(status.ok()) << status.message();
+  std::string problem;
+  EXPECT_TRUE(validate(pm, &problem)) << problem;
+  return pm;
+}
+
+// The corner values of face f at vertex slot k, for seam tests on the output.
+struct EdgeKey {
+  uint32_t a, b;
+  bool operator<(const EdgeKey& o) const { return std::tie(a, b) < std::tie(o.a, o.b); }
+};
+
+// Edges of the output where the two faces differ in the given per-corner table (uvs or
+// normals) at either end, or in material (table == nullptr).
+std::vector<EdgeKey> seam_edges(const Mesh& m, const std::vector<uint32_t>* ids,
+                                const std::vector<float>* values, int dims) {
+  std::map<EdgeKey, std::vector<std::pair<std::size_t, int>>> edge_faces;  // face, corner of a
+  for (std::size_t f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = m.triangles[3 * f + k], b = m.triangles[3 * f + (k + 1) % 3];
+      edge_faces[{std::min(a, b), std::max(a, b)}].push_back({f, k});
+    }
+  auto value_at = [&](std::size_t f, uint32_t vertex) {
+    std::vector<uint32_t> out;
+    for (int k = 0; k < 3; ++k) {
+      if (m.triangles[3 * f + k] != vertex) continue;
+      const uint32_t id = (*ids)[3 * f + k];
+      for (int d = 0; d < dims; ++d) out.push_back(bits((*values)[dims * id + d]));
+    }
+    return out;
+  };
+  std::vector<EdgeKey> seams;
+  for (const auto& [edge, faces] : edge_faces) {
+    if (faces.size() != 2) continue;
+    const std::size_t f = faces[0].first, g = faces[1].first;
+    const bool seam = ids ? value_at(f, edge.a) != value_at(g, edge.a) ||
+                                value_at(f, edge.b) != value_at(g, edge.b)
+                          : m.face_materials[f] != m.face_materials[g];
+    if (seam) seams.push_back(edge);
+  }
+  return seams;
+}
+
+class AttributesByMetric : public ::testing::TestWithParam<Metric> {};
+
+TEST_P(AttributesByMetric, FullDetailGivesEveryFacesCornerAttributesBitForBit) {
+  const Mesh grid = seamed_grid(24);
+  const ProgressiveMesh pm = encode_ok(grid, GetParam());
+  const Mesh full = extract_level(pm, pm.split_count());
+  EXPECT_TRUE(attributed_faces(grid) == attributed_faces(full));
+  // The value tables come back whole, so the ids are the input's.
+  EXPECT_EQ(full.uvs, grid.uvs);
+  EXPECT_EQ(full.normals, grid.normals);
+  EXPECT_EQ(full.material_names, grid.material_names);
+  EXPECT_EQ(full.material_libraries, grid.material_libraries);
+}
+
+TEST_P(AttributesByMetric, SeamsAndBordersStayOnTheInputsAtEveryCoarserLevel) {
+  const Mesh grid = seamed_grid(24);
+  const ProgressiveMesh pm = encode_ok(grid, GetParam());
+  // The discontinuities pin little: the grid still simplifies far.
+  EXPECT_LT(faces_at_level(pm, 0), grid.face_count() / 20);
+  for (double ratio : {0.5, 0.1, 0.02, 0.0}) {
+    const std::size_t level = level_for_faces(pm, std::size_t(ratio * grid.face_count()));
+    const Mesh lod = extract_level(pm, level);
+    SCOPED_TRACE("level " + std::to_string(level) + ", " + std::to_string(lod.face_count()) +
+                 " faces");
+    auto x = [&](uint32_t v) { return lod.positions[3 * v]; };
+    auto y = [&](uint32_t v) { return lod.positions[3 * v + 1]; };
+    const auto uv_seams = seam_edges(lod, &lod.uv_indices, &lod.uvs, 2);
+    const auto crease = seam_edges(lod, &lod.normal_indices, &lod.normals, 3);
+    const auto border = seam_edges(lod, nullptr, nullptr, 0);
+    EXPECT_FALSE(uv_seams.empty());
+    EXPECT_FALSE(crease.empty());
+    EXPECT_FALSE(border.empty());
+    for (const EdgeKey& e : uv_seams) EXPECT_TRUE(x(e.a) == 0.5f && x(e.b) == 0.5f);
+    for (const EdgeKey& e : crease) EXPECT_TRUE(y(e.a) == 0.5f && y(e.b) == 0.5f);
+    auto on_diagonal = [&](uint32_t v) { return x(v) == y(v); };
+    for (const EdgeKey& e : border) EXPECT_TRUE(on_diagonal(e.a) && on_diagonal(e.b));
+  }
+}
+
+TEST_P(AttributesByMetric, NoTextureTriangleTurnsOverAtAnyLevel) {
+  const Mesh grid = seamed_grid(24);
+  const ProgressiveMesh pm = encode_ok(grid, GetParam());
+  const Mesh full = extract_level(pm, pm.split_count());
+  auto uv_area = [](const Mesh& m, std::size_t f) {
+    const float* a = &m.uvs[2 * m.uv_indices[3 * f]];
+    const float* b = &m.uvs[2 * m.uv_indices[3 * f + 1]];
+    const float* c = &m.uvs[2 * m.uv_indices[3 * f + 2]];
+    return (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(b[1]) - a[1]) * (double(c[0]) - a[0]);
+  };
+  for (std::size_t level = 0; level < pm.split_count(); level += 37) {
+    const Mesh lod = extract_level(pm, level);
+    // Face k of a level is face k of full detail, coarser (faces keep their ids).
+    for (std::size_t f = 0; f < lod.face_count(); ++f) {
+      const double before = uv_area(full, f), now = uv_area(lod, f);
+      ASSERT_TRUE(before == 0 || ((before > 0) == (now > 0) && now != 0))
+          << "level " << level << " face " << f << ": texture area " << now << ", input "
+          << before;
+    }
+  }
+}
+
+TEST_P(AttributesByMetric, ColoursTravelWithTheirVertices) {
+  const Mesh grid = seamed_grid(16);
+  const ProgressiveMesh pm = encode_ok(grid, GetParam());
+  for (std::size_t level : {std::size_t{0}, pm.split_count() / 3, pm.split_count()}) {
+    const Mesh lod = extract_level(pm, level);
+    ASSERT_EQ(lod.color_components, 3u);
+    ASSERT_EQ(lod.colors.size(), 3 * lod.vertex_count());
+    for (std::size_t v = 0; v < lod.vertex_count(); ++v) {
+      EXPECT_EQ(bits(lod.colors[3 * v]), bits(lod.positions[3 * v]));
+      EXPECT_EQ(bits(lod.colors[3 * v + 1]), bits(lod.positions[3 * v + 1]));
+    }
+  }
+}
+
+TEST_P(AttributesByMetric, DropAttributesKeepsGeometryOnly) {
+  const Mesh grid = seamed_grid(16);
+  const ProgressiveMesh pm = encode_ok(grid, GetParam(), /*drop=*/true);
+  EXPECT_FALSE(pm.has_uvs() || pm.has_normals() || pm.has_materials());
+  EXPECT_EQ(pm.color_components, 0u);
+  EXPECT_TRUE(pm.colors.empty() && pm.material_names.empty() && pm.material_libraries.empty());
+  const Mesh full = extract_level(pm, pm.split_count());
+  EXPECT_FALSE(full.has_attributes());
+  EXPECT_TRUE(test::same_faces(grid, full));
+  // Without seams to keep, it simplifies at least as far.
+  const ProgressiveMesh with = encode_ok(grid, GetParam());
+  EXPECT_LE(pm.base_face_count(), with.base_face_count());
+}
+
+INSTANTIATE_TEST_SUITE_P(Metrics, AttributesByMetric,
+                         ::testing::Values(Metric::kSchroeder, Metric::kQuadric),
+                         [](const auto& info) {
+                           return std::string(info.param == Metric::kQuadric ? "Quadric"
+                                                                             : "Schroeder");
+                         });
+
+TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
+  Mesh grid = seamed_grid(12);
+  // Every third face has no texture coordinates, every fifth no material.
+  for (std::size_t f = 0; f < grid.face_count(); f += 3)
+    for (int k = 0; k < 3; ++k) grid.uv_indices[3 * f + k] = kNoAttribute;
+  for (std::size_t f = 0; f < grid.face_count(); f += 5) grid.face_materials[f] = kNoAttribute;
+  const ProgressiveMesh pm = encode_ok(grid, Metric::kQuadric);
+  EXPECT_TRUE(attributed_faces(grid) == attributed_faces(extract_level(pm, pm.split_count())));
+}
+
+TEST(Attributes, InvalidAttributeIndicesAreRefused) {
+  Mesh grid = seamed_grid(4);
+  grid.uv_indices[7] = static_cast<uint32_t>(grid.uv_count());
+  ProgressiveMesh pm;
+  const Status status = encode(grid, EncodeOptions{}, pm);
+  EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(status.message().find("texture coordinate index 7"), std::string::npos)
+      << status.message();
+}
+
+}  // namespace
+}  // namespace pm
