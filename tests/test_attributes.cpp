@@ -25,96 +25,6 @@ uint32_t bits(float x) {
   return b;
 }
 
-// A face as the bits of everything its corners carry, rotated so the smallest corner comes
-// first, and its material's name; sorted, two meshes have the same attributed faces iff
-// these lists are equal, whatever the numbering of vertices and values.
-using Corner = std::vector<uint32_t>;
-struct AttributedFace {
-  std::array<Corner, 3> corners;
-  std::string material;
-  bool operator<(const AttributedFace& o) const {
-    return std::tie(corners, material) < std::tie(o.corners, o.material);
-  }
-  bool operator==(const AttributedFace& o) const {
-    return corners == o.corners && material == o.material;
-  }
-};
-
-Corner corner_of(const Mesh& m, std::size_t face, int k) {
-  const uint32_t v = m.triangles[3 * face + k];
-  Corner c;
-  for (int i = 0; i < 3; ++i) c.push_back(bits(m.positions[3 * v + i]));
-  for (uint32_t i = 0; i < m.color_components; ++i)
-    c.push_back(bits(m.colors[m.color_components * v + i]));
-  if (m.has_uvs()) {
-    const uint32_t t = m.uv_indices[3 * face + k];
-    for (int i = 0; i < 2; ++i) c.push_back(t == kNoAttribute ? 0xFFFFFFFFu : bits(m.uvs[2 * t + i]));
-  }
-  if (m.has_normals()) {
-    const uint32_t n = m.normal_indices[3 * face + k];
-    for (int i = 0; i < 3; ++i)
-      c.push_back(n == kNoAttribute ? 0xFFFFFFFFu : bits(m.normals[3 * n + i]));
-  }
-  return c;
-}
-
-std::vector<AttributedFace> attributed_faces(const Mesh& m) {
-  std::vector<AttributedFace> faces;
-  for (std::size_t f = 0; f < m.face_count(); ++f) {
-    AttributedFace face;
-    for (int k = 0; k < 3; ++k) face.corners[k] = corner_of(m, f, k);
-    const int first = static_cast<int>(std::min_element(face.corners.begin(), face.corners.end()) -
-                                       face.corners.begin());
-    std::rotate(face.corners.begin(), face.corners.begin() + first, face.corners.end());
-    if (m.has_materials() && m.face_materials[f] != kNoAttribute)
-      face.material = m.material_names[m.face_materials[f]];
-    faces.push_back(face);
-  }
-  std::sort(faces.begin(), faces.end());
-  return faces;
-}
-
-// A bumpy n x n grid over [0, 1]^2 (n even) with three kinds of discontinuity crossing it:
-// a UV seam along x = 0.5 (two charts), a normal crease along y = 0.5, a material border
-// along the diagonal x = y (which the triangles' diagonals follow); and a colour per vertex.
-Mesh seamed_grid(int n) {
-  Mesh m;
-  auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const float x = float(i) / n, y = float(j) / n;
-      m.positions.insert(m.positions.end(),
-                         {x, y, 0.05f * std::sin(7.0f * x) * std::cos(5.0f * y)});
-      m.colors.insert(m.colors.end(), {x, y, 0.5f});
-    }
-  m.color_components = 3;
-  // UV charts: left keeps (x, y); right is shifted, so x = 0.5 has two UVs per vertex.
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.uvs.insert(m.uvs.end(), {float(i) / n, float(j) / n});
-  const uint32_t right_chart = static_cast<uint32_t>(m.uvs.size() / 2);
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.uvs.insert(m.uvs.end(), {float(i) / n + 0.25f, float(j) / n});
-  m.normals = {0, 0, 1, 0, 0.6f, 0.8f};
-  m.material_names = {"red", "blue"};
-  m.material_libraries = {"grid.mtl"};
-  auto add = [&](int ai, int aj, int bi, int bj, int ci, int cj) {
-    const int cx2 = ai + bi + ci, cy2 = aj + bj + cj;  // 3 x centroid, in grid steps
-    const bool right = 2 * cx2 > 3 * n, top = 2 * cy2 > 3 * n;
-    m.triangles.insert(m.triangles.end(), {id(ai, aj), id(bi, bj), id(ci, cj)});
-    for (auto [i, j] : {std::pair{ai, aj}, {bi, bj}, {ci, cj}}) {
-      m.uv_indices.push_back((right ? right_chart : 0) + id(i, j));
-      m.normal_indices.push_back(top ? 1 : 0);
-    }
-    m.face_materials.push_back(cy2 > cx2 ? 1 : 0);
-  };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      add(i, j, i + 1, j, i + 1, j + 1);
-      add(i, j, i + 1, j + 1, i, j + 1);
-    }
-  return m;
-}
-
 ProgressiveMesh encode_ok(const Mesh& mesh, Metric metric, bool drop = false) {
   EncodeOptions options;
   options.metric = metric;
@@ -167,10 +77,10 @@ std::vector<EdgeKey> seam_edges(const Mesh& m, const std::vector<uint32_t>* ids,
 class AttributesByMetric : public ::testing::TestWithParam<Metric> {};
 
 TEST_P(AttributesByMetric, FullDetailGivesEveryFacesCornerAttributesBitForBit) {
-  const Mesh grid = seamed_grid(24);
+  const Mesh grid = test::seamed_grid(24);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   const Mesh full = extract_level(pm, pm.split_count());
-  EXPECT_TRUE(attributed_faces(grid) == attributed_faces(full));
+  EXPECT_TRUE(test::same_attributed_faces(grid, full));
   // The value tables come back whole, so the ids are the input's.
   EXPECT_EQ(full.uvs, grid.uvs);
   EXPECT_EQ(full.normals, grid.normals);
@@ -179,7 +89,7 @@ TEST_P(AttributesByMetric, FullDetailGivesEveryFacesCornerAttributesBitForBit) {
 }
 
 TEST_P(AttributesByMetric, SeamsAndBordersStayOnTheInputsAtEveryCoarserLevel) {
-  const Mesh grid = seamed_grid(24);
+  const Mesh grid = test::seamed_grid(24);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   // The discontinuities pin little: the grid still simplifies far.
   EXPECT_LT(faces_at_level(pm, 0), grid.face_count() / 20);
@@ -204,7 +114,7 @@ TEST_P(AttributesByMetric, SeamsAndBordersStayOnTheInputsAtEveryCoarserLevel) {
 }
 
 TEST_P(AttributesByMetric, NoTextureTriangleTurnsOverAtAnyLevel) {
-  const Mesh grid = seamed_grid(24);
+  const Mesh grid = test::seamed_grid(24);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   const Mesh full = extract_level(pm, pm.split_count());
   auto uv_area = [](const Mesh& m, std::size_t f) {
@@ -226,7 +136,7 @@ TEST_P(AttributesByMetric, NoTextureTriangleTurnsOverAtAnyLevel) {
 }
 
 TEST_P(AttributesByMetric, ColoursTravelWithTheirVertices) {
-  const Mesh grid = seamed_grid(16);
+  const Mesh grid = test::seamed_grid(16);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   for (std::size_t level : {std::size_t{0}, pm.split_count() / 3, pm.split_count()}) {
     const Mesh lod = extract_level(pm, level);
@@ -240,7 +150,7 @@ TEST_P(AttributesByMetric, ColoursTravelWithTheirVertices) {
 }
 
 TEST_P(AttributesByMetric, DropAttributesKeepsGeometryOnly) {
-  const Mesh grid = seamed_grid(16);
+  const Mesh grid = test::seamed_grid(16);
   const ProgressiveMesh pm = encode_ok(grid, GetParam(), /*drop=*/true);
   EXPECT_FALSE(pm.has_uvs() || pm.has_normals() || pm.has_materials());
   EXPECT_EQ(pm.color_components, 0u);
@@ -261,17 +171,17 @@ INSTANTIATE_TEST_SUITE_P(Metrics, AttributesByMetric,
                          });
 
 TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
-  Mesh grid = seamed_grid(12);
+  Mesh grid = test::seamed_grid(12);
   // Every third face has no texture coordinates, every fifth no material.
   for (std::size_t f = 0; f < grid.face_count(); f += 3)
     for (int k = 0; k < 3; ++k) grid.uv_indices[3 * f + k] = kNoAttribute;
   for (std::size_t f = 0; f < grid.face_count(); f += 5) grid.face_materials[f] = kNoAttribute;
   const ProgressiveMesh pm = encode_ok(grid, Metric::kQuadric);
-  EXPECT_TRUE(attributed_faces(grid) == attributed_faces(extract_level(pm, pm.split_count())));
+  EXPECT_TRUE(test::same_attributed_faces(grid, extract_level(pm, pm.split_count())));
 }
 
 TEST(Attributes, InvalidAttributeIndicesAreRefused) {
-  Mesh grid = seamed_grid(4);
+  Mesh grid = test::seamed_grid(4);
   grid.uv_indices[7] = static_cast<uint32_t>(grid.uv_count());
   ProgressiveMesh pm;
   const Status status = encode(grid, EncodeOptions{}, pm);

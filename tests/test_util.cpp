@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -605,6 +606,123 @@ void write_file(const std::string& path, const std::string& bytes) {
 bool file_exists(const std::string& path) {
   std::error_code error;
   return fs::exists(path, error);
+}
+
+// ---------------------------------------------------------------------------------------
+// Attributed faces
+// ---------------------------------------------------------------------------------------
+
+namespace {
+
+std::vector<uint32_t> attributed_corner(const pm::Mesh& m, std::size_t face, int k) {
+  const uint32_t v = m.triangles[3 * face + k];
+  std::vector<uint32_t> c;
+  for (int i = 0; i < 3; ++i) c.push_back(float_bits(m.positions[3 * std::size_t{v} + i]));
+  for (uint32_t i = 0; i < m.color_components; ++i)
+    c.push_back(float_bits(m.colors[std::size_t{m.color_components} * v + i]));
+  if (m.has_uvs()) {
+    const uint32_t t = m.uv_indices[3 * face + k];
+    for (int i = 0; i < 2; ++i)
+      c.push_back(t == pm::kNoAttribute ? 0xFFFFFFFFu : float_bits(m.uvs[2 * std::size_t{t} + i]));
+  }
+  if (m.has_normals()) {
+    const uint32_t n = m.normal_indices[3 * face + k];
+    for (int i = 0; i < 3; ++i)
+      c.push_back(n == pm::kNoAttribute ? 0xFFFFFFFFu
+                                        : float_bits(m.normals[3 * std::size_t{n} + i]));
+  }
+  return c;
+}
+
+std::string describe(const AttributedFace& face) {
+  std::ostringstream out;
+  for (const auto& corner : face.corners) {
+    out << "[";
+    for (std::size_t i = 0; i < corner.size(); ++i)
+      out << (i ? " " : "") << std::hex << std::setw(8) << std::setfill('0') << corner[i];
+    out << "]";
+  }
+  if (!face.material.empty()) out << " material " << face.material;
+  return out.str();
+}
+
+}  // namespace
+
+bool AttributedFace::operator<(const AttributedFace& o) const {
+  return std::tie(corners, material) < std::tie(o.corners, o.material);
+}
+bool AttributedFace::operator==(const AttributedFace& o) const {
+  return corners == o.corners && material == o.material;
+}
+
+std::vector<AttributedFace> attributed_faces(const pm::Mesh& m) {
+  std::vector<AttributedFace> faces;
+  faces.reserve(m.face_count());
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    AttributedFace face;
+    for (int k = 0; k < 3; ++k) face.corners[k] = attributed_corner(m, f, k);
+    const auto first = std::min_element(face.corners.begin(), face.corners.end());
+    std::rotate(face.corners.begin(), first, face.corners.end());
+    if (m.has_materials() && m.face_materials[f] != pm::kNoAttribute)
+      face.material = m.material_names[m.face_materials[f]];
+    faces.push_back(std::move(face));
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+::testing::AssertionResult same_attributed_faces(const pm::Mesh& expected, const pm::Mesh& actual) {
+  const auto a = attributed_faces(expected), b = attributed_faces(actual);
+  if (a == b) return ::testing::AssertionSuccess();
+  std::size_t i = 0;
+  while (i < a.size() && i < b.size() && a[i] == b[i]) ++i;
+  auto failure = ::testing::AssertionFailure();
+  failure << "attributed faces differ: expected " << a.size() << " faces, actual " << b.size()
+          << "; first difference at sorted face " << i;
+  if (i < a.size()) failure << "\n  expected " << describe(a[i]);
+  if (i < b.size()) failure << "\n  actual   " << describe(b[i]);
+  return failure;
+}
+
+// A bumpy n x n grid over [0, 1]^2 (n even) with three kinds of discontinuity crossing it:
+// a UV seam along x = 0.5 (two charts), a normal crease along y = 0.5, a material border
+// along the diagonal x = y (which the triangles' diagonals follow); and a colour per vertex.
+pm::Mesh seamed_grid(int n) {
+  pm::Mesh m;
+  auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const float x = float(i) / n, y = float(j) / n;
+      m.positions.insert(m.positions.end(),
+                         {x, y, 0.05f * std::sin(7.0f * x) * std::cos(5.0f * y)});
+      m.colors.insert(m.colors.end(), {x, y, 0.5f});
+    }
+  m.color_components = 3;
+  // UV charts: left keeps (x, y); right is shifted, so x = 0.5 has two UVs per vertex.
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.uvs.insert(m.uvs.end(), {float(i) / n, float(j) / n});
+  const uint32_t right_chart = static_cast<uint32_t>(m.uvs.size() / 2);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.uvs.insert(m.uvs.end(), {float(i) / n + 0.25f, float(j) / n});
+  m.normals = {0, 0, 1, 0, 0.6f, 0.8f};
+  m.material_names = {"red", "blue"};
+  m.material_libraries = {"grid.mtl"};
+  auto add = [&](int ai, int aj, int bi, int bj, int ci, int cj) {
+    const int cx2 = ai + bi + ci, cy2 = aj + bj + cj;  // 3 x centroid, in grid steps
+    const bool right = 2 * cx2 > 3 * n, top = 2 * cy2 > 3 * n;
+    m.triangles.insert(m.triangles.end(), {id(ai, aj), id(bi, bj), id(ci, cj)});
+    for (auto [i, j] : {std::pair{ai, aj}, {bi, bj}, {ci, cj}}) {
+      m.uv_indices.push_back((right ? right_chart : 0) + id(i, j));
+      m.normal_indices.push_back(top ? 1 : 0);
+    }
+    m.face_materials.push_back(cy2 > cx2 ? 1 : 0);
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      add(i, j, i + 1, j, i + 1, j + 1);
+      add(i, j, i + 1, j + 1, i, j + 1);
+    }
+  return m;
 }
 
 }  // namespace pm::test

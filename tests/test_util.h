@@ -102,9 +102,31 @@ std::vector<FacePositions> canonical_faces(const pm::Mesh& mesh);
 // Usage: EXPECT_TRUE(pm::test::same_faces(expected, actual));
 ::testing::AssertionResult same_faces(const pm::Mesh& expected, const pm::Mesh& actual);
 
+// A face with everything its corners carry: per corner the bits of its position, colour,
+// texture coordinate and normal (0xFFFFFFFF for a missing one), rotated so the smallest
+// corner comes first; and its material's name ("" for none).
+struct AttributedFace {
+  std::array<std::vector<uint32_t>, 3> corners;
+  std::string material;
+  bool operator<(const AttributedFace& o) const;
+  bool operator==(const AttributedFace& o) const;
+};
+// The faces of the mesh, sorted: two meshes have the same faces and corner attributes, bit
+// for bit, iff these lists are equal, whatever their vertex and value numbering, face
+// order and the corner each face starts at.
+std::vector<AttributedFace> attributed_faces(const pm::Mesh& mesh);
+// Like same_faces(), with every corner attribute; the message names the first difference.
+::testing::AssertionResult same_attributed_faces(const pm::Mesh& expected, const pm::Mesh& actual);
+
 // ---------------------------------------------------------------------------------------
 // Test meshes
 // ---------------------------------------------------------------------------------------
+
+// A bumpy n x n grid over [0, 1]^2 (n even) with three kinds of discontinuity crossing it:
+// a UV seam along x = 0.5 (two charts), a normal crease along y = 0.5, a material border
+// along the diagonal x = y (which the triangles' diagonals follow), and a colour per
+// vertex, (x, y, 0.5).
+pm::Mesh seamed_grid(int n);
 
 // PM_SHARED_MESHES_DIR + "/" + name, e.g. shared_mesh_path("cow.obj").
 std::string shared_mesh_path(const std::string& name);

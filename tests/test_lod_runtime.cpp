@@ -1,0 +1,183 @@
+// The runtime LOD object (Hoppe 1998): refining and coarsening in place, by steps and by
+// jumps, always gives what a fresh decode to that level gives; geomorphs (Hoppe 1996, §4.2)
+// start at the coarse level's geometry and end at the fine one's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/lod_runtime.h"
+#include "pm/mesh_io.h"
+#include "test_meshes.h"
+#include "test_util.h"
+
+namespace pm {
+namespace {
+
+ProgressiveMesh encode_ok(const Mesh& mesh) {
+  ProgressiveMesh pm;
+  const Status status = encode(mesh, EncodeOptions{}, pm);
+  EXPECT_TRUE(status.ok()) << status.message();
+  return pm;
+}
+
+::testing::AssertionResult matches_fresh_decode(const RuntimeLod& lod, const ProgressiveMesh& pm) {
+  const Mesh fresh = extract_level(pm, lod.level());
+  if (lod.face_count() != fresh.face_count())
+    return ::testing::AssertionFailure() << "level " << lod.level() << ": " << lod.face_count()
+                                         << " faces, fresh decode " << fresh.face_count();
+  if (lod.vertex_count() != vertices_at_level(pm, lod.level()))
+    return ::testing::AssertionFailure() << "level " << lod.level() << ": vertex count "
+                                         << lod.vertex_count();
+  for (std::size_t i = 0; i < 3 * lod.face_count(); ++i)
+    if (lod.indices()[i] >= lod.wedge_count())
+      return ::testing::AssertionFailure() << "index " << i << " beyond wedge_count()";
+  auto result = test::same_attributed_faces(fresh, lod.to_mesh());
+  if (!result) result << "\n  at level " << lod.level();
+  return result;
+}
+
+// Every level, down and up by single steps, then random jumps both ways.
+void check_steps_and_jumps(const ProgressiveMesh& pm, std::size_t step, int jumps) {
+  RuntimeLod lod(pm);
+  ASSERT_EQ(lod.level(), 0u);
+  ASSERT_TRUE(matches_fresh_decode(lod, pm));
+  lod.set_level(lod.max_level());
+  ASSERT_TRUE(matches_fresh_decode(lod, pm));
+  for (std::size_t level = lod.max_level(); level > 0;) {
+    level = level > step ? level - step : 0;
+    lod.set_level(level);
+    ASSERT_TRUE(matches_fresh_decode(lod, pm));
+  }
+  for (std::size_t level = 0; level < lod.max_level();) {
+    level = std::min(level + step, lod.max_level());
+    lod.set_level(level);
+    ASSERT_TRUE(matches_fresh_decode(lod, pm));
+  }
+  std::mt19937 random(7);
+  std::uniform_int_distribution<std::size_t> any_level(0, lod.max_level());
+  for (int j = 0; j < jumps; ++j) {
+    lod.set_level(any_level(random));
+    ASSERT_TRUE(matches_fresh_decode(lod, pm));
+  }
+}
+
+TEST(RuntimeLod, StepsAndJumpsMatchAFreshDecodeWithAttributes) {
+  check_steps_and_jumps(encode_ok(test::seamed_grid(16)), 1, 60);
+}
+
+class RuntimeLodReal : public ::testing::TestWithParam<test::TestMesh> {};
+
+TEST_P(RuntimeLodReal, StepsAndJumpsMatchAFreshDecode) {
+  PM_SKIP_IF_MISSING(GetParam());
+  Mesh mesh;
+  ASSERT_TRUE(read_mesh(GetParam().path, mesh).ok());
+  const ProgressiveMesh pm = encode_ok(mesh);
+  // About 25 stops each way and 12 jumps, each compared face by face with a fresh decode
+  // (the samples: welds, carried faces, loose vertices, polygons).
+  check_steps_and_jumps(pm, std::max<std::size_t>(1, pm.split_count() / 25), 12);
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, RuntimeLodReal, ::testing::ValuesIn(test::all_test_meshes()),
+                         test::test_mesh_name);
+
+TEST(RuntimeLod, FaceVertexAndErrorRequestsPickTheLevelsOfLod) {
+  const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
+  RuntimeLod lod(pm);
+  for (std::size_t n : {std::size_t{0}, std::size_t{5}, std::size_t{100}, std::size_t{301},
+                        std::size_t{1000000}}) {
+    lod.set_face_count(n);
+    EXPECT_EQ(lod.level(), level_for_faces(pm, n)) << n;
+    lod.set_vertex_count(n);
+    EXPECT_EQ(lod.level(), level_for_vertices(pm, n)) << n;
+  }
+  for (std::size_t level : {std::size_t{0}, pm.split_count() / 2, pm.split_count() - 1}) {
+    const double e = error_at_level(pm, level);
+    lod.set_error(e);
+    EXPECT_EQ(lod.level(), level_for_error(pm, e)) << e;
+  }
+}
+
+TEST(RuntimeLod, ActiveWedgesAndFacesArePrefixes) {
+  const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
+  RuntimeLod lod(pm);
+  std::size_t previous_faces = 0, previous_wedges = 0;
+  for (std::size_t level = 0; level <= lod.max_level(); ++level) {
+    lod.set_level(level);
+    EXPECT_GE(lod.face_count(), previous_faces);
+    EXPECT_GE(lod.wedge_count(), previous_wedges);
+    previous_faces = lod.face_count();
+    previous_wedges = lod.wedge_count();
+  }
+  EXPECT_GT(lod.memory_bytes(), 0u);
+}
+
+// Faces by positions, dropping those the morph has flattened to a segment or a point.
+Mesh without_collapsed_faces(const Mesh& mesh) {
+  Mesh out = mesh;
+  out.triangles.clear();
+  out.uv_indices.clear();
+  out.normal_indices.clear();
+  out.face_materials.clear();
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const float* p[3];
+    for (int k = 0; k < 3; ++k) p[k] = &mesh.positions[3 * mesh.triangles[3 * f + k]];
+    auto same = [](const float* a, const float* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; };
+    if (same(p[0], p[1]) || same(p[1], p[2]) || same(p[0], p[2])) continue;
+    for (int k = 0; k < 3; ++k) {
+      out.triangles.push_back(mesh.triangles[3 * f + k]);
+      if (mesh.has_uvs()) out.uv_indices.push_back(mesh.uv_indices[3 * f + k]);
+      if (mesh.has_normals()) out.normal_indices.push_back(mesh.normal_indices[3 * f + k]);
+    }
+    if (mesh.has_materials()) out.face_materials.push_back(mesh.face_materials[f]);
+  }
+  return out;
+}
+
+TEST(Geomorph, EndsAreTheTwoLevelsExactlyAndEveryAlphaHasTheFineConnectivity) {
+  const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
+  RuntimeLod lod(pm);
+  for (auto [a, b] : {std::pair<std::size_t, std::size_t>{0, pm.split_count()},
+                      {pm.split_count() / 4, pm.split_count() / 2},
+                      {10, 11},
+                      {pm.split_count(), pm.split_count()}}) {
+    SCOPED_TRACE("morph " + std::to_string(a) + " -> " + std::to_string(b));
+    const RuntimeLod::Geomorph morph = lod.geomorph(a, b);
+    EXPECT_EQ(lod.level(), b);
+    // alpha = 1: level b exactly, with every attribute.
+    EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, b), morph.mesh(1.0f)));
+    // alpha = 0: level a's faces, with b's extra faces flattened to nothing.
+    EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, a),
+                                            without_collapsed_faces(morph.mesh(0.0f))));
+    // Any alpha: b's connectivity, positions between the ends.
+    const Mesh start = morph.mesh(0.0f), end = morph.mesh(1.0f);
+    for (float alpha : {0.25f, 0.5f, 0.9f}) {
+      const Mesh mid = morph.mesh(alpha);
+      ASSERT_EQ(mid.triangles, end.triangles);
+      for (std::size_t i = 0; i < mid.positions.size(); ++i) {
+        const float lo = std::min(start.positions[i], end.positions[i]);
+        const float hi = std::max(start.positions[i], end.positions[i]);
+        ASSERT_TRUE(mid.positions[i] >= lo - 1e-6f && mid.positions[i] <= hi + 1e-6f) << i;
+      }
+    }
+  }
+}
+
+TEST(Geomorph, OnARealMeshTheCoarseEndIsTheCoarseLevel) {
+  PM_SKIP_IF_NO_SHARED();
+  Mesh mesh;
+  ASSERT_TRUE(read_mesh(test::shared_mesh_path("fandisk.obj"), mesh).ok());
+  const ProgressiveMesh pm = encode_ok(mesh);
+  RuntimeLod lod(pm);
+  const std::size_t a = level_for_faces(pm, mesh.face_count() / 10);
+  const std::size_t b = level_for_faces(pm, mesh.face_count() / 2);
+  const RuntimeLod::Geomorph morph = lod.geomorph(a, b);
+  EXPECT_TRUE(test::same_faces(extract_level(pm, a), without_collapsed_faces(morph.mesh(0.0f))));
+  EXPECT_TRUE(test::same_faces(extract_level(pm, b), morph.mesh(1.0f)));
+}
+
+}  // namespace
+}  // namespace pm
