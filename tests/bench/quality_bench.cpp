@@ -3,8 +3,9 @@
 //
 // For each mesh and each target fraction of its faces, each method produces a mesh of about
 // that many faces:
-//   pmenc schroeder, pmenc quadric  pm::encode once per metric; the LOD is the finest level
-//                                   with at most the target's faces (pm::extract_level)
+//   pmenc schroeder, pmenc quadric  pm::encode once per metric, geometry only like the peers
+//                                   (drop_attributes); the LOD is the finest level with at
+//                                   most the target's faces (pm::extract_level)
 //   meshopt_simplify                meshoptimizer 0.18, no options, no error limit
 //   OpenMesh Decimater              DecimaterT with ModQuadricT alone, not binary; and a
 //                                   variant with ModNormalFlippingT, pmenc's 90-degree rule
@@ -13,7 +14,6 @@
 // Cignoni, Rocchini and Scopigno 1998): Hausdorff and RMS distance, both ways, in percent of
 // the input's bounding-box diagonal. The output is a markdown report; see README.md.
 #include <meshoptimizer.h>
-#include <sys/utsname.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,17 +27,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
+#include "bench_report.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh.h"
@@ -47,6 +46,11 @@
 namespace {
 
 namespace fs = std::filesystem;
+using pm::bench::command_output;
+using pm::bench::distinguishable_pair;
+using pm::bench::shell_quoted;
+using pm::bench::significant;
+using pm::bench::with_thousands;
 using Clock = std::chrono::steady_clock;
 
 // A method that ends more than this fraction above its face target has stalled: it cannot
@@ -289,12 +293,6 @@ Simplified openmesh_simplified(const pm::Mesh& original, std::size_t target_face
 
 // --- VTK, through vtk_decimate.py ---
 
-std::string shell_quoted(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
 // Exit status 3 of the script: VTK's Python modules are missing.
 constexpr int kVtkMissingStatus = 3;
 
@@ -362,6 +360,10 @@ bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, pm::ProgressiveMesh& 
                   double& milliseconds, pm::EncodeStats& stats) {
   pm::EncodeOptions options;
   options.metric = metric;
+  // Geometry only, like the peers, which are given positions and triangles alone: kept
+  // attributes would hold UV seams and add texture error to the cost (issue 4), a handicap
+  // the peers do not carry here. uv.md (pm_bench_uv) compares with attributes on both sides.
+  options.drop_attributes = true;
   const auto start = Clock::now();
   const pm::Status s = pm::encode(mesh, options, progressive, &stats);
   milliseconds = milliseconds_since(start);
@@ -393,12 +395,17 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
   std::cerr << "[bench]   pmenc encode: schroeder " << report.schroeder_encode_ms << " ms, quadric "
             << report.quadric_encode_ms << " ms\n";
 
-  // VTK reads the input as written by pm's own OBJ writer: positions and faces only.
+  // VTK reads the input as written by pm's own OBJ writer: positions and faces only. The
+  // attributes are left out: vtkOBJReader splits a vertex per texture coordinate, so a UV
+  // seam would reach vtkDecimatePro as a boundary, free to move (BoundaryVertexDeletionOn).
   const fs::path input_obj = scratch / "input.obj";
   const fs::path output_obj = scratch / "vtk_output.obj";
   if (vtk_available) {
+    pm::Mesh geometry;
+    geometry.positions = original.positions;
+    geometry.triangles = original.triangles;
     std::string bytes;
-    if (pm::Status s = pm::write_mesh_to_memory(original, pm::MeshFormat::kObj, bytes); !s) {
+    if (pm::Status s = pm::write_mesh_to_memory(geometry, pm::MeshFormat::kObj, bytes); !s) {
       std::cerr << "quality_bench: cannot serialize " << report.name << ": " << s.message() << "\n";
       return std::nullopt;
     }
@@ -463,67 +470,11 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
 
 // --- The report ---
 
-// Three significant digits (or `digits`), never in exponent form: 0.000123, 0.0412, 1.23.
-std::string significant(double value, int digits = 3) {
-  if (value == 0) return "0";
-  const int magnitude = static_cast<int>(std::floor(std::log10(std::fabs(value))));
-  const int decimals = std::max(0, digits - 1 - magnitude);
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  return text;
-}
-
-std::string with_thousands(std::size_t n) {
-  std::string digits = std::to_string(n), text;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) text += ',';
-    text += digits[i];
-  }
-  return text;
-}
-
-std::string command_output(const std::string& command) {
-  std::string text;
-  if (FILE* pipe = popen(command.c_str(), "r")) {
-    std::array<char, 256> buffer;
-    while (std::fgets(buffer.data(), buffer.size(), pipe)) text += buffer.data();
-    pclose(pipe);
-  }
-  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-  return text;
-}
-
 std::string machine_description() {
   std::ostringstream text;
-  utsname names{};
-  uname(&names);
-  std::string cpu = "unknown CPU";
-  std::ifstream cpuinfo("/proc/cpuinfo");
-  for (std::string line; std::getline(cpuinfo, line);) {
-    if (line.rfind("model name", 0) == 0) {
-      cpu = line.substr(line.find(':') + 2);
-      break;
-    }
-  }
-  const std::time_t now = std::time(nullptr);
-  char date[64];
-  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-  const std::string repo = shell_quoted(PM_BENCH_SOURCE_DIR);
-  std::string commit = command_output("git -C " + repo + " rev-parse --short HEAD 2>/dev/null");
-  // The library measured is not HEAD's when lib/ or formats/ have uncommitted changes.
-  if (commit.empty())
-    commit = "unknown";
-  else if (!command_output("git -C " + repo + " status --porcelain -- lib formats 2>/dev/null")
-                .empty())
-    commit += " with uncommitted changes in lib/ or formats/";
-  text << "- machine: " << names.machine << ", " << cpu << ", "
-       << std::thread::hardware_concurrency() << " hardware threads (" << names.sysname << " "
-       << names.release << ")\n"
-       << "- date: " << date << "\n"
-       << "- commit: " << commit << "\n"
-       << "- peers: meshoptimizer " << MESHOPTIMIZER_VERSION / 1000 << "."
-       << MESHOPTIMIZER_VERSION % 1000 / 10 << ", OpenMesh " << ((OM_VERSION >> 16) & 0xff) << "."
-       << ((OM_VERSION >> 8) & 0xff) << ", VTK "
+  text << pm::bench::run_description(PM_BENCH_SOURCE_DIR) << "- peers: meshoptimizer "
+       << MESHOPTIMIZER_VERSION / 1000 << "." << MESHOPTIMIZER_VERSION % 1000 / 10 << ", OpenMesh "
+       << ((OM_VERSION >> 16) & 0xff) << "." << ((OM_VERSION >> 8) & 0xff) << ", VTK "
        << command_output(
               "/usr/bin/python3 -c 'import vtkmodules.vtkCommonCore as c; "
               "print(c.vtkVersion.GetVTKVersion())' 2>/dev/null || echo missing")
@@ -551,14 +502,6 @@ struct Comparison {
   bool holds = false;
   std::string cell;
 };
-
-// "a / b" with enough digits that a verdict between unequal values shows in the numbers.
-std::string distinguishable_pair(double ours, double peer) {
-  int digits = 3;
-  while (digits < 7 && ours != peer && significant(ours, digits) == significant(peer, digits))
-    ++digits;
-  return significant(ours, digits) + " / " + significant(peer, digits);
-}
 
 Comparison compare(const Outcome& ours, const Outcome& peer, const char* peer_short_name) {
   Comparison result;
@@ -599,7 +542,11 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
         "is one `pm::encode` that produces the whole sequence of LODs**, down to its base "
         "mesh, and is the same for every target; each peer's time produces one LOD. "
         "OpenMesh's time is the decimater's setup and decimation (not building its mesh); "
-        "vtkDecimatePro's is its `Update()` alone.\n\n";
+        "vtkDecimatePro's is its `Update()` alone.\n\n"
+     << "pmenc encodes geometry only here (`EncodeOptions::drop_attributes`), as every peer is "
+        "given positions and triangles only. With texture coordinates on both sides, pmenc "
+        "against meshopt_simplify on a seam-split vertex buffer: [uv.md](uv.md) (UV error at "
+        "10% and 2%, regenerated by `tests/bench/run_uv.sh`, which this command also runs).\n\n";
 
   for (const MeshReport& report : reports) {
     md << "## " << report.name << "\n\n"

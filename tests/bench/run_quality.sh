@@ -2,18 +2,19 @@
 # The quality benchmark in one command (issue 3): installs the bench-only dependencies that
 # are missing, builds pm_bench_quality in build-bench/, runs it on ../shared/meshes and writes
 # tests/bench/quality.md, then prints it. Extra arguments go to pm_bench_quality
-# (e.g. --targets 0.5,0.1 or --no-vtk). See tests/bench/README.md.
+# (e.g. --targets 0.5,0.1 or --no-vtk). Then its texture-coordinate part (issue 4):
+# run_uv.sh, which writes tests/bench/uv.md. See tests/bench/README.md.
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="$repo/build-bench"
+build="${PM_BENCH_BUILD:-$repo/build-bench}"
 meshes="$repo/../shared/meshes"
 report="$repo/tests/bench/quality.md"
 
 # Bench-only dependencies: the product needs none of these but libopenmesh-dev.
 missing=()
 for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
-               python3-vtk9; do
+               zlib1g-dev python3-vtk9; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
     missing+=("$package")
 done
@@ -42,3 +43,7 @@ trap 'rm -f "$report.tmp"' EXIT
 nice "$build/tests/bench/pm_bench_quality" "$meshes" --out "$report.tmp" "$@" >/dev/null
 mv "$report.tmp" "$report"
 cat "$report"
+
+# The UV columns: pmenc with its attributes against meshopt on the seam-split buffer.
+echo
+bash "$repo/tests/bench/run_uv.sh"
