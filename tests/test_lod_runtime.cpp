@@ -181,3 +181,28 @@ TEST(Geomorph, OnARealMeshTheCoarseEndIsTheCoarseLevel) {
 
 }  // namespace
 }  // namespace pm
+
+namespace pm {
+namespace {
+
+bool identical(const Mesh& a, const Mesh& b) {
+  return a.positions == b.positions && a.triangles == b.triangles && a.colors == b.colors &&
+         a.uvs == b.uvs && a.uv_indices == b.uv_indices && a.normals == b.normals &&
+         a.normal_indices == b.normal_indices && a.face_materials == b.face_materials &&
+         a.material_names == b.material_names && a.material_libraries == b.material_libraries;
+}
+
+TEST(ExtractLevels, OneWalkGivesWhatExtractLevelGivesForEachLevelCoarseToFine) {
+  const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
+  const std::size_t full = pm.split_count();
+  std::vector<std::size_t> emitted;
+  extract_levels(pm, {full, 0, full / 3, full / 3, full + 10, 7},
+                 [&](std::size_t level, const Mesh& mesh) {
+                   emitted.push_back(level);
+                   EXPECT_TRUE(identical(mesh, extract_level(pm, level))) << "level " << level;
+                 });
+  EXPECT_EQ(emitted, (std::vector<std::size_t>{0, 7, full / 3, full}));
+}
+
+}  // namespace
+}  // namespace pm

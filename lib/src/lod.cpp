@@ -4,6 +4,8 @@
 #include "pm/lod.h"
 
 #include <algorithm>
+#include <functional>
+#include <vector>
 
 namespace pm {
 
@@ -88,81 +90,123 @@ void append_created(std::vector<uint32_t>& out, const std::vector<uint32_t>& cre
              created.begin() + per_face * (first + count));
 }
 
+// The faces of a level, walked up from the base mesh one split at a time (Hoppe 1996, §3:
+// M^0 -> vsplit_0 -> M^1 -> ...). Corner attributes live beside the faces: the base faces'
+// as created, then each split sets its moved corners' and appends its new faces'.
+class LevelWalker {
+ public:
+  explicit LevelWalker(const ProgressiveMesh& pm)
+      : pm_(pm), uvs_(pm.has_uvs()), normals_(pm.has_normals()), materials_(pm.has_materials()) {
+    const std::size_t base_faces = pm.base_face_count();
+    faces_ = pm.base_faces;
+    if (uvs_) append_created(corner_uvs_, pm.face_uvs, 3, 0, base_faces);
+    if (normals_) append_created(corner_normals_, pm.face_normals, 3, 0, base_faces);
+    if (materials_) append_created(face_materials_, pm.face_materials, 1, 0, base_faces);
+    created_ = base_faces;
+  }
+
+  // Applies the splits up to `level` (never backwards).
+  void advance(std::size_t level) {
+    level = std::min(level, pm_.splits.size());
+    faces_.reserve(3 * faces_at_level(pm_, level));
+    for (; level_ < level; ++level_) {
+      const VertexSplit& s = pm_.splits[level_];
+      const uint32_t v = pm_.base_vertex_count + static_cast<uint32_t>(level_);
+      for (uint32_t k = 0; k < s.moved_count; ++k) {
+        const std::size_t f = pm_.moved_faces[s.moved_begin + k];
+        uint32_t* face = &faces_[3 * f];
+        for (int c = 0; c < 3; ++c) {
+          if (face[c] != s.u) continue;
+          face[c] = v;
+          if (uvs_) corner_uvs_[3 * f + c] = pm_.moved_uvs[s.moved_begin + k];
+          if (normals_) corner_normals_[3 * f + c] = pm_.moved_normals[s.moved_begin + k];
+        }
+      }
+      if (s.vl != kNoVertex) faces_.insert(faces_.end(), {v, s.u, s.vl});
+      if (s.vr != kNoVertex) faces_.insert(faces_.end(), {s.u, v, s.vr});
+      const std::size_t added = s.new_face_count();
+      if (uvs_) append_created(corner_uvs_, pm_.face_uvs, 3, created_, added);
+      if (normals_) append_created(corner_normals_, pm_.face_normals, 3, created_, added);
+      if (materials_) append_created(face_materials_, pm_.face_materials, 1, created_, added);
+      created_ += added;
+    }
+  }
+
+  // The mesh of the current level, with welded copies merged back, unused vertices dropped,
+  // and the carried faces after the others.
+  Mesh mesh() const {
+    const ProgressiveMesh& pm = pm_;
+    std::vector<uint32_t> faces = faces_, corner_uvs = corner_uvs_, corner_normals = corner_normals_;
+    std::vector<uint32_t> face_materials = face_materials_;
+    faces.insert(faces.end(), pm.carried_faces.begin(), pm.carried_faces.end());
+    const std::size_t carried = pm.carried_faces.size() / 3;
+    const std::size_t first_carried = pm.total_face_count() - carried;
+    if (uvs_) append_created(corner_uvs, pm.face_uvs, 3, first_carried, carried);
+    if (normals_) append_created(corner_normals, pm.face_normals, 3, first_carried, carried);
+    if (materials_) append_created(face_materials, pm.face_materials, 1, first_carried, carried);
+
+    // Output numbering: active vertices in id order, copies merged into their canonical
+    // vertex, loose vertices at full detail only.
+    const uint32_t active = pm.base_vertex_count + static_cast<uint32_t>(level_);
+    const uint32_t total = static_cast<uint32_t>(pm.vertex_count());
+    std::vector<uint32_t> canonical(active);
+    for (uint32_t v = 0; v < active; ++v) canonical[v] = v;
+    for (const Weld& w : pm.welds) canonical[w.copy] = w.canonical;
+    const bool full = level_ == pm.splits.size();
+    const uint32_t emitted = full ? total : active;
+    std::vector<uint32_t> output_id(emitted, kNoVertex);
+    Mesh mesh;
+    const std::size_t cc = pm.color_components;
+    mesh.color_components = pm.color_components;
+    mesh.positions.reserve(3 * vertices_at_level(pm, level_));
+    mesh.colors.reserve(cc * vertices_at_level(pm, level_));
+    for (uint32_t v = 0; v < emitted; ++v) {
+      if (v < active && canonical[v] != v) continue;
+      output_id[v] = static_cast<uint32_t>(mesh.positions.size() / 3);
+      mesh.positions.insert(mesh.positions.end(), pm.positions.begin() + 3 * v,
+                            pm.positions.begin() + 3 * v + 3);
+      mesh.colors.insert(mesh.colors.end(), pm.colors.begin() + cc * v,
+                         pm.colors.begin() + cc * (v + 1));
+    }
+    mesh.triangles.resize(faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      mesh.triangles[i] = output_id[canonical[faces[i]]];
+
+    if (uvs_) output_attribute(corner_uvs, pm.uvs, 2, full, mesh.uvs, mesh.uv_indices);
+    if (normals_)
+      output_attribute(corner_normals, pm.normals, 3, full, mesh.normals, mesh.normal_indices);
+    mesh.face_materials = std::move(face_materials);
+    mesh.material_names = pm.material_names;
+    mesh.material_libraries = pm.material_libraries;
+    return mesh;
+  }
+
+ private:
+  const ProgressiveMesh& pm_;
+  const bool uvs_, normals_, materials_;
+  std::vector<uint32_t> faces_, corner_uvs_, corner_normals_, face_materials_;
+  std::size_t level_ = 0;
+  std::size_t created_ = 0;  // faces so far, in creation order
+};
+
 }  // namespace
 
 Mesh extract_level(const ProgressiveMesh& pm, std::size_t level) {
-  level = std::min(level, pm.splits.size());
-  const std::size_t base_faces = pm.base_face_count();
-  // Corner attributes live beside the faces: the base faces' as created, then each split
-  // sets its moved corners' and appends its new faces' (Hoppe 1996, §3: wedges).
-  const bool uvs = pm.has_uvs(), normals = pm.has_normals(), materials = pm.has_materials();
-  std::vector<uint32_t> faces(pm.base_faces), corner_uvs, corner_normals, face_materials;
-  faces.reserve(3 * faces_at_level(pm, level));
-  if (uvs) append_created(corner_uvs, pm.face_uvs, 3, 0, base_faces);
-  if (normals) append_created(corner_normals, pm.face_normals, 3, 0, base_faces);
-  if (materials) append_created(face_materials, pm.face_materials, 1, 0, base_faces);
-  std::size_t created = base_faces;  // faces so far, in creation order
-  for (std::size_t i = 0; i < level; ++i) {
-    const VertexSplit& s = pm.splits[i];
-    const uint32_t v = pm.base_vertex_count + static_cast<uint32_t>(i);
-    for (uint32_t k = 0; k < s.moved_count; ++k) {
-      const std::size_t f = pm.moved_faces[s.moved_begin + k];
-      uint32_t* face = &faces[3 * f];
-      for (int c = 0; c < 3; ++c) {
-        if (face[c] != s.u) continue;
-        face[c] = v;
-        if (uvs) corner_uvs[3 * f + c] = pm.moved_uvs[s.moved_begin + k];
-        if (normals) corner_normals[3 * f + c] = pm.moved_normals[s.moved_begin + k];
-      }
-    }
-    if (s.vl != kNoVertex) faces.insert(faces.end(), {v, s.u, s.vl});
-    if (s.vr != kNoVertex) faces.insert(faces.end(), {s.u, v, s.vr});
-    const std::size_t added = s.new_face_count();
-    if (uvs) append_created(corner_uvs, pm.face_uvs, 3, created, added);
-    if (normals) append_created(corner_normals, pm.face_normals, 3, created, added);
-    if (materials) append_created(face_materials, pm.face_materials, 1, created, added);
-    created += added;
-  }
-  faces.insert(faces.end(), pm.carried_faces.begin(), pm.carried_faces.end());
-  const std::size_t carried = pm.carried_faces.size() / 3;
-  const std::size_t first_carried = pm.total_face_count() - carried;
-  if (uvs) append_created(corner_uvs, pm.face_uvs, 3, first_carried, carried);
-  if (normals) append_created(corner_normals, pm.face_normals, 3, first_carried, carried);
-  if (materials) append_created(face_materials, pm.face_materials, 1, first_carried, carried);
+  LevelWalker walker(pm);
+  walker.advance(level);
+  return walker.mesh();
+}
 
-  // Output numbering: active vertices in id order, copies merged into their canonical
-  // vertex, loose vertices at full detail only.
-  const uint32_t active = pm.base_vertex_count + static_cast<uint32_t>(level);
-  const uint32_t total = static_cast<uint32_t>(pm.vertex_count());
-  std::vector<uint32_t> canonical(active);
-  for (uint32_t v = 0; v < active; ++v) canonical[v] = v;
-  for (const Weld& w : pm.welds) canonical[w.copy] = w.canonical;
-  const bool full = level == pm.splits.size();
-  const uint32_t emitted = full ? total : active;
-  std::vector<uint32_t> output_id(emitted, kNoVertex);
-  Mesh mesh;
-  const std::size_t cc = pm.color_components;
-  mesh.color_components = pm.color_components;
-  mesh.positions.reserve(3 * vertices_at_level(pm, level));
-  mesh.colors.reserve(cc * vertices_at_level(pm, level));
-  for (uint32_t v = 0; v < emitted; ++v) {
-    if (v < active && canonical[v] != v) continue;
-    output_id[v] = static_cast<uint32_t>(mesh.positions.size() / 3);
-    mesh.positions.insert(mesh.positions.end(), pm.positions.begin() + 3 * v,
-                          pm.positions.begin() + 3 * v + 3);
-    mesh.colors.insert(mesh.colors.end(), pm.colors.begin() + cc * v,
-                       pm.colors.begin() + cc * (v + 1));
+void extract_levels(const ProgressiveMesh& pm, std::vector<std::size_t> levels,
+                    const std::function<void(std::size_t, const Mesh&)>& emit) {
+  for (std::size_t& level : levels) level = std::min(level, pm.splits.size());
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  LevelWalker walker(pm);
+  for (std::size_t level : levels) {
+    walker.advance(level);
+    emit(level, walker.mesh());
   }
-  mesh.triangles.resize(faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i) mesh.triangles[i] = output_id[canonical[faces[i]]];
-
-  if (uvs) output_attribute(corner_uvs, pm.uvs, 2, full, mesh.uvs, mesh.uv_indices);
-  if (normals)
-    output_attribute(corner_normals, pm.normals, 3, full, mesh.normals, mesh.normal_indices);
-  mesh.face_materials = std::move(face_materials);
-  mesh.material_names = pm.material_names;
-  mesh.material_libraries = pm.material_libraries;
-  return mesh;
 }
 
 }  // namespace pm

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <vector>
 
 #include "pm/mesh.h"
 #include "pm/progressive_mesh.h"
@@ -26,5 +28,10 @@ std::size_t level_for_error(const ProgressiveMesh& pm, double e);
 // The mesh at a level, with welded copies merged back and unused vertices dropped.
 // pm must be valid (see validate()); level is clamped to split_count().
 Mesh extract_level(const ProgressiveMesh& pm, std::size_t level);
+
+// Several levels in one walk over the splits (pmdec --lods): calls emit(level, mesh) for
+// each distinct level, coarse to fine, with the mesh extract_level() gives for it.
+void extract_levels(const ProgressiveMesh& pm, std::vector<std::size_t> levels,
+                    const std::function<void(std::size_t, const Mesh&)>& emit);
 
 }  // namespace pm
