@@ -1,10 +1,14 @@
-// The .pm stream: a fixed header with a CRC-32, then zstd-compressed sections
-// (BASE, SPLT, WELD, CARY, LOOS). formats/pm-format.md is normative; section numbers in
-// comments (§) refer to it.
+// The .pm stream: a fixed header with a CRC-32, then zstd-compressed sections (BASE, SPLT,
+// WELD, CARY, LOOS; since 1.1 the attribute sections COLR, UVS0, NRML, MATL).
+// formats/pm-format.md is normative; section numbers in comments (§) refer to it.
 //
-// The reader trusts nothing: every count is checked against a hard cap and against the
-// bytes actually present before anything is allocated, every zstd frame must declare the
-// size its section header declares, and the decoded record goes through validate().
+// The reader trusts nothing and validates before it allocates: every count is checked
+// against a hard cap and against the bytes actually present, every section header is
+// checked (tag, order, flags, sizes) before any section is decompressed, the memory the
+// decode will take is computed from those checked numbers and compared with
+// ReadOptions::max_memory, every zstd frame must declare the size its section header
+// declares (RFC 8878 §3.1.1.1.4, Frame_Content_Size) and cannot decode past it, and the
+// decoded record goes through validate().
 #include "pm/pm_codec.h"
 
 #include <zstd.h>
@@ -16,6 +20,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <new>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -60,6 +65,13 @@ void append_header(const Header& header, std::string& out) {
   writer.put_u32(header.split_face_count);
   writer.put_u32(header.section_count);
   writer.put_f32(header.max_error);
+  writer.put_u32(header.attributes);  // offset 56: the 1.1 fields
+  writer.put_u32(header.color_components);
+  writer.put_u32(header.uv_count);
+  writer.put_u32(header.normal_count);
+  writer.put_u32(header.material_count);
+  writer.put_u32(header.material_library_count);
+  writer.put_u32(header.material_string_bytes);
   writer.put_zeros(kHeaderCrcOffset - kHeaderReservedOffset);
   writer.put_u32(crc32(std::string_view(out).substr(start, kHeaderCrcOffset)));
 }
@@ -67,13 +79,49 @@ void append_header(const Header& header, std::string& out) {
 namespace {
 
 // The sections this reader knows, in the order a stream must hold them (§4.3).
-enum KnownSection { kBase, kSplits, kWelds, kCarried, kLoose, kKnownSectionCount };
-constexpr std::array<uint32_t, kKnownSectionCount> kKnownTags = {kTagBase, kTagSplits, kTagWelds,
-                                                                 kTagCarried, kTagLoose};
+enum KnownSection {
+  kBase,
+  kSplits,
+  kWelds,
+  kCarried,
+  kLoose,
+  kColors,  // 1.1: the attribute sections
+  kUvs,
+  kNormals,
+  kMaterials,
+  kKnownSectionCount
+};
+constexpr int kFirstAttributeSection = kColors;
+constexpr std::array<uint32_t, kKnownSectionCount> kKnownTags = {
+    kTagBase,   kTagSplits, kTagWelds,   kTagCarried,  kTagLoose,
+    kTagColors, kTagUvs,    kTagNormals, kTagMaterials};
 
-int known_section(uint32_t tag) {
+bool is_attribute_section(int section) {
+  return section >= kFirstAttributeSection;
+}
+
+// The known section with this tag in a stream of this version, or -1. In a 1.0 stream the
+// 1.1 tags are not known: there they can only be private sections (§4.1).
+int known_section(const Header& h, uint32_t tag) {
   const auto it = std::find(kKnownTags.begin(), kKnownTags.end(), tag);
-  return it == kKnownTags.end() ? -1 : static_cast<int>(it - kKnownTags.begin());
+  if (it == kKnownTags.end()) return -1;
+  const int section = static_cast<int>(it - kKnownTags.begin());
+  return is_attribute_section(section) && h.minor < kMinorWithAttributes ? -1 : section;
+}
+
+int known_section_count(const Header& h) {
+  return h.minor < kMinorWithAttributes ? kFirstAttributeSection : kKnownSectionCount;
+}
+
+// V, T and the number of corner codes of UVS0 and NRML (§1).
+uint64_t all_vertices(const Header& h) {
+  return uint64_t{h.base_vertex_count} + h.split_count + h.loose_vertex_count;
+}
+uint64_t all_faces(const Header& h) {
+  return uint64_t{h.base_face_count} + h.split_face_count + h.carried_face_count;
+}
+uint64_t corner_codes(const Header& h) {
+  return 3 * all_faces(h) + h.moved_face_count;
 }
 
 // A section is present exactly when it has entries (§4.3: empty sections are omitted).
@@ -89,12 +137,21 @@ bool section_expected(const Header& h, int section) {
       return h.carried_face_count > 0;
     case kLoose:
       return h.loose_vertex_count > 0;
+    case kColors:
+      return h.color_components > 0 && all_vertices(h) > 0;
+    case kUvs:
+      return h.uv_count > 0 || (h.attributes & kAttributeUvIds) != 0;
+    case kNormals:
+      return h.normal_count > 0 || (h.attributes & kAttributeNormalIds) != 0;
+    case kMaterials:
+      return h.material_count > 0 || h.material_library_count > 0 ||
+             (h.attributes & kAttributeMaterialIds) != 0;
   }
   return false;
 }
 
 // Smallest and largest raw (decompressed) size the header counts allow: f32 fields are 4
-// bytes, varints 1 to 5 (§4.4).
+// bytes, varints 1 to 5, or fewer where the value is bounded (§4.4).
 struct RawBounds {
   uint64_t min = 0, max = 0;
 };
@@ -113,6 +170,26 @@ RawBounds raw_bounds(const Header& h, int section) {
       return {3 * uint64_t{h.carried_face_count}, 15 * uint64_t{h.carried_face_count}};
     case kLoose:
       return {12 * uint64_t{h.loose_vertex_count}, 12 * uint64_t{h.loose_vertex_count}};
+    case kColors: {
+      const uint64_t size = 4 * uint64_t{h.color_components} * all_vertices(h);
+      return {size, size};
+    }
+    case kUvs:
+    case kNormals: {
+      const bool uvs = section == kUvs;
+      const uint64_t table = uvs ? 8 * uint64_t{h.uv_count} : 12 * uint64_t{h.normal_count};
+      const bool ids = (h.attributes & (uvs ? kAttributeUvIds : kAttributeNormalIds)) != 0;
+      const uint64_t codes = ids ? corner_codes(h) : 0;
+      return {table + codes, table + 5 * codes};
+    }
+    case kMaterials: {
+      // A length varint of 1 or 2 bytes per string (lengths <= 4096 < 2^14), the strings'
+      // bytes, and one id varint of 1 to 3 bytes per face (ids + 1 <= 2^20 < 2^21).
+      const uint64_t strings = uint64_t{h.material_count} + h.material_library_count;
+      const uint64_t ids = (h.attributes & kAttributeMaterialIds) != 0 ? all_faces(h) : 0;
+      return {strings + h.material_string_bytes + ids,
+              2 * strings + h.material_string_bytes + 3 * ids};
+    }
   }
   return {};
 }
@@ -128,16 +205,16 @@ std::string version_text(const Header& h) {
   return std::to_string(h.major) + "." + std::to_string(h.minor);
 }
 
-// A stream of a later minor version may use flag bits this reader does not know: that
-// is a feature it lacks, not damage. In a version it knows, the same bits are corruption.
+// A stream of a later minor version may use flag bits or sections this reader does not
+// know: that is a feature it lacks, not damage. In a version it knows, they are corruption.
 ErrorCode unknown_feature_code(const Header& h) {
   return h.minor > kFormatMinor ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream;
 }
 
-Status check_count(uint32_t count, const char* what) {
-  if (count <= kMaxCount) return Status::ok();
+Status check_count(uint32_t count, uint32_t limit, const char* what) {
+  if (count <= limit) return Status::ok();
   return Status(ErrorCode::kResourceLimit, "header: " + std::to_string(count) + " " + what +
-                                               " exceed the limit of " + std::to_string(kMaxCount));
+                                               " exceed the limit of " + std::to_string(limit));
 }
 
 // Counts against the bytes that follow the header: every present section needs its
@@ -146,7 +223,7 @@ Status check_plausible_size(const Header& h, std::size_t stream_size) {
   const uint64_t available = stream_size - kHeaderSize;
   uint64_t needed = 0;
   uint32_t expected_sections = 0;
-  for (int section = 0; section < kKnownSectionCount; ++section) {
+  for (int section = 0; section < known_section_count(h); ++section) {
     if (!section_expected(h, section)) continue;
     ++expected_sections;
     const uint64_t min_raw = raw_bounds(h, section).min;
@@ -163,6 +240,100 @@ Status check_plausible_size(const Header& h, std::size_t stream_size) {
     return Status(ErrorCode::kTruncatedStream, "truncated after header (the counts need at least " +
                                                    std::to_string(needed) + " bytes of sections, " +
                                                    std::to_string(available) + " left)");
+  }
+  return Status::ok();
+}
+
+// §3.3 step 5: flags, the 1.1 attribute bits and reserved bytes.
+Status check_reserved(const Header& h, std::string_view header_bytes) {
+  if (h.flags != 0) {
+    return Status(unknown_feature_code(h),
+                  h.minor > kFormatMinor
+                      ? "header: format " + version_text(h) +
+                            " uses features this reader lacks (flags " + hex32(h.flags) + ")"
+                      : "header: reserved flag bits " + hex32(h.flags) + " set");
+  }
+  // A later minor may put fields that older readers can ignore in the reserved bytes and
+  // the attribute bits (§3.2); in a version this reader knows they must be zero. In 1.0
+  // the attribute fields themselves are reserved bytes.
+  if (h.minor > kFormatMinor) return Status::ok();
+  const std::size_t first_reserved =
+      h.minor < kMinorWithAttributes ? kHeaderAttributesOffset : kHeaderReservedOffset;
+  for (std::size_t i = first_reserved; i < kHeaderCrcOffset; ++i) {
+    if (header_bytes[i] != 0) {
+      return Status(ErrorCode::kCorruptStream,
+                    "header: reserved byte " + std::to_string(i) + " is " +
+                        std::to_string(static_cast<uint8_t>(header_bytes[i])) + ", must be 0");
+    }
+  }
+  if ((h.attributes & ~kKnownAttributeBits) != 0) {
+    return Status(
+        ErrorCode::kCorruptStream,
+        "header: reserved attribute bits " + hex32(h.attributes & ~kKnownAttributeBits) + " set");
+  }
+  return Status::ok();
+}
+
+// §3.3 steps 6 and 7.
+Status check_counts(const Header& h) {
+  const std::pair<uint32_t, const char*> counts[] = {
+      {h.base_vertex_count, "base vertices"},
+      {h.base_face_count, "base faces"},
+      {h.split_count, "splits"},
+      {h.loose_vertex_count, "loose vertices"},
+      {h.weld_count, "welds"},
+      {h.carried_face_count, "carried faces"},
+      {h.moved_face_count, "moved faces"},
+      {h.split_face_count, "split faces"},
+      {h.uv_count, "texture coordinates"},
+      {h.normal_count, "normals"},
+      {h.material_string_bytes, "bytes of material strings"}};
+  for (const auto& [count, what] : counts) {
+    if (Status status = check_count(count, kMaxCount, what); !status) return status;
+  }
+  if (Status status = check_count(h.material_count, kMaxMaterials, "materials"); !status) {
+    return status;
+  }
+  if (Status status = check_count(h.material_library_count, kMaxMaterials, "material libraries");
+      !status) {
+    return status;
+  }
+  // Each split adds one face or two.
+  if (h.split_face_count < h.split_count || h.split_face_count > 2 * uint64_t{h.split_count}) {
+    return Status(ErrorCode::kCorruptStream,
+                  "header: " + std::to_string(h.split_face_count) + " split faces for " +
+                      std::to_string(h.split_count) + " splits (each adds 1 or 2)");
+  }
+  // Copies are distinct base vertices.
+  if (h.weld_count > h.base_vertex_count) {
+    return Status(ErrorCode::kCorruptStream,
+                  "header: " + std::to_string(h.weld_count) + " welds for " +
+                      std::to_string(h.base_vertex_count) + " base vertices");
+  }
+  if (h.split_count == 0 && h.moved_face_count != 0) {
+    return Status(ErrorCode::kCorruptStream,
+                  "header: " + std::to_string(h.moved_face_count) + " moved faces but no splits");
+  }
+  if (!(h.max_error >= 0.0f && h.max_error <= std::numeric_limits<float>::max())) {
+    return Status(ErrorCode::kCorruptStream,
+                  "header: max error " + std::to_string(h.max_error) + " is not finite and >= 0");
+  }
+  if (h.color_components != 0 && h.color_components != 3 && h.color_components != 4) {
+    return Status(ErrorCode::kCorruptStream, "header: " + std::to_string(h.color_components) +
+                                                 " colour components (0, 3 or 4)");
+  }
+  // An id array of a mesh without faces is empty, which is "absent" in memory.
+  if ((h.attributes & kKnownAttributeBits) != 0 && all_faces(h) == 0) {
+    return Status(ErrorCode::kCorruptStream, "header: attribute ids " +
+                                                 hex32(h.attributes & kKnownAttributeBits) +
+                                                 " declared for a mesh without faces");
+  }
+  const uint64_t strings = uint64_t{h.material_count} + h.material_library_count;
+  if (h.material_string_bytes > strings * kMaxStringBytes) {
+    return Status(ErrorCode::kCorruptStream, "header: " + std::to_string(h.material_string_bytes) +
+                                                 " bytes of " + std::to_string(strings) +
+                                                 " material strings (at most " +
+                                                 std::to_string(kMaxStringBytes) + " each)");
   }
   return Status::ok();
 }
@@ -198,6 +369,13 @@ Status parse_header(std::string_view bytes, Header& header) {
   fields.read_u32(h.split_face_count);
   fields.read_u32(h.section_count);
   fields.read_f32(h.max_error);
+  fields.read_u32(h.attributes);
+  fields.read_u32(h.color_components);
+  fields.read_u32(h.uv_count);
+  fields.read_u32(h.normal_count);
+  fields.read_u32(h.material_count);
+  fields.read_u32(h.material_library_count);
+  fields.read_u32(h.material_string_bytes);
   fields.skip(kHeaderCrcOffset - kHeaderReservedOffset);
   fields.read_u32(stored_crc);
 
@@ -209,62 +387,15 @@ Status parse_header(std::string_view bytes, Header& header) {
                                                     hex32(stored_crc) + ", computed " +
                                                     hex32(computed_crc) + ")");
   }
-
   if (h.major != kFormatMajor) {
     return Status(ErrorCode::kUnsupportedVersion, "header: format version " + version_text(h) +
                                                       " is not supported (this reader reads " +
                                                       std::to_string(kFormatMajor) + ".x)");
   }
-  if (h.flags != 0) {
-    return Status(unknown_feature_code(h),
-                  h.minor > kFormatMinor
-                      ? "header: format " + version_text(h) +
-                            " uses features this reader lacks (flags " + hex32(h.flags) + ")"
-                      : "header: reserved flag bits " + hex32(h.flags) + " set");
-  }
-  // A later minor may put fields that older readers can ignore in the reserved bytes
-  // (§3.2); in a version this reader knows they must be zero.
-  if (h.minor <= kFormatMinor) {
-    for (std::size_t i = kHeaderReservedOffset; i < kHeaderCrcOffset; ++i) {
-      if (header_bytes[i] != 0) {
-        return Status(ErrorCode::kCorruptStream,
-                      "header: reserved byte " + std::to_string(i) + " is " +
-                          std::to_string(static_cast<uint8_t>(header_bytes[i])) + ", must be 0");
-      }
-    }
-  }
-
-  const std::pair<uint32_t, const char*> counts[] = {{h.base_vertex_count, "base vertices"},
-                                                     {h.base_face_count, "base faces"},
-                                                     {h.split_count, "splits"},
-                                                     {h.loose_vertex_count, "loose vertices"},
-                                                     {h.weld_count, "welds"},
-                                                     {h.carried_face_count, "carried faces"},
-                                                     {h.moved_face_count, "moved faces"},
-                                                     {h.split_face_count, "split faces"}};
-  for (const auto& [count, what] : counts) {
-    if (Status status = check_count(count, what); !status) return status;
-  }
-  // Each split adds one face or two.
-  if (h.split_face_count < h.split_count || h.split_face_count > 2 * uint64_t{h.split_count}) {
-    return Status(ErrorCode::kCorruptStream,
-                  "header: " + std::to_string(h.split_face_count) + " split faces for " +
-                      std::to_string(h.split_count) + " splits (each adds 1 or 2)");
-  }
-  // Copies are distinct base vertices.
-  if (h.weld_count > h.base_vertex_count) {
-    return Status(ErrorCode::kCorruptStream,
-                  "header: " + std::to_string(h.weld_count) + " welds for " +
-                      std::to_string(h.base_vertex_count) + " base vertices");
-  }
-  if (h.split_count == 0 && h.moved_face_count != 0) {
-    return Status(ErrorCode::kCorruptStream,
-                  "header: " + std::to_string(h.moved_face_count) + " moved faces but no splits");
-  }
-  if (!(h.max_error >= 0.0f && h.max_error <= std::numeric_limits<float>::max())) {
-    return Status(ErrorCode::kCorruptStream,
-                  "header: max error " + std::to_string(h.max_error) + " is not finite and >= 0");
-  }
+  if (Status status = check_reserved(h, header_bytes); !status) return status;
+  // Attribute bits of a later minor are may-ignore (§3.2): this reader sees its own only.
+  h.attributes &= kKnownAttributeBits;
+  if (Status status = check_counts(h); !status) return status;
   if (Status status = check_plausible_size(h, bytes.size()); !status) return status;
   header = h;
   return Status::ok();
@@ -313,23 +444,59 @@ Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
   return Status::ok();
 }
 
+uint64_t decode_memory(const Header& h, uint64_t largest_raw_size) {
+  const uint64_t vertices = all_vertices(h), faces = all_faces(h);
+  const uint64_t split_faces = uint64_t{h.base_face_count} + h.split_face_count;
+  const uint64_t strings = uint64_t{h.material_count} + h.material_library_count;
+  const bool uv_ids = (h.attributes & kAttributeUvIds) != 0;
+  const bool normal_ids = (h.attributes & kAttributeNormalIds) != 0;
+  const bool material_ids = (h.attributes & kAttributeMaterialIds) != 0;
+  // The decoded ProgressiveMesh (§7.1, "mesh").
+  uint64_t mesh = 4 * 3 * vertices                                   // positions
+                  + 4 * 3 * uint64_t{h.base_face_count}              // base_faces
+                  + sizeof(VertexSplit) * uint64_t{h.split_count}    // splits
+                  + 4 * uint64_t{h.moved_face_count}                 // moved_faces
+                  + sizeof(Weld) * uint64_t{h.weld_count}            // welds
+                  + 4 * 3 * uint64_t{h.carried_face_count}           // carried_faces
+                  + 4 * uint64_t{h.color_components} * vertices      // colors
+                  + 4 * 2 * uint64_t{h.uv_count}                     // uvs
+                  + 4 * 3 * uint64_t{h.normal_count}                 // normals
+                  + sizeof(std::string) * strings                    // material names, libraries
+                  + uint64_t{h.material_string_bytes} + strings;     // their heap, with a NUL each
+  const uint64_t corner_ids = 4 * (3 * faces + h.moved_face_count);  // face_* and moved_*
+  mesh +=
+      (uv_ids ? corner_ids : 0) + (normal_ids ? corner_ids : 0) + (material_ids ? 4 * faces : 0);
+  // While sections are decoded: one raw buffer (the largest section's), the corner-id
+  // predictor's last id per vertex (UVS0, NRML), the zstd context.
+  const uint64_t predictor =
+      uv_ids || normal_ids ? 4 * (uint64_t{h.base_vertex_count} + h.split_count) : 0;
+  const uint64_t decoding = largest_raw_size + predictor + kZstdContextBytes;
+  // While validate() runs, after those are freed: the faces replayed with one marker each
+  // (16 bytes per base or split face) and a bit per base vertex for the welds.
+  const uint64_t validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64);
+  return mesh + std::max(decoding, validating) + kDecodeMemorySlack;
+}
+
 namespace {
 
 // ---------------------------------------------------------------------------------------
-// Section payloads (§5). Encoders and decoders in matching pairs.
+// Section payloads (§5). Encoders and decoders in matching pairs. The decoders write into
+// arrays read_pm has sized from the (checked) header counts, so nothing they do allocates
+// more than the memory bound of §7.1.
 
-void put_positions(ByteWriter& out, const std::vector<float>& positions, std::size_t first_vertex,
-                   std::size_t vertex_count) {
-  for (std::size_t i = 3 * first_vertex; i < 3 * (first_vertex + vertex_count); ++i) {
-    out.put_f32(positions[i]);
-  }
+void put_floats(ByteWriter& out, const std::vector<float>& values, std::size_t first,
+                std::size_t count) {
+  for (std::size_t i = first; i < first + count; ++i) out.put_f32(values[i]);
 }
 
-bool read_positions(ByteReader& in, std::size_t vertex_count, std::vector<float>& positions) {
-  for (std::size_t i = 0; i < 3 * vertex_count; ++i) {
+// Appends `count` floats. Positions come in three sections, into the capacity read_pm
+// reserved; the other arrays are reserved here, exactly.
+bool read_floats(ByteReader& in, std::size_t count, std::vector<float>& values) {
+  if (values.capacity() - values.size() < count) values.reserve(values.size() + count);
+  for (std::size_t i = 0; i < count; ++i) {
     float value;
     if (!in.read_f32(value)) return false;
-    positions.push_back(value);
+    values.push_back(value);
   }
   return true;
 }
@@ -350,17 +517,33 @@ uint32_t decode_optional_vertex(uint32_t code) {
   return code == 0 ? kNoVertex : code - 1;
 }
 
+// Face indices below `limit`, checked as they are read (the same rule and message as
+// validate()): the attribute sections walk the faces by vertex id (§5.10), so ids must be
+// in range before then.
+bool check_face_indices(ByteReader& in, const std::vector<uint32_t>& indices, uint32_t limit,
+                        const char* what, const char* of_what) {
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (indices[i] >= limit) {
+      return in.fail(ErrorCode::kCorruptStream,
+                     in.where() + ": " + what + " " + std::to_string(i / 3) + " uses vertex " +
+                         std::to_string(indices[i]) + " of " + std::to_string(limit) + of_what);
+    }
+  }
+  return true;
+}
+
 std::string encode_base(const ProgressiveMesh& pm) {
   std::string raw;
   ByteWriter out(raw);
-  put_positions(out, pm.positions, 0, pm.base_vertex_count);
+  put_floats(out, pm.positions, 0, 3 * std::size_t{pm.base_vertex_count});
   for (uint32_t index : pm.base_faces) out.put_varint(index);
   return raw;
 }
 
 bool decode_base(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_positions(in, h.base_vertex_count, pm.positions) &&
-         read_varints(in, 3 * std::size_t{h.base_face_count}, pm.base_faces);
+  return read_floats(in, 3 * std::size_t{h.base_vertex_count}, pm.positions) &&
+         read_varints(in, 3 * std::size_t{h.base_face_count}, pm.base_faces) &&
+         check_face_indices(in, pm.base_faces, h.base_vertex_count, "base face", "");
 }
 
 // Struct of arrays: like fields side by side compress better than interleaved records.
@@ -376,9 +559,23 @@ std::string encode_splits(const ProgressiveMesh& pm) {
   for (const VertexSplit& split : pm.splits) out.put_varint(encode_optional_vertex(split.vr));
   for (const VertexSplit& split : pm.splits) out.put_varint(split.moved_count);
   for (uint32_t face : pm.moved_faces) out.put_varint(face);
-  put_positions(out, pm.positions, base, pm.splits.size());
+  put_floats(out, pm.positions, 3 * base, 3 * pm.splits.size());
   for (const VertexSplit& split : pm.splits) out.put_f32(split.error);
   return raw;
+}
+
+// vl or vr of split i, which creates vertex v: none, or below v (validate()'s rule).
+bool read_side_vertex(ByteReader& in, std::size_t i, uint64_t v, const char* name,
+                      uint32_t& vertex) {
+  uint32_t code;
+  if (!in.read_varint(code)) return false;
+  vertex = decode_optional_vertex(code);
+  if (vertex != kNoVertex && vertex >= v) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": split " + std::to_string(i) +
+                                                  " has " + name + " " + std::to_string(vertex) +
+                                                  " of " + std::to_string(v) + " vertices");
+  }
+  return true;
 }
 
 bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
@@ -395,17 +592,17 @@ bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
     pm.splits[i].u = static_cast<uint32_t>(v - 1 - offset);
   }
   uint64_t split_faces = 0;
-  for (VertexSplit& split : pm.splits) {
-    uint32_t code;
-    if (!in.read_varint(code)) return false;
-    split.vl = decode_optional_vertex(code);
-    split_faces += split.vl != kNoVertex;
+  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
+    if (!read_side_vertex(in, i, uint64_t{h.base_vertex_count} + i, "vl", pm.splits[i].vl)) {
+      return false;
+    }
+    split_faces += pm.splits[i].vl != kNoVertex;
   }
-  for (VertexSplit& split : pm.splits) {
-    uint32_t code;
-    if (!in.read_varint(code)) return false;
-    split.vr = decode_optional_vertex(code);
-    split_faces += split.vr != kNoVertex;
+  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
+    if (!read_side_vertex(in, i, uint64_t{h.base_vertex_count} + i, "vr", pm.splits[i].vr)) {
+      return false;
+    }
+    split_faces += pm.splits[i].vr != kNoVertex;
   }
   if (split_faces != h.split_face_count) {
     return in.fail(ErrorCode::kCorruptStream,
@@ -426,7 +623,7 @@ bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
                        " faces, the header says " + std::to_string(h.moved_face_count));
   }
   if (!read_varints(in, h.moved_face_count, pm.moved_faces)) return false;
-  if (!read_positions(in, h.split_count, pm.positions)) return false;
+  if (!read_floats(in, 3 * std::size_t{h.split_count}, pm.positions)) return false;
   for (VertexSplit& split : pm.splits) {
     if (!in.read_f32(split.error)) return false;
   }
@@ -459,26 +656,257 @@ std::string encode_carried(const ProgressiveMesh& pm) {
 }
 
 bool decode_carried(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_varints(in, 3 * std::size_t{h.carried_face_count}, pm.carried_faces);
+  return read_varints(in, 3 * std::size_t{h.carried_face_count}, pm.carried_faces) &&
+         check_face_indices(in, pm.carried_faces, h.base_vertex_count, "carried face",
+                            " base vertices");
 }
 
 std::string encode_loose(const ProgressiveMesh& pm) {
   std::string raw;
   ByteWriter out(raw);
-  put_positions(out, pm.positions, pm.base_vertex_count + pm.splits.size(), pm.loose_vertex_count);
+  put_floats(out, pm.positions, 3 * (pm.base_vertex_count + pm.splits.size()),
+             3 * std::size_t{pm.loose_vertex_count});
   return raw;
 }
 
 bool decode_loose(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_positions(in, h.loose_vertex_count, pm.positions);
+  return read_floats(in, 3 * std::size_t{h.loose_vertex_count}, pm.positions);
+}
+
+// --- Attributes (1.1) ------------------------------------------------------------------
+
+std::string encode_colors(const ProgressiveMesh& pm) {
+  std::string raw;
+  ByteWriter out(raw);
+  put_floats(out, pm.colors, 0, pm.colors.size());
+  return raw;
+}
+
+bool decode_colors(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
+  return read_floats(in, std::size_t{h.color_components} * all_vertices(h), pm.colors);
+}
+
+// The corner order of §5.10: every attribute corner once, as extract_level() meets them.
+// Calls visit(vertex, slot), where slot < 3 * face count is an index into the per-face
+// array (3 * face + corner, faces in creation order) and 3 * face count + k is moved corner
+// k. Stops at the first visit that returns false. The vertex ids come from decoded (or
+// valid) geometry: base and carried face indices < B, split vertices < B + S.
+template <typename Visit>
+bool for_each_corner(const ProgressiveMesh& pm, std::size_t face_count, Visit&& visit) {
+  std::size_t slot = 0;
+  for (uint32_t vertex : pm.base_faces) {
+    if (!visit(vertex, slot++)) return false;
+  }
+  const std::size_t first_moved = 3 * face_count;
+  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
+    const VertexSplit& split = pm.splits[i];
+    const uint32_t v = pm.base_vertex_count + static_cast<uint32_t>(i);
+    for (uint32_t k = split.moved_begin; k < split.moved_begin + split.moved_count; ++k) {
+      if (!visit(v, first_moved + k)) return false;
+    }
+    if (split.vl != kNoVertex) {
+      for (uint32_t vertex : {v, split.u, split.vl}) {
+        if (!visit(vertex, slot++)) return false;
+      }
+    }
+    if (split.vr != kNoVertex) {
+      for (uint32_t vertex : {split.u, v, split.vr}) {
+        if (!visit(vertex, slot++)) return false;
+      }
+    }
+  }
+  for (uint32_t vertex : pm.carried_faces) {
+    if (!visit(vertex, slot++)) return false;
+  }
+  return true;
+}
+
+// Corner id codes (§5.10): 0 none; 1 the id this vertex's previous corner had; n >= 2 the
+// previous corner's id (in corner order) plus unzigzag(n - 2).
+struct CornerPredictor {
+  std::vector<uint32_t> last;  // per vertex with corners (B + S): its latest id, or kNoAttribute
+  int64_t previous = 0;        // the latest id of any corner
+
+  explicit CornerPredictor(std::size_t vertices) : last(vertices, kNoAttribute) {}
+
+  uint32_t encode(uint32_t vertex, uint32_t id) {
+    if (id == kNoAttribute) return 0;
+    uint32_t code = 1;
+    if (last[vertex] != id) code = static_cast<uint32_t>(zigzag(int64_t{id} - previous) + 2);
+    last[vertex] = id;
+    previous = id;
+    return code;
+  }
+};
+
+void put_corner_ids(ByteWriter& out, const ProgressiveMesh& pm,
+                    const std::vector<uint32_t>& face_ids, const std::vector<uint32_t>& moved_ids) {
+  if (face_ids.empty()) return;
+  CornerPredictor predictor(pm.base_vertex_count + pm.splits.size());
+  for_each_corner(pm, face_ids.size() / 3, [&](uint32_t vertex, std::size_t slot) {
+    const uint32_t id = slot < face_ids.size() ? face_ids[slot] : moved_ids[slot - face_ids.size()];
+    out.put_varint(predictor.encode(vertex, id));
+    return true;
+  });
+}
+
+// Reads the corner codes into face_ids (3 per face) and moved_ids (1 per moved face), each
+// id below `count`; every code must be the one the writer would have chosen.
+bool read_corner_ids(ByteReader& in, const Header& h, const ProgressiveMesh& pm, uint32_t count,
+                     std::vector<uint32_t>& face_ids, std::vector<uint32_t>& moved_ids) {
+  const std::size_t face_slots = 3 * static_cast<std::size_t>(all_faces(h));
+  face_ids.resize(face_slots);
+  moved_ids.resize(h.moved_face_count);
+  CornerPredictor predictor(std::size_t{h.base_vertex_count} + h.split_count);
+  std::size_t corner = 0;  // in corner order, for messages
+  return for_each_corner(pm, face_slots / 3, [&](uint32_t vertex, std::size_t slot) {
+    uint32_t code;
+    if (!in.read_varint(code)) return false;
+    uint32_t id = kNoAttribute;
+    if (code == 1) {
+      id = predictor.last[vertex];
+      if (id == kNoAttribute) {
+        return in.fail(ErrorCode::kCorruptStream,
+                       in.where() + ": corner " + std::to_string(corner) +
+                           " repeats the id of vertex " + std::to_string(vertex) +
+                           ", which has none yet");
+      }
+    } else if (code >= 2) {
+      const int64_t value = predictor.previous + unzigzag(code - 2);
+      if (value < 0 || value >= count) {
+        return in.fail(ErrorCode::kCorruptStream,
+                       in.where() + ": corner " + std::to_string(corner) + " has id " +
+                           std::to_string(value) + " of " + std::to_string(count));
+      }
+      id = static_cast<uint32_t>(value);
+      // One encoding per value: an id the vertex repeats must be written as code 1.
+      if (id == predictor.last[vertex]) {
+        return in.fail(ErrorCode::kCorruptStream,
+                       in.where() + ": corner " + std::to_string(corner) + " spells out id " +
+                           std::to_string(id) + ", which its vertex repeats (code 1)");
+      }
+    }
+    if (id != kNoAttribute) {
+      predictor.last[vertex] = id;
+      predictor.previous = id;
+    }
+    (slot < face_slots ? face_ids[slot] : moved_ids[slot - face_slots]) = id;
+    ++corner;
+    return true;
+  });
+}
+
+std::string encode_uvs(const ProgressiveMesh& pm) {
+  std::string raw;
+  ByteWriter out(raw);
+  put_floats(out, pm.uvs, 0, pm.uvs.size());
+  put_corner_ids(out, pm, pm.face_uvs, pm.moved_uvs);
+  return raw;
+}
+
+bool decode_uvs(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
+  if (!read_floats(in, 2 * std::size_t{h.uv_count}, pm.uvs)) return false;
+  return (h.attributes & kAttributeUvIds) == 0 ||
+         read_corner_ids(in, h, pm, h.uv_count, pm.face_uvs, pm.moved_uvs);
+}
+
+std::string encode_normals(const ProgressiveMesh& pm) {
+  std::string raw;
+  ByteWriter out(raw);
+  put_floats(out, pm.normals, 0, pm.normals.size());
+  put_corner_ids(out, pm, pm.face_normals, pm.moved_normals);
+  return raw;
+}
+
+bool decode_normals(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
+  if (!read_floats(in, 3 * std::size_t{h.normal_count}, pm.normals)) return false;
+  return (h.attributes & kAttributeNormalIds) == 0 ||
+         read_corner_ids(in, h, pm, h.normal_count, pm.face_normals, pm.moved_normals);
+}
+
+void put_string(ByteWriter& out, const std::string& text) {
+  out.put_varint(static_cast<uint32_t>(text.size()));
+  out.put_bytes(text);
+}
+
+std::string encode_materials(const ProgressiveMesh& pm) {
+  std::string raw;
+  ByteWriter out(raw);
+  for (const std::string& library : pm.material_libraries) put_string(out, library);
+  for (const std::string& name : pm.material_names) put_string(out, name);
+  for (uint32_t id : pm.face_materials) out.put_varint(id == kNoAttribute ? 0 : id + 1);
+  return raw;
+}
+
+// Why a material string cannot be stored, or empty (§5.9).
+std::string string_problem(std::string_view text) {
+  if (text.size() > kMaxStringBytes) {
+    return std::to_string(text.size()) + " bytes (at most " + std::to_string(kMaxStringBytes) + ")";
+  }
+  if (!is_utf8(text)) return "not UTF-8";
+  if (text.find('\0') != std::string_view::npos) return "a NUL character";
+  return "";
+}
+
+// `count` strings; `budget` is what is left of the header's string bytes.
+bool read_strings(ByteReader& in, uint32_t count, const char* what, uint64_t& budget,
+                  std::vector<std::string>& strings) {
+  strings.reserve(count);
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t length;
+    std::string_view text;
+    if (!in.read_varint(length)) return false;
+    if (length > budget) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": " + what + " " + std::to_string(i) +
+                                                    " has " + std::to_string(length) +
+                                                    " bytes, more than the header's string bytes");
+    }
+    if (!in.read_bytes(length, text)) return false;
+    if (const std::string problem = string_problem(text); !problem.empty()) {
+      return in.fail(ErrorCode::kCorruptStream,
+                     in.where() + ": " + what + " " + std::to_string(i) + ": " + problem);
+    }
+    budget -= length;
+    strings.emplace_back(text);
+  }
+  return true;
+}
+
+bool decode_materials(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
+  uint64_t budget = h.material_string_bytes;
+  if (!read_strings(in, h.material_library_count, "material library", budget,
+                    pm.material_libraries) ||
+      !read_strings(in, h.material_count, "material name", budget, pm.material_names)) {
+    return false;
+  }
+  if (budget != 0) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": the strings hold " +
+                                                  std::to_string(h.material_string_bytes - budget) +
+                                                  " bytes, the header says " +
+                                                  std::to_string(h.material_string_bytes));
+  }
+  if ((h.attributes & kAttributeMaterialIds) == 0) return true;
+  if (!read_varints(in, static_cast<std::size_t>(all_faces(h)), pm.face_materials)) return false;
+  for (std::size_t f = 0; f < pm.face_materials.size(); ++f) {
+    uint32_t& id = pm.face_materials[f];
+    if (id > h.material_count) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": face " + std::to_string(f) +
+                                                    " has material " + std::to_string(id - 1) +
+                                                    " of " + std::to_string(h.material_count));
+    }
+    id = id == 0 ? kNoAttribute : id - 1;
+  }
+  return true;
 }
 
 using SectionEncoder = std::string (*)(const ProgressiveMesh&);
 using SectionDecoder = bool (*)(ByteReader&, const Header&, ProgressiveMesh&);
 constexpr std::array<SectionEncoder, kKnownSectionCount> kEncoders = {
-    encode_base, encode_splits, encode_welds, encode_carried, encode_loose};
+    encode_base,   encode_splits, encode_welds,   encode_carried,  encode_loose,
+    encode_colors, encode_uvs,    encode_normals, encode_materials};
 constexpr std::array<SectionDecoder, kKnownSectionCount> kDecoders = {
-    decode_base, decode_splits, decode_welds, decode_carried, decode_loose};
+    decode_base,   decode_splits, decode_welds,   decode_carried,  decode_loose,
+    decode_colors, decode_uvs,    decode_normals, decode_materials};
 
 // ---------------------------------------------------------------------------------------
 
@@ -495,10 +923,67 @@ Header header_for(const ProgressiveMesh& pm) {
   h.moved_face_count = static_cast<uint32_t>(pm.moved_faces.size());
   for (const VertexSplit& split : pm.splits) h.split_face_count += split.new_face_count();
   h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
+  h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) |
+                 (pm.has_normals() ? kAttributeNormalIds : 0) |
+                 (pm.has_materials() ? kAttributeMaterialIds : 0);
+  h.color_components = pm.color_components;
+  h.uv_count = static_cast<uint32_t>(pm.uv_count());
+  h.normal_count = static_cast<uint32_t>(pm.normal_count());
+  h.material_count = static_cast<uint32_t>(pm.material_names.size());
+  h.material_library_count = static_cast<uint32_t>(pm.material_libraries.size());
+  for (const auto* strings : {&pm.material_names, &pm.material_libraries}) {
+    for (const std::string& text : *strings) {
+      h.material_string_bytes += static_cast<uint32_t>(text.size());
+    }
+  }
   for (int section = 0; section < kKnownSectionCount; ++section) {
     h.section_count += section_expected(h, section);
   }
   return h;
+}
+
+// What write_pm refuses beyond validate(): the reader's limits (§7), checked before the
+// counts are narrowed to u32, and strings the format cannot hold.
+Status check_writable(const ProgressiveMesh& pm) {
+  std::size_t split_face_count = 0;
+  for (const VertexSplit& split : pm.splits) split_face_count += split.new_face_count();
+  std::size_t string_bytes = 0;
+  for (const auto* strings : {&pm.material_names, &pm.material_libraries}) {
+    for (std::size_t i = 0; i < strings->size(); ++i) {
+      const std::string problem = string_problem((*strings)[i]);
+      if (!problem.empty()) {
+        // Too long is a limit (like a count); not UTF-8 or a NUL is a bad argument.
+        const bool too_long = (*strings)[i].size() > kMaxStringBytes;
+        return Status(
+            too_long ? ErrorCode::kResourceLimit : ErrorCode::kInvalidArgument,
+            std::string(strings == &pm.material_names ? "material name " : "material library ") +
+                std::to_string(i) + ": " + problem);
+      }
+      string_bytes += (*strings)[i].size();
+    }
+  }
+  const std::pair<std::size_t, std::size_t> counts[] = {
+      {pm.base_vertex_count, kMaxCount},
+      {pm.base_face_count(), kMaxCount},
+      {pm.split_count(), kMaxCount},
+      {pm.loose_vertex_count, kMaxCount},
+      {pm.welds.size(), kMaxCount},
+      {pm.carried_faces.size() / 3, kMaxCount},
+      {pm.moved_faces.size(), kMaxCount},
+      {split_face_count, kMaxCount},
+      {pm.uv_count(), kMaxCount},
+      {pm.normal_count(), kMaxCount},
+      {string_bytes, kMaxCount},
+      {pm.material_names.size(), kMaxMaterials},
+      {pm.material_libraries.size(), kMaxMaterials}};
+  for (const auto& [count, limit] : counts) {
+    if (count > limit) {
+      return Status(ErrorCode::kResourceLimit, "a count of " + std::to_string(count) +
+                                                   " exceeds the .pm limit of " +
+                                                   std::to_string(limit));
+    }
+  }
+  return Status::ok();
 }
 
 // One zstd frame, exactly `frame.size()` bytes, with a content checksum and a content
@@ -529,6 +1014,8 @@ Status decompress_frame(const std::string& where, std::string_view frame, uint64
         ErrorCode::kCorruptStream,
         where + ": " + std::to_string(frame.size() - frame_size) + " bytes follow the zstd frame");
   }
+  // RFC 8878 §3.1.1.1.4: Frame_Content_Size, which must be present and agree with the
+  // section header, so that the buffer below is exactly what the frame decodes to.
   const unsigned long long content_size = ZSTD_getFrameContentSize(frame.data(), frame.size());
   if (content_size == ZSTD_CONTENTSIZE_UNKNOWN || content_size == ZSTD_CONTENTSIZE_ERROR) {
     return Status(ErrorCode::kCorruptStream, where + ": zstd frame does not state its size");
@@ -538,7 +1025,10 @@ Status decompress_frame(const std::string& where, std::string_view frame, uint64
                   where + ": zstd frame holds " + std::to_string(content_size) +
                       " bytes, the section declares " + std::to_string(raw_size));
   }
+  // The buffer keeps its capacity from section to section: read_pm reserved the largest.
   raw.resize(static_cast<std::size_t>(raw_size));
+  // A single-pass decode into a buffer of raw_size bytes: zstd stops with an error rather
+  // than write past it (dstSize_tooSmall), so no frame decodes beyond its declared size.
   const size_t result =
       ZSTD_decompressDCtx(dctx, raw.data(), raw.size(), frame.data(), frame.size());
   if (ZSTD_isError(result)) {
@@ -559,71 +1049,26 @@ bool is_tag_character(uint8_t c) {
   return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
 }
 
-}  // namespace
-}  // namespace detail
+// A known section found by scan_sections(): where its frame is and what it declares.
+struct SectionRef {
+  int section = -1;
+  uint64_t raw_size = 0;
+  std::string_view frame;
+};
+using SectionList = std::array<SectionRef, kKnownSectionCount>;
 
-using namespace detail;  // NOLINT: the layout helpers are this file's vocabulary
-
-Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
-  std::string message;
-  if (!validate(pm, &message)) {
-    return Status(ErrorCode::kInvalidArgument,
-                  "cannot write an invalid progressive mesh: " + message);
-  }
-  // The reader's limits (§7), checked before the counts are narrowed to u32.
-  std::size_t split_face_count = 0;
-  for (const VertexSplit& split : pm.splits) split_face_count += split.new_face_count();
-  const std::size_t counts[] = {pm.base_vertex_count,  pm.base_face_count(),
-                                pm.split_count(),      pm.loose_vertex_count,
-                                pm.welds.size(),       pm.carried_faces.size() / 3,
-                                pm.moved_faces.size(), split_face_count};
-  for (std::size_t count : counts) {
-    if (count > kMaxCount) {
-      return Status(ErrorCode::kResourceLimit, "a count of " + std::to_string(count) +
-                                                   " exceeds the .pm limit of " +
-                                                   std::to_string(kMaxCount));
-    }
-  }
-  if (options.zstd_level < 1 || options.zstd_level > ZSTD_maxCLevel()) {
-    return Status(ErrorCode::kInvalidArgument, "zstd level " + std::to_string(options.zstd_level) +
-                                                   " is outside 1.." +
-                                                   std::to_string(ZSTD_maxCLevel()));
-  }
-  const Header header = header_for(pm);
-  std::string out;
-  append_header(header, out);
-  for (int section = 0; section < kKnownSectionCount; ++section) {
-    if (!section_expected(header, section)) continue;
-    const std::string raw = kEncoders[section](pm);
-    if (Status status = append_section(kKnownTags[section], kSectionRequired, raw, raw.size(),
-                                       options.zstd_level, out);
-        !status) {
-      return status;
-    }
-  }
-  bytes = std::move(out);
-  return Status::ok();
-}
-
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
-  return read_pm(bytes, pm, ReadOptions{});
-}
-
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
-  (void)options;  // TODO(issue 9): bound the allocation by options.max_memory
-  Header h;
-  if (Status status = parse_header(bytes, h); !status) return status;
-
-  DecompressContext dctx(ZSTD_createDCtx());
-  if (!dctx) return Status(ErrorCode::kInternal, "zstd: cannot create a decompression context");
-
-  ProgressiveMesh out;
-  out.base_vertex_count = h.base_vertex_count;
-  out.loose_vertex_count = h.loose_vertex_count;
+// §4: every section header, checked before any payload is decompressed or any buffer is
+// allocated: tags, order, presence, flags, stored sizes against the stream, raw sizes
+// against the counts (§4.4) and against zstd's largest expansion (§4.2). Fills `list`
+// with the known sections in order (`found` of them) and `largest_raw` with the largest
+// raw size among them.
+Status scan_sections(std::string_view bytes, const Header& h, SectionList& list, int& found,
+                     uint64_t& largest_raw) {
   ByteReader file(bytes, "header", ErrorCode::kTruncatedStream);
   file.skip(kHeaderSize);
+  found = 0;
+  largest_raw = 0;
   int next_known = 0;  // known sections must come in order, each at most once
-  std::string raw;
   for (uint32_t s = 0; s < h.section_count; ++s) {
     // The 24 bytes as one unit, so a cut reports the section header it falls in.
     file.set_where("section " + std::to_string(s) + " header");
@@ -646,11 +1091,12 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
     const std::string where = "section " + tag_name(tag);
     file.set_where(where);
     std::string_view frame;
-    const int section = known_section(tag);
+    const int section = known_section(h, tag);
     if (section < 0) {
-      // §4.1: an unknown section may be skipped only when it is not required.
+      // §4.1: an unknown section may be skipped only when it is not required; a required
+      // one is a feature of a later version, or damage in a version this reader knows.
       if (flags & kSectionRequired) {
-        return Status(ErrorCode::kUnsupportedVersion, where + ": unknown section marked required");
+        return Status(unknown_feature_code(h), where + ": unknown section marked required");
       }
       if (!file.read_bytes(stored_size, frame)) return file.status();
       continue;
@@ -665,8 +1111,14 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
       }
     }
     next_known = section + 1;
-    if ((flags & kSectionRequired) == 0) {
-      return Status(ErrorCode::kCorruptStream, where + ": required flag is clear");
+    // Geometry is essential (required); attributes are optional, so that a 1.0 reader
+    // skips them and still decodes the mesh (§4.1).
+    const uint32_t expected_required = is_attribute_section(section) ? 0 : kSectionRequired;
+    if ((flags & kSectionRequired) != expected_required) {
+      return Status(ErrorCode::kCorruptStream,
+                    where + (expected_required ? ": required flag is clear"
+                                               : ": required flag is set (attributes are "
+                                                 "optional sections)"));
     }
     if ((flags & ~kSectionRequired) != 0) {
       return Status(unknown_feature_code(h),
@@ -677,8 +1129,8 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
                     where + ": present, but the header counts no entries");
     }
     if (!file.read_bytes(stored_size, frame)) return file.status();
-    // Sizes are checked before the raw buffer is allocated: the counts bound it, and so
-    // does zstd's largest possible expansion of the bytes actually present.
+    // The counts bound the raw size, and so does zstd's largest possible expansion of the
+    // bytes actually present.
     const RawBounds bounds = raw_bounds(h, section);
     if (raw_size < bounds.min || raw_size > bounds.max) {
       return Status(ErrorCode::kCorruptStream,
@@ -692,17 +1144,10 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
                                                    " is impossible for " +
                                                    std::to_string(stored_size) + " stored bytes");
     }
-    if (Status status = decompress_frame(where, frame, raw_size, dctx.get(), raw); !status) {
-      return status;
-    }
-    ByteReader payload(raw, where, ErrorCode::kCorruptStream);
-    if (!kDecoders[section](payload, h, out)) return payload.status();
-    if (!payload.at_end()) {
-      return Status(ErrorCode::kCorruptStream, where + ": " + std::to_string(payload.remaining()) +
-                                                   " bytes left after the last entry");
-    }
+    list[found++] = SectionRef{section, raw_size, frame};
+    largest_raw = std::max(largest_raw, raw_size);
   }
-  for (int skipped = next_known; skipped < kKnownSectionCount; ++skipped) {
+  for (int skipped = next_known; skipped < known_section_count(h); ++skipped) {
     if (section_expected(h, skipped)) {
       return Status(ErrorCode::kCorruptStream,
                     "section " + tag_name(kKnownTags[skipped]) + " missing");
@@ -712,7 +1157,51 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
     return Status(ErrorCode::kCorruptStream,
                   std::to_string(file.remaining()) + " trailing bytes after the last section");
   }
-  // The header repeats the first split's error so that --info needs no decompression.
+  return Status::ok();
+}
+
+std::string byte_count_text(uint64_t bytes) {
+  std::string text = std::to_string(bytes) + " bytes";
+  if (bytes >= (uint64_t{1} << 20)) {
+    text += " (" + std::to_string((bytes + (uint64_t{1} << 19)) >> 20) + " MiB)";
+  }
+  return text;
+}
+
+// read_pm's steps 3 and 4, once the header and section headers are checked.
+Status decode_sections(const Header& h, const SectionList& sections, int section_count,
+                       uint64_t largest_raw, ProgressiveMesh& pm) {
+  // 3. The arrays that are filled piecewise, at their final sizes (the others are sized
+  // once by their decoder); then each section.
+  ProgressiveMesh out;
+  out.base_vertex_count = h.base_vertex_count;
+  out.loose_vertex_count = h.loose_vertex_count;
+  out.color_components = h.color_components;
+  out.positions.reserve(3 * static_cast<std::size_t>(all_vertices(h)));
+  std::string raw;
+  raw.reserve(static_cast<std::size_t>(largest_raw));
+  {
+    DecompressContext dctx(ZSTD_createDCtx());
+    if (!dctx) return Status(ErrorCode::kInternal, "zstd: cannot create a decompression context");
+    for (int i = 0; i < section_count; ++i) {
+      const SectionRef& ref = sections[i];
+      const std::string where = "section " + tag_name(kKnownTags[ref.section]);
+      if (Status status = decompress_frame(where, ref.frame, ref.raw_size, dctx.get(), raw);
+          !status) {
+        return status;
+      }
+      ByteReader payload(raw, where, ErrorCode::kCorruptStream);
+      if (!kDecoders[ref.section](payload, h, out)) return payload.status();
+      if (!payload.at_end()) {
+        return Status(ErrorCode::kCorruptStream, where + ": " +
+                                                     std::to_string(payload.remaining()) +
+                                                     " bytes left after the last entry");
+      }
+    }
+  }
+  std::string().swap(raw);  // freed before validate() allocates (§7.1)
+
+  // 4. The header repeats the first split's error so that --info needs no decompression.
   const float expected_max_error = out.splits.empty() ? 0.0f : out.splits[0].error;
   if (std::memcmp(&expected_max_error, &h.max_error, sizeof(float)) != 0) {
     return Status(ErrorCode::kCorruptStream, "header: max error " + std::to_string(h.max_error) +
@@ -723,6 +1212,73 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
   if (!validate(out, &message)) return Status(ErrorCode::kCorruptStream, message);
   pm = std::move(out);
   return Status::ok();
+}
+
+}  // namespace
+}  // namespace detail
+
+using namespace detail;  // NOLINT: the layout helpers are this file's vocabulary
+
+Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
+  std::string message;
+  if (!validate(pm, &message)) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "cannot write an invalid progressive mesh: " + message);
+  }
+  if (Status status = check_writable(pm); !status) return status;
+  if (options.zstd_level < 1 || options.zstd_level > ZSTD_maxCLevel()) {
+    return Status(ErrorCode::kInvalidArgument, "zstd level " + std::to_string(options.zstd_level) +
+                                                   " is outside 1.." +
+                                                   std::to_string(ZSTD_maxCLevel()));
+  }
+  const Header header = header_for(pm);
+  std::string out;
+  append_header(header, out);
+  for (int section = 0; section < kKnownSectionCount; ++section) {
+    if (!section_expected(header, section)) continue;
+    const std::string raw = kEncoders[section](pm);
+    const uint32_t flags = is_attribute_section(section) ? 0 : kSectionRequired;
+    if (Status status =
+            append_section(kKnownTags[section], flags, raw, raw.size(), options.zstd_level, out);
+        !status) {
+      return status;
+    }
+  }
+  bytes = std::move(out);
+  return Status::ok();
+}
+
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
+  return read_pm(bytes, pm, ReadOptions{});
+}
+
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
+  // 1. The header (§3.3) and every section header (§4), before anything is allocated.
+  Header h;
+  if (Status status = parse_header(bytes, h); !status) return status;
+  SectionList sections;
+  int section_count = 0;
+  uint64_t largest_raw = 0;
+  if (Status status = scan_sections(bytes, h, sections, section_count, largest_raw); !status) {
+    return status;
+  }
+
+  // 2. What the decode will take (§7.1), against the caller's bound.
+  const uint64_t needed = decode_memory(h, largest_raw);
+  if (options.max_memory != 0 && needed > options.max_memory) {
+    return Status(ErrorCode::kResourceLimit, "decoding needs " + byte_count_text(needed) +
+                                                 " of memory, the limit is " +
+                                                 byte_count_text(options.max_memory));
+  }
+
+  // Without a bound, a valid stream may still need more than the machine has (zstd
+  // expands up to 32768 times): that is a resource limit too, not a crash.
+  try {
+    return decode_sections(h, sections, section_count, largest_raw, pm);
+  } catch (const std::bad_alloc&) {
+    return Status(ErrorCode::kResourceLimit,
+                  "out of memory (decoding needs " + byte_count_text(needed) + ")");
+  }
 }
 
 Status read_pm_info(std::string_view bytes, PmInfo& info) {
@@ -746,6 +1302,14 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
       uint64_t{h.base_vertex_count} + h.split_count + h.loose_vertex_count - h.weld_count;
   result.full_face_count = uint64_t{h.base_face_count} + h.split_face_count + h.carried_face_count;
   result.max_error = h.max_error;
+  result.color_components = h.color_components;
+  result.uv_count = h.uv_count;
+  result.normal_count = h.normal_count;
+  result.material_count = h.material_count;
+  result.material_library_count = h.material_library_count;
+  result.has_uvs = (h.attributes & kAttributeUvIds) != 0;
+  result.has_normals = (h.attributes & kAttributeNormalIds) != 0;
+  result.has_materials = (h.attributes & kAttributeMaterialIds) != 0;
   info = result;
   return Status::ok();
 }

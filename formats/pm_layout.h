@@ -17,13 +17,22 @@ namespace pm::detail {
 inline constexpr char kMagic[8] = {'\x89', 'P', 'M', 'E', 'S', 'H', '\r', '\n'};
 
 inline constexpr std::size_t kHeaderSize = 96;
-inline constexpr std::size_t kHeaderReservedOffset = 56;  // bytes 56..91 are reserved
+// Bytes 56..91 were reserved in 1.0; 1.1 defines the attribute fields at 56..83 (§3.1).
+inline constexpr std::size_t kHeaderAttributesOffset = 56;
+inline constexpr std::size_t kHeaderReservedOffset = 84;  // bytes 84..91 are reserved in 1.1
 inline constexpr std::size_t kHeaderCrcOffset = 92;       // CRC-32 of bytes 0..91
 inline constexpr std::size_t kSectionHeaderSize = 24;     // tag, flags, stored, raw
+
+// The first minor version with the attribute fields and sections (COLR, UVS0, NRML, MATL).
+inline constexpr uint16_t kMinorWithAttributes = 1;
 
 // No count in a header may exceed this (vertex ids, face ids and their sums stay well
 // inside uint32, and a reader's worst-case allocation stays bounded).
 inline constexpr uint32_t kMaxCount = uint32_t{1} << 30;
+// Material names and material libraries: at most this many of each, each string at most
+// kMaxStringBytes bytes of UTF-8 (a path fits: PATH_MAX is 4096 on Linux).
+inline constexpr uint32_t kMaxMaterials = uint32_t{1} << 20;
+inline constexpr uint32_t kMaxStringBytes = 4096;
 // zstd cannot expand input by more than this: its densest block is an RLE block, 4 bytes
 // (3 of header, 1 of content) for at most 128 KiB of output.
 inline constexpr uint64_t kMaxZstdRatio = 32768;
@@ -32,6 +41,13 @@ inline constexpr uint64_t kMaxZstdRatio = 32768;
 inline constexpr uint64_t kMinZstdFrameSize = 13;
 
 inline constexpr uint32_t kSectionRequired = 1u;  // section flags bit 0
+
+// Header field `attributes` (offset 56): which per-corner and per-face id arrays the stream
+// holds. The value tables, colours and strings are announced by their counts instead.
+inline constexpr uint32_t kAttributeUvIds = 1u;        // face_uvs and moved_uvs
+inline constexpr uint32_t kAttributeNormalIds = 2u;    // face_normals and moved_normals
+inline constexpr uint32_t kAttributeMaterialIds = 4u;  // face_materials
+inline constexpr uint32_t kKnownAttributeBits = 7u;
 
 constexpr uint32_t make_tag(const char (&name)[5]) {
   return uint32_t{static_cast<uint8_t>(name[0])} | uint32_t{static_cast<uint8_t>(name[1])} << 8 |
@@ -43,6 +59,10 @@ inline constexpr uint32_t kTagSplits = make_tag("SPLT");
 inline constexpr uint32_t kTagWelds = make_tag("WELD");
 inline constexpr uint32_t kTagCarried = make_tag("CARY");
 inline constexpr uint32_t kTagLoose = make_tag("LOOS");
+inline constexpr uint32_t kTagColors = make_tag("COLR");     // 1.1
+inline constexpr uint32_t kTagUvs = make_tag("UVS0");        // 1.1
+inline constexpr uint32_t kTagNormals = make_tag("NRML");    // 1.1
+inline constexpr uint32_t kTagMaterials = make_tag("MATL");  // 1.1
 
 // "BASE"; bytes outside [0-9A-Za-z] are shown as \xNN.
 std::string tag_name(uint32_t tag);
@@ -57,14 +77,32 @@ struct Header {
   uint32_t split_face_count = 0;  // faces the splits add (1 or 2 each)
   uint32_t section_count = 0;
   float max_error = 0.0f;
+  // 1.1 (zero in a 1.0 stream, where these bytes are reserved).
+  uint32_t attributes = 0;        // kAttribute* bits
+  uint32_t color_components = 0;  // 0, 3 or 4
+  uint32_t uv_count = 0, normal_count = 0;
+  uint32_t material_count = 0, material_library_count = 0;
+  uint32_t material_string_bytes = 0;  // UTF-8 bytes of all names and libraries together
 };
 
-// Writes the 96 header bytes, reserved bytes zero, CRC filled in.
+// Writes the 96 header bytes, reserved bytes zero, CRC filled in. The 1.1 fields are
+// written whatever header.minor says (tests write 1.0 headers with them zero).
 void append_header(const Header& header, std::string& out);
 
-// Checks magic, CRC, version, flags, reserved bytes and count limits, in that order.
-// `bytes` is the whole stream (at least the header is needed). Does not look at sections.
+// Checks magic, CRC, version, flags, reserved bytes, count limits, consistency and the
+// counts against the stream's length, in that order (§3.3). `bytes` is the whole stream
+// (at least the header is needed). Does not look at sections.
 Status parse_header(std::string_view bytes, Header& header);
+
+// An upper bound on the bytes read_pm allocates for a stream with this (checked) header
+// whose largest section has `largest_raw_size` raw bytes: the decoded ProgressiveMesh plus
+// the larger of the decoding and validating transients, plus kDecodeMemorySlack (§7.1).
+inline constexpr uint64_t kDecodeMemorySlack = 4096;  // messages and small state
+// A bound on zstd's decompression context (ZSTD_sizeof_DCtx: 95 992 bytes with zstd 1.5.4;
+// a single-pass decode into a flat buffer allocates no window). ZSTD_estimateDCtxSize()
+// would say it exactly but is not in zstd's stable API; tests check the bound.
+inline constexpr uint64_t kZstdContextBytes = 256 * 1024;
+uint64_t decode_memory(const Header& header, uint64_t largest_raw_size);
 
 // Appends one section: its 24-byte header, then `raw` as one zstd frame (content size
 // and content checksum on). `declared_raw_size` is what goes in the raw-size field; the

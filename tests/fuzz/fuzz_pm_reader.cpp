@@ -1,5 +1,6 @@
 // libFuzzer target: the .pm reader (read_pm, read_pm_info) and, on every stream it accepts,
-// the level-of-detail API and a write/read round trip (see fuzz_common.h).
+// the level-of-detail API and a write/read round trip (see fuzz_common.h), attributes
+// (format 1.1) included.
 //
 // A .pm stream is sealed twice over: a CRC-32 on the header and a zstd content checksum on
 // each section. Blind mutations almost never get past them, so the section decoders and
@@ -89,8 +90,9 @@ bool decompress(std::string_view frame, std::size_t max_size, std::string& raw) 
 
 // One header count, flag or version field changed to a value likely to matter.
 void mutate_header_field(std::string& bytes, std::minstd_rand& rng) {
-  static constexpr std::size_t kFields[] = {8,  12, 16, 20, 24, 28,
-                                            32, 36, 40, 44, 48, 52};  // u16 major+minor at 8
+  // u16 major+minor at 8; the 1.1 attribute fields at 56..80; reserved bytes at 84 and 88.
+  static constexpr std::size_t kFields[] = {8,  12, 16, 20, 24, 28, 32, 36, 40, 44, 48,
+                                            52, 56, 60, 64, 68, 72, 76, 80, 84, 88};
   const std::size_t offset = kFields[rng() % std::size(kFields)];
   const uint32_t old = get_u32(bytes, offset);
   const uint32_t candidates[] = {old + 1,
@@ -159,6 +161,46 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
   return pm::fuzz::mutate(data, size, max_size, seed);
 }
 
+namespace pm::fuzz {
+namespace {
+
+// fuzz_common.h's identical() compares the geometry; these are the 1.1 fields.
+bool same_attributes(const ProgressiveMesh& a, const ProgressiveMesh& b) {
+  return a.color_components == b.color_components && same_floats(a.colors, b.colors) &&
+         same_floats(a.uvs, b.uvs) && same_floats(a.normals, b.normals) &&
+         a.material_names == b.material_names && a.material_libraries == b.material_libraries &&
+         a.face_uvs == b.face_uvs && a.face_normals == b.face_normals &&
+         a.face_materials == b.face_materials && a.moved_uvs == b.moved_uvs &&
+         a.moved_normals == b.moved_normals;
+}
+
+// The attributes of what read_pm accepted survive a write/read round trip, and an extracted
+// level has them at the right sizes.
+void check_attributes(const ProgressiveMesh& pm) {
+  std::string bytes;
+  if (Status written = write_pm(pm, WriteOptions{1}, bytes); !written) {
+    fail("write_pm of a valid progressive mesh: " + written.message());
+  }
+  ProgressiveMesh decoded;
+  if (Status read = read_pm(bytes, decoded); !read)
+    fail("read_pm of write_pm's output: " + read.message());
+  check(identical(pm, decoded) && same_attributes(pm, decoded),
+        "read_pm(write_pm(pm)) differs from pm in its attributes");
+  const Mesh mesh = extract_level(pm, pm.split_count() / 2);
+  check(validate_attributes(mesh, nullptr), "extract_level: invalid attributes");
+  check(mesh.colors.size() == std::size_t{pm.color_components} * mesh.vertex_count(),
+        "extract_level: colour count");
+  check(mesh.uv_indices.size() == (pm.has_uvs() ? mesh.triangles.size() : 0),
+        "extract_level: uv index count");
+  check(mesh.normal_indices.size() == (pm.has_normals() ? mesh.triangles.size() : 0),
+        "extract_level: normal index count");
+  check(mesh.face_materials.size() == (pm.has_materials() ? mesh.face_count() : 0),
+        "extract_level: material count");
+}
+
+}  // namespace
+}  // namespace pm::fuzz
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace pm;
   using namespace pm::fuzz;
@@ -166,7 +208,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   PmInfo info;
   const Status info_status = read_pm_info(bytes, info);
   ProgressiveMesh progressive;
-  const Status status = read_pm(bytes, progressive);
+  // Bounded well below libFuzzer's -rss_limit_mb / -malloc_limit_mb (2048 in .ci/fuzz):
+  // zstd expands up to 32768 times, so a small stream may honestly need gigabytes, and
+  // the reader must refuse it (kResourceLimit) before allocating.
+  ReadOptions options;
+  options.max_memory = uint64_t{1} << 30;
+  const Status status = read_pm(bytes, progressive, options);
   if (!info_status) {
     check_error(info_status, "read_pm_info");
     // read_pm reads the header the same way, so it fails the same way.
@@ -186,9 +233,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             info.carried_face_count == pm.carried_faces.size() / 3 &&
             info.moved_face_count == pm.moved_faces.size(),
         "read_pm_info's counts differ from read_pm's");
+  check(info.color_components == pm.color_components && info.uv_count == pm.uv_count() &&
+            info.normal_count == pm.normal_count() &&
+            info.material_count == pm.material_names.size() &&
+            info.material_library_count == pm.material_libraries.size() &&
+            info.has_uvs == pm.has_uvs() && info.has_normals == pm.has_normals() &&
+            info.has_materials == pm.has_materials(),
+        "read_pm_info's attributes differ from read_pm's");
   check(info.full_face_count == faces_at_level(pm, full), "read_pm_info: full face count");
   check(info.full_vertex_count == vertices_at_level(pm, full), "read_pm_info: full vertex count");
   check_levels(pm);
   check_pm_round_trip(pm);
+  check_attributes(pm);
   return 0;
 }
