@@ -843,7 +843,6 @@ std::string string_problem(std::string_view text) {
   if (text.size() > kMaxStringBytes) {
     return std::to_string(text.size()) + " bytes (at most " + std::to_string(kMaxStringBytes) + ")";
   }
-  if (!is_utf8(text)) return "not UTF-8";
   if (text.find('\0') != std::string_view::npos) return "a NUL character";
   return "";
 }
@@ -947,21 +946,10 @@ Header header_for(const ProgressiveMesh& pm) {
 Status check_writable(const ProgressiveMesh& pm) {
   std::size_t split_face_count = 0;
   for (const VertexSplit& split : pm.splits) split_face_count += split.new_face_count();
+  if (Status s = check_material_strings(pm.material_names, pm.material_libraries); !s) return s;
   std::size_t string_bytes = 0;
-  for (const auto* strings : {&pm.material_names, &pm.material_libraries}) {
-    for (std::size_t i = 0; i < strings->size(); ++i) {
-      const std::string problem = string_problem((*strings)[i]);
-      if (!problem.empty()) {
-        // Too long is a limit (like a count); not UTF-8 or a NUL is a bad argument.
-        const bool too_long = (*strings)[i].size() > kMaxStringBytes;
-        return Status(
-            too_long ? ErrorCode::kResourceLimit : ErrorCode::kInvalidArgument,
-            std::string(strings == &pm.material_names ? "material name " : "material library ") +
-                std::to_string(i) + ": " + problem);
-      }
-      string_bytes += (*strings)[i].size();
-    }
-  }
+  for (const auto* strings : {&pm.material_names, &pm.material_libraries})
+    for (const std::string& text : *strings) string_bytes += text.size();
   const std::pair<std::size_t, std::size_t> counts[] = {
       {pm.base_vertex_count, kMaxCount},
       {pm.base_face_count(), kMaxCount},
@@ -1218,6 +1206,27 @@ Status decode_sections(const Header& h, const SectionList& sections, int section
 }  // namespace detail
 
 using namespace detail;  // NOLINT: the layout helpers are this file's vocabulary
+
+Status check_material_strings(const std::vector<std::string>& names,
+                              const std::vector<std::string>& libraries) {
+  for (const auto* strings : {&names, &libraries}) {
+    const char* what = strings == &names ? "material name " : "material library ";
+    if (strings->size() > kMaxMaterials) {
+      return Status(ErrorCode::kResourceLimit, std::to_string(strings->size()) + " " + what +
+                                                   "strings (at most " +
+                                                   std::to_string(kMaxMaterials) + ")");
+    }
+    for (std::size_t i = 0; i < strings->size(); ++i) {
+      const std::string problem = string_problem((*strings)[i]);
+      if (problem.empty()) continue;
+      // Too long is a limit (like a count); a NUL is a bad argument.
+      const bool too_long = (*strings)[i].size() > kMaxStringBytes;
+      return Status(too_long ? ErrorCode::kResourceLimit : ErrorCode::kInvalidArgument,
+                    what + std::to_string(i) + ": " + problem);
+    }
+  }
+  return Status::ok();
+}
 
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
   std::string message;

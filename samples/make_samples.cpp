@@ -1,4 +1,5 @@
-// pm_make_samples: writes the committed sample meshes (samples/*.obj) into a directory.
+// pm_make_samples: writes the committed sample meshes (samples/*.obj, and the material
+// library textured.mtl) into a directory.
 //
 //   pm_make_samples <output-directory>
 //
@@ -394,6 +395,189 @@ SampleMesh make_nonmanifold() {
 }
 
 // ---------------------------------------------------------------------------------------
+// textured.obj (+ textured.mtl): a closed vase with every attribute an OBJ mesh carries.
+//
+// A surface of revolution around z (radius varying with height, so that simplification has
+// shape to keep), closed by two flat caps:
+//  * texture coordinates in three charts: the body unrolled (u = angle / 2 pi, v = height),
+//    each cap as a disk. UV seams: the body's vertical cut (u = 0 and u = 1 at the same
+//    vertices) and both rims (body and cap charts meet there);
+//  * normals per corner: smooth across the body (one per body vertex, from the surface's
+//    derivative), flat on the caps (0 0 -1 and 0 0 1): hard edges at both rims;
+//  * a colour per vertex, varying with height and angle, rounded to 1/1000;
+//  * two materials, `body` and `caps` (usemtl), from textured.mtl.
+
+// Angles and rings of the vase.
+constexpr int kVaseSegments = 64;  // around
+constexpr int kVaseRings = 25;     // body vertex rings, bottom rim to top rim
+constexpr int kVaseCapRings = 3;   // vertex rings of a cap inside its rim, then the centre
+
+// Radius of the body at height parameter t in [0, 1], and its derivative d radius / d t.
+double vase_radius(double t) {
+  return 0.6 + 0.2 * portable_sin(3 * t + 0.5) + 0.05 * portable_sin(11 * t);
+}
+double vase_radius_slope(double t) {
+  return 0.6 * portable_cos(3 * t + 0.5) + 0.55 * portable_cos(11 * t);
+}
+
+double round_to_thousandths(double value) {
+  return std::round(value * 1000) / 1000;
+}
+
+std::string textured_obj_text(const std::string& comment) {
+  constexpr double kHeight = 2.0;  // z from -1 to 1
+  std::string vertices, uvs, normals, body_faces, cap_faces;
+  uint32_t vertex_count = 0, uv_count = 0, normal_count = 0, face_count = 0;
+  auto add_vertex = [&](double x, double y, double z, double red, double green, double blue) {
+    const std::array<float, 3> p = to_float({x, y, z});
+    vertices += "v " + float_text(p[0]) + " " + float_text(p[1]) + " " + float_text(p[2]) + " " +
+                float_text(static_cast<float>(round_to_thousandths(red))) + " " +
+                float_text(static_cast<float>(round_to_thousandths(green))) + " " +
+                float_text(static_cast<float>(round_to_thousandths(blue))) + "\n";
+    return ++vertex_count;  // 1-based, as faces use it
+  };
+  auto add_uv = [&](double u, double v) {
+    uvs +=
+        "vt " + float_text(static_cast<float>(u)) + " " + float_text(static_cast<float>(v)) + "\n";
+    return ++uv_count;
+  };
+  auto add_normal = [&](const Vec3& n) {
+    const std::array<float, 3> f = to_float(n);
+    normals += "vn " + float_text(f[0]) + " " + float_text(f[1]) + " " + float_text(f[2]) + "\n";
+    return ++normal_count;
+  };
+  struct Corner {
+    uint32_t v, t, n;
+  };
+  auto add_face = [&](std::string& out, const Corner& a, const Corner& b, const Corner& c) {
+    out += "f";
+    for (const Corner& corner : {a, b, c}) {
+      out += " " + std::to_string(corner.v) + "/" + std::to_string(corner.t) + "/" +
+             std::to_string(corner.n);
+    }
+    out += "\n";
+    ++face_count;
+  };
+  auto angle = [](int i) { return 2 * kPi * i / kVaseSegments; };
+  auto color_at = [](double t, double theta, double inward) {
+    return Vec3{0.35 + 0.55 * t, 0.45 + 0.3 * portable_cos(theta) * (1 - inward),
+                0.75 - 0.5 * t + 0.2 * inward};
+  };
+
+  // Body: vertex (ring j, segment i), normal per vertex, texture coordinates on a
+  // (segments + 1) x rings grid (the last column repeats the first one's vertices at u = 1).
+  std::vector<uint32_t> body_vertex(kVaseRings * kVaseSegments);
+  std::vector<uint32_t> body_normal(kVaseRings * kVaseSegments);
+  std::vector<uint32_t> body_uv(kVaseRings * (kVaseSegments + 1));
+  for (int j = 0; j < kVaseRings; ++j) {
+    const double t = static_cast<double>(j) / (kVaseRings - 1);
+    const double radius = vase_radius(t);
+    // Outward normal of (r(z) cos a, r(z) sin a, z): (cos a, sin a, -dr/dz).
+    const double slope = vase_radius_slope(t) / kHeight;
+    for (int i = 0; i < kVaseSegments; ++i) {
+      const double c = portable_cos(angle(i)), s = portable_sin(angle(i));
+      const Vec3 color = color_at(t, angle(i), 0);
+      body_vertex[j * kVaseSegments + i] =
+          add_vertex(radius * c, radius * s, kHeight * t - 1, color.x, color.y, color.z);
+      body_normal[j * kVaseSegments + i] = add_normal(normalized({c, s, -slope}));
+    }
+  }
+  for (int j = 0; j < kVaseRings; ++j) {
+    for (int i = 0; i <= kVaseSegments; ++i) {
+      body_uv[j * (kVaseSegments + 1) + i] =
+          add_uv(static_cast<double>(i) / kVaseSegments, 0.6 * j / (kVaseRings - 1));
+    }
+  }
+  auto body_corner = [&](int j, int i) {
+    return Corner{body_vertex[j * kVaseSegments + i % kVaseSegments],
+                  body_uv[j * (kVaseSegments + 1) + i],
+                  body_normal[j * kVaseSegments + i % kVaseSegments]};
+  };
+  for (int j = 0; j + 1 < kVaseRings; ++j) {
+    for (int i = 0; i < kVaseSegments; ++i) {
+      // Counter-clockwise seen from outside: around (increasing angle), then up.
+      add_face(body_faces, body_corner(j, i), body_corner(j, i + 1), body_corner(j + 1, i + 1));
+      add_face(body_faces, body_corner(j, i), body_corner(j + 1, i + 1), body_corner(j + 1, i));
+    }
+  }
+
+  // Caps: rings shrinking to the centre; ring 0 is the body's rim (shared vertices, own
+  // texture coordinates and normal).
+  for (int top = 0; top < 2; ++top) {
+    const int rim_ring = top ? kVaseRings - 1 : 0;
+    const double t = top;
+    const double rim_radius = vase_radius(t);
+    const double z = kHeight * t - 1;
+    const uint32_t normal = add_normal({0, 0, top ? 1.0 : -1.0});
+    const double centre_u = top ? 0.75 : 0.25, centre_v = 0.8, chart_radius = 0.18;
+    std::vector<uint32_t> ring_vertex(kVaseCapRings * kVaseSegments);
+    std::vector<uint32_t> ring_uv(kVaseCapRings * kVaseSegments);
+    for (int k = 0; k < kVaseCapRings; ++k) {
+      const double scale = 1 - static_cast<double>(k) / kVaseCapRings;
+      for (int i = 0; i < kVaseSegments; ++i) {
+        const double c = portable_cos(angle(i)), s = portable_sin(angle(i));
+        if (k == 0) {
+          ring_vertex[i] = body_vertex[rim_ring * kVaseSegments + i];
+        } else {
+          const Vec3 color = color_at(t, angle(i), 1 - scale);
+          ring_vertex[k * kVaseSegments + i] = add_vertex(
+              rim_radius * scale * c, rim_radius * scale * s, z, color.x, color.y, color.z);
+        }
+        // Seen from outside, the bottom chart is mirrored so that it is not inside out.
+        const double u = centre_u + chart_radius * scale * (top ? c : -c);
+        ring_uv[k * kVaseSegments + i] = add_uv(u, centre_v + chart_radius * scale * s);
+      }
+    }
+    const Vec3 centre_color = color_at(t, 0, 1);
+    const Corner centre{add_vertex(0, 0, z, centre_color.x, centre_color.y, centre_color.z),
+                        add_uv(centre_u, centre_v), normal};
+    auto ring_corner = [&](int k, int i) {
+      const int index = k * kVaseSegments + i % kVaseSegments;
+      return Corner{ring_vertex[index], ring_uv[index], normal};
+    };
+    for (int k = 0; k < kVaseCapRings; ++k) {
+      for (int i = 0; i < kVaseSegments; ++i) {
+        const Corner outer_a = ring_corner(k, i), outer_b = ring_corner(k, i + 1);
+        // Counter-clockwise seen from outside: from above for the top cap, below for the
+        // bottom one.
+        if (k + 1 == kVaseCapRings) {
+          if (top) {
+            add_face(cap_faces, outer_a, outer_b, centre);
+          } else {
+            add_face(cap_faces, outer_b, outer_a, centre);
+          }
+          continue;
+        }
+        const Corner inner_a = ring_corner(k + 1, i), inner_b = ring_corner(k + 1, i + 1);
+        if (top) {
+          add_face(cap_faces, outer_a, outer_b, inner_b);
+          add_face(cap_faces, outer_a, inner_b, inner_a);
+        } else {
+          add_face(cap_faces, outer_b, outer_a, inner_a);
+          add_face(cap_faces, outer_b, inner_a, inner_b);
+        }
+      }
+    }
+  }
+  return comment + "# vertices: " + std::to_string(vertex_count) +
+         ", faces: " + std::to_string(face_count) +
+         ", texture coordinates: " + std::to_string(uv_count) +
+         ", normals: " + std::to_string(normal_count) + "\nmtllib textured.mtl\n" + vertices + uvs +
+         normals + "usemtl body\n" + body_faces + "usemtl caps\n" + cap_faces;
+}
+
+const char kTexturedMtl[] =
+    R"(# textured.mtl: generated by pm_make_samples (samples/make_samples.cpp); do not edit.
+# The materials of textured.obj. Its texture coordinates lay out three charts (the body
+# unrolled, each cap as a disk) but no image comes with it: the materials are plain colours.
+newmtl body
+Kd 0.8 0.55 0.3
+
+newmtl caps
+Kd 0.25 0.3 0.35
+)";
+
+// ---------------------------------------------------------------------------------------
 // polygons.obj: hand-written, to exercise OBJ readers rather than the algorithms.
 
 const char kPolygonsObj[] =
@@ -496,5 +680,11 @@ int main(int argc, char** argv) {
                    "face and a face with a repeated index; 2 unreferenced vertices."},
                   make_nonmanifold());
   ok &= write_text(directory + "/polygons.obj", kPolygonsObj);
+  ok &= write_text(directory + "/textured.obj",
+                   textured_obj_text("# textured.obj: " + generated + "\n" +
+                                     "# A closed vase with texture coordinates (three charts, UV "
+                                     "seams), normals per corner (hard\n# edges at the rims), "
+                                     "a colour per vertex and two materials (textured.mtl).\n"));
+  ok &= write_text(directory + "/textured.mtl", kTexturedMtl);
   return ok ? 0 : 1;
 }

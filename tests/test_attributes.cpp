@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -180,6 +181,21 @@ TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
   EXPECT_TRUE(test::same_attributed_faces(grid, extract_level(pm, pm.split_count())));
 }
 
+TEST(Attributes, MaterialNamesTheStreamCannotHoldFailBeforeTheWork) {
+  Mesh grid = test::seamed_grid(4);
+  grid.material_names[1] = std::string("bl\0ue", 5);
+  ProgressiveMesh pm;
+  Status status = encode(grid, EncodeOptions{}, pm);
+  EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(status.message().find("material name 1: a NUL character"), std::string::npos)
+      << status.message();
+  grid.material_names[1] = std::string(5000, 'x');
+  EXPECT_EQ(encode(grid, EncodeOptions{}, pm).code(), ErrorCode::kResourceLimit);
+  EncodeOptions geometry_only;
+  geometry_only.drop_attributes = true;
+  EXPECT_TRUE(encode(grid, geometry_only, pm).ok());
+}
+
 TEST(Attributes, InvalidAttributeIndicesAreRefused) {
   Mesh grid = test::seamed_grid(4);
   grid.uv_indices[7] = static_cast<uint32_t>(grid.uv_count());
@@ -189,6 +205,106 @@ TEST(Attributes, InvalidAttributeIndicesAreRefused) {
   EXPECT_NE(status.message().find("texture coordinate index 7"), std::string::npos)
       << status.message();
 }
+
+}  // namespace
+}  // namespace pm
+
+// spot.obj (../shared/meshes): a textured cow with UV seams, the acceptance mesh of issue 4.
+namespace pm {
+namespace {
+
+struct PositionKey {
+  uint32_t x, y, z;
+  bool operator<(const PositionKey& o) const { return std::tie(x, y, z) < std::tie(o.x, o.y, o.z); }
+  bool operator==(const PositionKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+PositionKey key_of(const Mesh& m, uint32_t v) {
+  return {bits(m.positions[3 * v]), bits(m.positions[3 * v + 1]), bits(m.positions[3 * v + 2])};
+}
+
+// The UV seam edges of a mesh, as pairs of positions.
+std::vector<std::pair<PositionKey, PositionKey>> uv_seams_by_position(const Mesh& m) {
+  std::vector<std::pair<PositionKey, PositionKey>> out;
+  for (const EdgeKey& e : seam_edges(m, &m.uv_indices, &m.uvs, 2))
+    out.push_back({key_of(m, e.a), key_of(m, e.b)});
+  return out;
+}
+
+class SpotByMetric : public ::testing::TestWithParam<Metric> {
+ protected:
+  void SetUp() override {
+    if (!test::shared_meshes_available()) {
+      test::warn_no_shared_meshes();
+      GTEST_SKIP() << test::kNoSharedMeshesMessage;
+    }
+    ASSERT_TRUE(read_mesh(test::shared_mesh_path("spot.obj"), spot_).ok());
+    ASSERT_TRUE(spot_.has_uvs());
+    pm_ = encode_ok(spot_, GetParam());
+  }
+  Mesh spot_;
+  ProgressiveMesh pm_;
+};
+
+TEST_P(SpotByMetric, FullDetailGivesEveryFacesTextureCoordinatesBitForBit) {
+  EXPECT_TRUE(test::same_attributed_faces(spot_, extract_level(pm_, pm_.split_count())));
+}
+
+TEST_P(SpotByMetric, SeamsOfTheLevelsLieOnTheInputsSeamsAndNoTextureTriangleTurnsOver) {
+  // The input's seam graph, on positions.
+  std::map<PositionKey, std::vector<PositionKey>> seam_graph;
+  for (const auto& [a, b] : uv_seams_by_position(spot_)) {
+    seam_graph[a].push_back(b);
+    seam_graph[b].push_back(a);
+  }
+  ASSERT_FALSE(seam_graph.empty());
+  const Mesh full = extract_level(pm_, pm_.split_count());
+  for (double ratio : {0.10, 0.02}) {
+    const std::size_t level = level_for_faces(pm_, std::size_t(ratio * spot_.face_count()));
+    const Mesh lod = extract_level(pm_, level);
+    SCOPED_TRACE(std::to_string(lod.face_count()) + " faces");
+    std::set<PositionKey> present;
+    for (uint32_t v = 0; v < lod.vertex_count(); ++v) present.insert(key_of(lod, v));
+    // Each seam edge a-b of the level stands for a chain of the input's seam edges from a
+    // to b through vertices the level has removed.
+    const auto seams = uv_seams_by_position(lod);
+    EXPECT_FALSE(seams.empty());
+    for (const auto& [a, b] : seams) {
+      std::set<PositionKey> seen{a};
+      std::vector<PositionKey> stack{a};
+      bool reached = false;
+      while (!stack.empty() && !reached) {
+        const PositionKey x = stack.back();
+        stack.pop_back();
+        for (const PositionKey& y : seam_graph[x]) {
+          if (y == b) reached = true;
+          if (present.count(y) || !seen.insert(y).second) continue;
+          stack.push_back(y);
+        }
+      }
+      EXPECT_TRUE(reached) << "a seam edge of the level crosses the texture away from the input's seams";
+    }
+    // Face k of a level is face k of full detail, coarser.
+    int flipped = 0;
+    for (std::size_t f = 0; f < lod.face_count(); ++f) {
+      auto area = [](const Mesh& m, std::size_t face) {
+        const float* p[3];
+        for (int k = 0; k < 3; ++k) p[k] = &m.uvs[2 * m.uv_indices[3 * face + k]];
+        return (double(p[1][0]) - p[0][0]) * (double(p[2][1]) - p[0][1]) -
+               (double(p[1][1]) - p[0][1]) * (double(p[2][0]) - p[0][0]);
+      };
+      const double input = area(full, f), now = area(lod, f);
+      if (input != 0 && !((input > 0) == (now > 0) && now != 0)) ++flipped;
+    }
+    EXPECT_EQ(flipped, 0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Metrics, SpotByMetric,
+                         ::testing::Values(Metric::kSchroeder, Metric::kQuadric),
+                         [](const auto& info) {
+                           return std::string(info.param == Metric::kQuadric ? "Quadric"
+                                                                             : "Schroeder");
+                         });
 
 }  // namespace
 }  // namespace pm

@@ -1,4 +1,4 @@
-// Mesh input/output: the OBJ parser, the OpenMesh-backed PLY/OFF/STL readers, the writers
+// Mesh input/output: the OBJ, PLY and OFF parsers, the OpenMesh-backed STL reader, the writers
 // and format detection. Inputs are small literal files with exact expectations.
 
 #include <gtest/gtest.h>
@@ -106,7 +106,9 @@ TEST(ObjReader, ResolvesNegativeIndicesAgainstVerticesSoFar) {
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
       "f -3 -2 -1\n"  // 2 3 4
       "v 2 2 2\n"
-      "f -1 -5 -2\n"                // 5 1 4
+      "f -1 -5 -2\n"  // 5 1 4
+      // Texture coordinate and normal indices must be in range too (test_attribute_io.cpp).
+      "vt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 1 0\n"
       "f -1/-1/-1 -2//-2 -3/-3\n";  // 5 4 3
   Mesh mesh = read_ok(text);
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{1, 2, 3, 4, 0, 3, 4, 3, 2}));
@@ -122,7 +124,7 @@ TEST(ObjReader, TriangulatesPolygonsAsFans) {
   EXPECT_EQ(report.polygons_triangulated, 1u);
 
   mesh = read_ok(
-      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0\n"
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0\nvt 0 0\n"
       "f 1 2 3\n"
       "f 1 2 3 4 5\n"
       "f 5/1 4/1 3/1 2/1\n",
@@ -189,7 +191,8 @@ TEST(ObjReader, CountsOtherStatementsAsIgnored) {
   EXPECT_EQ(report.ignored_lines, 8u);
 }
 
-TEST(ObjReader, IgnoresHomogeneousWeightAndVertexColours) {
+// Weights and colours themselves: test_attribute_io.cpp.
+TEST(ObjReader, ReadsPositionsOfVerticesWithWeightOrColour) {
   Mesh mesh = read_ok(
       "v 1 2 3 1.0\n"
       "v 4 5 6 0.5 0.25 0.125\n"
@@ -366,7 +369,7 @@ TEST(ObjReader, AgreesWithTheOracleOnSharedMeshes) {
 }
 
 // ---------------------------------------------------------------------------------------
-// PLY and STL through OpenMesh; OFF (own parser, alongside them for comparison)
+// PLY and OFF (own parsers), STL through OpenMesh. Attributes: test_attribute_io.cpp
 // ---------------------------------------------------------------------------------------
 
 const std::string kAsciiPly =
@@ -388,7 +391,7 @@ const std::string kAsciiPly =
     "4 0 1 2 3\n"
     "3 4 0 2\n";
 
-TEST(OpenMeshReaders, ReadsAsciiPly) {
+TEST(PlyReader, ReadsAsciiPly) {
   ReadReport report;
   Mesh mesh = read_ok(kAsciiPly, MeshFormat::kPly, &report);
   EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f},
@@ -429,7 +432,7 @@ std::string big_endian_ply() {
   return bytes;
 }
 
-TEST(OpenMeshReaders, ReadsBinaryBigEndianPly) {
+TEST(PlyReader, ReadsBinaryBigEndianPly) {
   ReadReport report;
   Mesh mesh = read_ok(big_endian_ply(), MeshFormat::kPly, &report);
   EXPECT_TRUE(same_positions({0, 0, 0, 2, 0, 0, 0, 2, 0, 0.25f, -0.5f, 1e10f}, mesh.positions));
@@ -437,7 +440,7 @@ TEST(OpenMeshReaders, ReadsBinaryBigEndianPly) {
   EXPECT_EQ(report.polygons_triangulated, 1u);
 }
 
-TEST(OpenMeshReaders, PlyErrors) {
+TEST(PlyReader, PlyErrors) {
   EXPECT_EQ(read_error("plyx garbage\n", MeshFormat::kPly).code(), ErrorCode::kParseError);
   EXPECT_EQ(read_error("not a ply file at all", MeshFormat::kPly).code(), ErrorCode::kParseError);
   EXPECT_EQ(read_error("", MeshFormat::kPly).code(), ErrorCode::kEmptyMesh);
@@ -476,7 +479,7 @@ TEST(OpenMeshReaders, PlyErrors) {
       ErrorCode::kEmptyMesh);
 }
 
-TEST(OpenMeshReaders, RejectsEveryTruncationOfPly) {
+TEST(PlyReader, RejectsEveryTruncationOfPly) {
   // Every strict prefix that still contains the whole header lacks data the header promises.
   for (const std::string& full : {kAsciiPly, big_endian_ply()}) {
     const std::size_t body = full.find("end_header\n") + 11;
@@ -502,7 +505,7 @@ const std::string kOff =
     "3 4 0 2\n"
     "3 4 4 1\n";
 
-TEST(OpenMeshReaders, ReadsOff) {
+TEST(OffReader, ReadsOff) {
   ReadReport report;
   Mesh mesh = read_ok(kOff, MeshFormat::kOff, &report);
   EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.1f, 1e-30f, -3.4028235e38f},
@@ -511,7 +514,7 @@ TEST(OpenMeshReaders, ReadsOff) {
   EXPECT_EQ(report.polygons_triangulated, 1u);
 }
 
-TEST(OpenMeshReaders, ReadsOffVariants) {
+TEST(OffReader, ReadsOffVariants) {
   const std::vector<uint32_t> triangle = {0, 1, 2};
   // Comments, blank lines, CRLF, counts on the header line, no edge count, no final newline.
   Mesh mesh = read_ok(
@@ -519,7 +522,7 @@ TEST(OpenMeshReaders, ReadsOffVariants) {
       MeshFormat::kOff);
   EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
   EXPECT_EQ(mesh.triangles, triangle);
-  // Per-vertex normals and colours are skipped.
+  // Per-vertex normals and colours (kept: test_attribute_io.cpp).
   mesh = read_ok("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n", MeshFormat::kOff);
   EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
   EXPECT_EQ(mesh.triangles, triangle);
@@ -544,7 +547,7 @@ TEST(OpenMeshReaders, ReadsOffVariants) {
   EXPECT_TRUE(mesh.triangles.empty());
 }
 
-TEST(OpenMeshReaders, OffErrors) {
+TEST(OffReader, OffErrors) {
   struct Case {
     std::string text;
     ErrorCode code;
@@ -608,7 +611,7 @@ TEST(OpenMeshReaders, OffErrors) {
 
 // The reason OFF is not read through OpenMesh: its stream reader parses by the variant
 // that the last file-based OpenMesh read of an OFF file detected, process-wide.
-TEST(OpenMeshReaders, OffIsIndependentOfOpenMeshFileReads) {
+TEST(OffReader, OffIsIndependentOfOpenMeshFileReads) {
   test::TempDir dir;
   test::write_file(dir.file("normals.off"),
                    "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n");
@@ -623,7 +626,7 @@ TEST(OpenMeshReaders, OffIsIndependentOfOpenMeshFileReads) {
   EXPECT_EQ(mesh.face_count(), 4u);
 }
 
-TEST(OpenMeshReaders, RejectsEveryTruncationOfOff) {
+TEST(OffReader, RejectsEveryTruncationOfOff) {
   const std::size_t body = kOff.find("5 3 0\n") + 6;
   for (std::size_t length = body; length + 1 < kOff.size(); ++length) {
     const std::string prefix = kOff.substr(0, length);
@@ -635,7 +638,7 @@ TEST(OpenMeshReaders, RejectsEveryTruncationOfOff) {
   }
 }
 
-TEST(OpenMeshReaders, ReadsArmadilloOff) {
+TEST(OffReader, ReadsArmadilloOff) {
   PM_SKIP_IF_NO_SHARED();
   Mesh mesh;
   Status status = read_mesh(test::shared_mesh_path("armadillo.off"), mesh);

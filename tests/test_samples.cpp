@@ -11,8 +11,10 @@
 namespace pm::test {
 namespace {
 
-const char* const kSampleNames[] = {"block_features.obj", "nonmanifold.obj", "polygons.obj",
-                                    "sphere.obj", "terrain_holes.obj"};
+const char* const kSampleNames[] = {"block_features.obj", "nonmanifold.obj",   "polygons.obj",
+                                    "sphere.obj",         "terrain_holes.obj", "textured.obj"};
+// Written by the generator too, but not meshes.
+const char* const kOtherSampleFiles[] = {"textured.mtl"};
 
 std::string base_name(const std::string& path) {
   return path.substr(path.rfind('/') + 1);
@@ -67,7 +69,9 @@ TEST(Samples, GeneratorReproducesCommittedFiles) {
   EXPECT_EQ(committed, std::vector<std::string>(std::begin(kSampleNames), std::end(kSampleNames)))
       << "samples/*.obj should be exactly what pm_make_samples writes";
 
-  for (const char* name : kSampleNames) {
+  std::vector<const char*> files(std::begin(kSampleNames), std::end(kSampleNames));
+  files.insert(files.end(), std::begin(kOtherSampleFiles), std::end(kOtherSampleFiles));
+  for (const char* name : files) {
     SCOPED_TRACE(name);
     ASSERT_TRUE(file_exists(dir.file(name)));
     const std::string generated = read_file(dir.file(name));
@@ -161,6 +165,56 @@ TEST(Samples, PolygonsTriangulateToTwoPieces) {
   EXPECT_TRUE(s.edge_manifold);
   EXPECT_TRUE(s.vertex_manifold);
   EXPECT_EQ(s.zero_area_faces, 0);
+}
+
+// The oracle reads positions and faces only; the attributes are checked here by counting
+// statements, and through the library's reader in test_attribute_io.cpp.
+TEST(Samples, TexturedIsAClosedVaseWithEveryAttribute) {
+  const std::string path = sample_mesh_path("textured.obj");
+  const pm::Mesh mesh = load_simple_obj(path);
+  const TopologySummary s = summarize_topology(mesh);
+  EXPECT_EQ(s.faces, 3712);
+  EXPECT_EQ(s.vertices, 1858);
+  EXPECT_EQ(s.euler, 2);
+  EXPECT_EQ(s.boundary_loops, 0);
+  EXPECT_EQ(s.components, 1);
+  EXPECT_TRUE(s.edge_manifold);
+  EXPECT_TRUE(s.vertex_manifold);
+  EXPECT_EQ(s.zero_area_faces, 0);
+  EXPECT_GT(six_times_volume(mesh), 0) << "faces should be counter-clockwise seen from outside";
+
+  std::istringstream text(read_file(path));
+  std::string line;
+  long coloured_vertices = 0, uvs = 0, normals = 0, full_corners = 0;
+  std::vector<std::string> materials, libraries;
+  while (std::getline(text, line)) {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    std::vector<std::string> rest;
+    for (std::string word; words >> word;) rest.push_back(word);
+    if (keyword == "v" && rest.size() == 6) ++coloured_vertices;
+    if (keyword == "vt") ++uvs;
+    if (keyword == "vn") ++normals;
+    if (keyword == "usemtl") materials.push_back(rest.at(0));
+    if (keyword == "mtllib") libraries = rest;
+    if (keyword == "f") {
+      for (const std::string& corner : rest) {
+        full_corners += std::count(corner.begin(), corner.end(), '/') == 2 &&
+                        corner.find("//") == std::string::npos;
+      }
+    }
+  }
+  EXPECT_EQ(coloured_vertices, 1858);
+  // More texture coordinates than vertices (seams) and normals (hard edges at the rims).
+  EXPECT_EQ(uvs, 25 * 65 + 2 * (3 * 64 + 1));
+  EXPECT_EQ(normals, 25 * 64 + 2);
+  EXPECT_EQ(full_corners, 3 * 3712) << "every corner is v/vt/vn";
+  EXPECT_EQ(materials, (std::vector<std::string>{"body", "caps"}));
+  EXPECT_EQ(libraries, (std::vector<std::string>{"textured.mtl"}));
+  const std::string library = read_file(sample_mesh_path("textured.mtl"));
+  EXPECT_NE(library.find("newmtl body\n"), std::string::npos);
+  EXPECT_NE(library.find("newmtl caps\n"), std::string::npos);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // Internal to the mesh readers: the OBJ parser's entry point (mesh_io.cpp dispatches to it)
-// and the number scanning shared by the OBJ and OFF parsers.
+// and the number scanning shared by the OBJ, OFF and PLY (ASCII) parsers.
 #pragma once
 
 #include <charconv>

@@ -12,6 +12,7 @@
 #include "corner_attributes.h"
 #include "manifold_repair.h"
 #include "pm/encoder.h"
+#include "pm/pm_codec.h"
 #include "quadric.h"
 #include "removed_points.h"
 #include "schroeder_error.h"
@@ -529,6 +530,10 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
 
   if (std::string problem; !validate_attributes(input, &problem))
     return Status(ErrorCode::kInvalidArgument, "mesh attributes: " + problem);
+  if (!options.drop_attributes) {
+    if (Status s = check_material_strings(input.material_names, input.material_libraries); !s)
+      return s;
+  }
 
   // Stage 1: a manifold half-edge mesh, so that collapses can keep topology exactly.
   ManifoldMesh repaired;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "pm/progressive_mesh.h"
 #include "pm/status.h"
@@ -19,11 +20,18 @@ struct WriteOptions {
 };
 
 // Serializes pm (which must be valid) to bytes, as format 1.1. Errors: kInvalidArgument
-// when validate(pm) fails, a material name or library is not UTF-8 or holds a NUL, or
+// when validate(pm) fails, a material name or library holds a NUL, or
 // zstd_level is outside 1..22; kResourceLimit when a count exceeds the format's limits
 // (2^30; 2^20 materials and libraries) or a string is longer than 4096 bytes. `bytes` is
 // untouched on error.
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
+
+// Whether the stream can hold these material names and libraries (§5.9, §7.2: at most 2^20
+// of each, each at most 4096 bytes without NUL). encode() checks this first, so that a name
+// the format cannot store fails before the work, not at write_pm. Errors:
+// kInvalidArgument (a NUL), kResourceLimit (too long, too many).
+Status check_material_strings(const std::vector<std::string>& names,
+                              const std::vector<std::string>& libraries);
 
 struct ReadOptions {
   // Upper bound in bytes on what decoding may allocate for the mesh (0: no bound beyond
