@@ -66,6 +66,8 @@ TEST_P(EveryMesh, FullDetailIsTheInputExactly) {
   const Encoded e = encoded();
   const Mesh full = extract_level(e.pm, e.pm.split_count());
   EXPECT_TRUE(test::same_faces(e.input, full));
+  // Every corner's colour, texture coordinate and normal, and every face's material, too.
+  EXPECT_TRUE(test::same_attributed_faces(e.input, full));
   EXPECT_EQ(full.vertex_count(), e.input.vertex_count());
   EXPECT_EQ(full.face_count(), e.input.face_count());
   EXPECT_EQ(faces_at_level(e.pm, e.pm.split_count()), e.input.face_count());

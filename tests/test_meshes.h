@@ -26,7 +26,7 @@ inline std::vector<TestMesh> all_test_meshes() {
     meshes.push_back({name, shared_mesh_path(file), true});
   }
   for (const char* file : {"sphere.obj", "terrain_holes.obj", "block_features.obj",
-                           "nonmanifold.obj", "polygons.obj"}) {
+                           "nonmanifold.obj", "polygons.obj", "textured.obj"}) {
     std::string name = std::string("sample_") + file;
     name = name.substr(0, name.find('.'));
     meshes.push_back({name, sample_mesh_path(file), false});
