@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <queue>
+#include <set>
 #include <string>
 
 #include "collapse_legality.h"
@@ -50,6 +51,18 @@ struct Candidate {
   bool operator>(const Candidate& o) const { return priority > o.priority; }
 };
 
+// The distinct vertex pairs of the carried faces, smaller id first.
+std::set<std::pair<uint32_t, uint32_t>> carried_edges(const ManifoldMesh& repaired) {
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  const auto& f = repaired.carried_faces;
+  for (std::size_t i = 0; i + 2 < f.size(); i += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = f[i + k], b = f[i + (k + 1) % 3];
+      if (a != b) edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  return edges;
+}
+
 WeldGroups weld_groups(const ManifoldMesh& repaired) {
   WeldGroups welds;
   const std::size_t n = repaired.canonical.size();
@@ -85,6 +98,7 @@ class SchroederSimplifier {
       : mesh_(input.mesh),
         pinned_(input.pinned),
         welds_(weld_groups(input)),
+        carried_edges_(carried_edges(input)),
         options_(options),
         cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)) {
@@ -144,7 +158,23 @@ class SchroederSimplifier {
   bool legal(HalfedgeHandle h) {
     return collapse_keeps_topology(mesh_, h) && collapse_keeps_welds(mesh_, h, welds_) &&
            collapse_keeps_geometry(mesh_, h, cos_max_flip_) &&
-           (!attributes_ || attributes_->collapse_keeps_attributes(mesh_, h));
+           (!attributes_ || attributes_->collapse_keeps_attributes(mesh_, h)) &&
+           keeps_carried_edges_apart(h);
+  }
+
+  // A carried face (a, a, b) joins a and b by an edge of no surface; were a collapse to make
+  // a-b an edge of the surface too, the two would merge and the output lose an edge.
+  bool keeps_carried_edges_apart(HalfedgeHandle h) const {
+    if (carried_edges_.empty()) return true;
+    const VertexHandle v = mesh_.from_vertex_handle(h), u = mesh_.to_vertex_handle(h);
+    for (auto w : mesh_.vv_range(v)) {
+      if (w == u) continue;
+      const uint32_t a = static_cast<uint32_t>(u.idx()), b = static_cast<uint32_t>(w.idx());
+      if (carried_edges_.count({std::min(a, b), std::max(a, b)}) &&
+          !mesh_.find_halfedge(u, w).is_valid())
+        return false;
+    }
+    return true;
   }
 
   // Finds how v would be removed now and queues it; a stale entry is dropped by version.
@@ -370,6 +400,7 @@ class SchroederSimplifier {
   HalfEdgeMesh& mesh_;
   const std::vector<uint8_t>& pinned_;
   const WeldGroups welds_;
+  const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;  // vertex pairs of carried faces
   const EncodeOptions& options_;
   const double cos_feature_angle_, cos_max_flip_;
   FaceGeometry faces_;
