@@ -176,7 +176,19 @@ TEST(Geomorph, OnARealMeshTheCoarseEndIsTheCoarseLevel) {
   const std::size_t b = level_for_faces(pm, mesh.face_count() / 2);
   const RuntimeLod::Geomorph morph = lod.geomorph(a, b);
   EXPECT_TRUE(test::same_faces(extract_level(pm, a), without_collapsed_faces(morph.mesh(0.0f))));
-  EXPECT_TRUE(test::same_faces(extract_level(pm, b), morph.mesh(1.0f)));
+  const Mesh fine = extract_level(pm, b);
+  EXPECT_TRUE(test::same_faces(fine, morph.mesh(1.0f)));
+  // Every alpha: level b's vertices and connectivity, so its topology.
+  const test::TopologySummary expected = test::summarize_topology(fine);
+  for (float alpha : {0.0f, 0.3f, 1.0f}) {
+    const Mesh mid = morph.mesh(alpha);
+    EXPECT_EQ(mid.vertex_count(), fine.vertex_count());
+    const test::TopologySummary got = test::summarize_topology(mid);
+    EXPECT_EQ(got.euler, expected.euler);
+    EXPECT_EQ(got.boundary_loops, expected.boundary_loops);
+    EXPECT_EQ(got.components, expected.components);
+    EXPECT_EQ(got.edge_manifold, expected.edge_manifold);
+  }
 }
 
 }  // namespace

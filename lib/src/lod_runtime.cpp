@@ -40,6 +40,12 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
   base_vertex_count_ = pm.base_vertex_count;
   color_components_ = pm.color_components;
   material_names_ = pm.material_names;
+  material_libraries_ = pm.material_libraries;
+  if (!pm.welds.empty()) {
+    canonical_.resize(pm.base_vertex_count);
+    for (uint32_t v = 0; v < pm.base_vertex_count; ++v) canonical_[v] = v;
+    for (const Weld& w : pm.welds) canonical_[w.copy] = w.canonical;
+  }
 
   std::unordered_map<WedgeKey, uint32_t, WedgeKeyHash> wedge_of;
   wedge_of.reserve(pm.vertex_count() + pm.vertex_count() / 4);
@@ -324,32 +330,44 @@ void RuntimeLod::Geomorph::evaluate(float alpha, float* positions, float* uvs, f
 
 Mesh RuntimeLod::Geomorph::mesh(float alpha) const {
   const RuntimeLod& lod = *owner_;
-  std::vector<float> positions(3 * wedge_count_), uvs, normals;
-  std::vector<float> colors(std::size_t{lod.color_components_} * wedge_count_);
+  const std::size_t cc = lod.color_components_;
+  std::vector<float> positions(3 * wedge_count_), uvs, normals, colors(cc * wedge_count_);
   if (!lod.wedge_uvs_.empty()) uvs.resize(2 * wedge_count_);
   if (!lod.wedge_normals_.empty()) normals.resize(3 * wedge_count_);
   evaluate(alpha, positions.data(), uvs.empty() ? nullptr : uvs.data(),
            normals.empty() ? nullptr : normals.data(), colors.empty() ? nullptr : colors.data());
+  // One output vertex per vertex of the level (welded copies as their canonical vertex),
+  // as extract_level() writes it: a vertex's wedges share its position and colour, which
+  // morph together since they share an ancestor. Texture coordinates and normals stay per
+  // corner, one table entry per wedge in use.
   Mesh mesh;
-  mesh.positions = std::move(positions);
-  mesh.triangles = indices_;
-  if (!uvs.empty()) {
-    mesh.uvs = std::move(uvs);
-    mesh.uv_indices.resize(indices_.size());
-    for (std::size_t i = 0; i < indices_.size(); ++i)
-      mesh.uv_indices[i] = lod.wedge_has_uv_[indices_[i]] ? indices_[i] : kNoAttribute;
-  }
-  if (!normals.empty()) {
-    mesh.normals = std::move(normals);
-    mesh.normal_indices.resize(indices_.size());
-    for (std::size_t i = 0; i < indices_.size(); ++i)
-      mesh.normal_indices[i] = lod.wedge_has_normal_[indices_[i]] ? indices_[i] : kNoAttribute;
-  }
   mesh.color_components = lod.color_components_;
-  mesh.colors = std::move(colors);
+  std::unordered_map<uint32_t, uint32_t> vertex_out, wedge_out;
+  mesh.triangles.resize(indices_.size());
+  if (!uvs.empty()) mesh.uv_indices.resize(indices_.size());
+  if (!normals.empty()) mesh.normal_indices.resize(indices_.size());
+  for (std::size_t i = 0; i < indices_.size(); ++i) {
+    const uint32_t w = indices_[i];
+    uint32_t vertex = lod.wedge_vertex_[w];
+    if (vertex < lod.canonical_.size()) vertex = lod.canonical_[vertex];
+    const auto [v, new_vertex] = vertex_out.emplace(vertex, static_cast<uint32_t>(vertex_out.size()));
+    if (new_vertex) {
+      mesh.positions.insert(mesh.positions.end(), &positions[3 * w], &positions[3 * w] + 3);
+      mesh.colors.insert(mesh.colors.end(), colors.begin() + cc * w, colors.begin() + cc * (w + 1));
+    }
+    mesh.triangles[i] = v->second;
+    const auto [t, new_wedge] = wedge_out.emplace(w, static_cast<uint32_t>(wedge_out.size()));
+    if (new_wedge) {
+      if (!uvs.empty()) mesh.uvs.insert(mesh.uvs.end(), &uvs[2 * w], &uvs[2 * w] + 2);
+      if (!normals.empty()) mesh.normals.insert(mesh.normals.end(), &normals[3 * w], &normals[3 * w] + 3);
+    }
+    if (!uvs.empty()) mesh.uv_indices[i] = lod.wedge_has_uv_[w] ? t->second : kNoAttribute;
+    if (!normals.empty()) mesh.normal_indices[i] = lod.wedge_has_normal_[w] ? t->second : kNoAttribute;
+  }
   if (!lod.face_materials_.empty())
     mesh.face_materials.assign(lod.face_materials_.begin(), lod.face_materials_.begin() + face_count());
   mesh.material_names = lod.material_names_;
+  mesh.material_libraries = lod.material_libraries_;
   return mesh;
 }
 

@@ -74,7 +74,9 @@ class RuntimeLod {
     std::size_t wedge_count() const { return wedge_count_; }
     std::size_t face_count() const { return indices_.size() / 3; }
     const uint32_t* indices() const { return indices_.data(); }
-    // Convenience: the blended mesh as a Mesh (positions, uvs and normals per wedge).
+    // The blended mesh as extract_level() writes a level: one vertex per vertex of level
+    // `to` (welded copies merged), attributes per corner. At alpha = 1 its faces are those of
+    // extract_level(to); at alpha = 0, those of extract_level(from) plus faces of no area.
     Mesh mesh(float alpha) const;
 
    private:
@@ -114,7 +116,8 @@ class RuntimeLod {
   std::vector<uint32_t> wedge_parent_;  // the wedge it merges into when its vertex collapses
   std::vector<bool> wedge_has_uv_, wedge_has_normal_;  // per wedge, when the mesh has the kind
   std::vector<uint32_t> face_materials_;
-  std::vector<std::string> material_names_;
+  std::vector<std::string> material_names_, material_libraries_;
+  std::vector<uint32_t> canonical_;  // per base vertex when there are welds: the vertex it is output as
   uint32_t color_components_ = 0;
   uint32_t base_vertex_count_ = 0;
   std::size_t level_ = 0;
