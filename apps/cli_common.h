@@ -1,16 +1,19 @@
-// What pmenc and pmdec share: exit codes, error lines, whole-file input, atomic output.
-// The library knows nothing of this; it returns Status values that land here.
+// What pmenc and pmdec share: exit codes, error lines, whole-file input, atomic output,
+// sizes, JSON strings. The library knows nothing of this; it returns Status values that land here.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "pm/mesh_io.h"
 #include "pm/status.h"
 
 namespace pm::cli {
 
-// Documented in README.md ("Exit codes"); the numbers are stable.
+// Documented in README.md ("Exit codes") and the man pages; the numbers are stable.
 enum ExitCode : int {
   kExitOk = 0,
   kExitInternal = 1,     // a bug in pm: please report it
@@ -19,24 +22,56 @@ enum ExitCode : int {
   kExitBadInput = 4,     // input malformed: mesh syntax, empty mesh, corrupt or truncated .pm
   kExitCannotWrite = 5,  // output cannot be written
   kExitUnsupported = 6,  // unknown file format or .pm version
-  kExitTooLarge = 7,     // input exceeds what pm can hold
+  kExitTooLarge = 7,     // input exceeds what pm can hold, or pmdec --max-memory
+  kExitSomeFailed = 8,   // several inputs: some failed (each reported), the others converted
 };
 
 ExitCode exit_code_for(ErrorCode code);
+// For a Status from write_output_atomically: a refused terminal is a usage error, anything
+// else is kExitCannotWrite.
+ExitCode exit_code_for_write(const Status& status);
 
-// Prints "tool: file: message" on stderr and returns the exit code for the status.
+// "tool: file: message", with "(stdin)" for "-"; no newline.
+std::string error_line(std::string_view tool, std::string_view file, std::string_view message);
+
+// Prints error_line() on stderr and returns the exit code for the status.
 int fail(std::string_view tool, std::string_view file, const Status& status);
 
-// Reads a whole file, or standard input for "-".
-Status read_whole_input(const std::string& path, std::string& bytes);
+// Reads a whole file, or standard input for "-". With max_bytes > 0, an input longer than
+// that is kResourceLimit (checked before reading a regular file, while reading a pipe).
+Status read_whole_input(const std::string& path, std::string& bytes, uint64_t max_bytes = 0);
 
-// Writes bytes to path through a temporary file in the same directory, renamed into place
-// once complete, so a failure or a signal never leaves a partial file. "-" writes to
-// standard output; binary data is refused when standard output is a terminal.
+// Writes bytes to path through a temporary file in the same directory (path + ".tmp." and
+// six random characters), renamed into place once complete, so a failure or a signal never
+// leaves a partial file. Safe to call from several threads at once. "-" writes to standard
+// output; binary data is refused when standard output is a terminal.
 Status write_output_atomically(const std::string& path, std::string_view bytes, bool binary);
 
-// Installs SIGINT/SIGTERM/SIGHUP handlers that remove the temporary file being written.
+// Whether file_name is a temporary of write_output_atomically for output_name (both plain
+// names in the same directory).
+bool is_temporary_for(std::string_view file_name, std::string_view output_name);
+
+// Removes the temporaries that an earlier run killed with SIGKILL left next to these outputs
+// (signals that can be caught remove their own). Only these outputs' temporaries: another
+// process may be writing other files of the same directory.
+void remove_stale_temporaries(const std::vector<std::string>& outputs);
+
+// Creates the directories above path (mkdir -p of its parent).
+Status make_parent_directories(const std::string& path);
+
+// Installs SIGINT/SIGTERM/SIGHUP/SIGPIPE handlers that remove the temporary files being written,
+// and reads the umask once. Call before starting threads.
 void install_cleanup_handlers();
+
+// "1000000", "512k", "512M", "2G", "1T" (powers of 1024; an optional trailing "B" or "iB").
+bool parse_size(std::string_view text, uint64_t& bytes);
+
+// The format of mesh data by its content, for standard input: "ply" header, an OFF header
+// keyword, binary STL by its size or ASCII STL by "solid", OBJ by its first keyword.
+MeshFormat sniff_mesh_format(std::string_view bytes);
+
+// text as a JSON string literal, quotes included; bytes that are not UTF-8 become U+FFFD.
+std::string json_string(std::string_view text);
 
 // Seconds since a start point, for the summary lines.
 double seconds_since(std::chrono::steady_clock::time_point start);

@@ -1,10 +1,12 @@
-// pmdec: progressive mesh (.pm) in, one level of detail out. Parse, call, report.
+// pmdec: progressive meshes (.pm) in, levels of detail out. Parse, plan, call the library
+// per file, report.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 
+#include "batch_options.h"
 #include "cli_common.h"
 #include "pm/lod.h"
 #include "pm/measured_level.h"
@@ -16,25 +18,93 @@ namespace {
 
 constexpr const char* kTool = "pmdec";
 
-// "0.5" and "0.5%" are a percentage of the bounding-box diagonal; with --absolute, "0.5" is
-// in model units.
-bool parse_error_bound(std::string text, bool absolute, const pm::ProgressiveMesh& pm,
-                       double& bound) {
+// One level to write for each input: a single-level option, or one item of --lods.
+struct LevelRequest {
+  enum class Kind { kFull, kVertices, kFaces, kRatio, kError };
+  Kind kind = Kind::kFull;
+  std::size_t count = 0;  // vertices or faces
+  double ratio = 1;       // kRatio
+  std::string label;      // what {lod} stands for; empty without --lods
+};
+
+// --error E: a percentage of the bounding-box diagonal ("0.5", "0.5%"), or with --absolute
+// model units ("0.5"). Checked before any file is read; the bound in model units depends on
+// each mesh's diagonal.
+struct ErrorBound {
+  double value = 0;
+  bool absolute = false;
+  bool estimate = false;  // --estimate: select by the errors recorded in the file
+};
+
+bool parse_error_bound(std::string text, bool absolute, double& value) {
   const bool percent_sign = !text.empty() && text.back() == '%';
   if (percent_sign) text.pop_back();
   if (percent_sign && absolute) return false;
   try {
     std::size_t used = 0;
-    bound = std::stod(text, &used);
-    if (used != text.size() || !(bound >= 0) || !std::isfinite(bound)) return false;
+    value = std::stod(text, &used);
+    return used == text.size() && value >= 0 && std::isfinite(value);
   } catch (const std::exception&) {
     return false;
   }
-  if (!absolute) bound *= pm::bounding_box_diagonal(pm.positions) / 100.0;
-  return true;
 }
 
-int print_info(const std::string& input, std::string_view bytes) {
+// --lods "100%,25%,5000": percentages of the full-detail faces, or face counts. {lod} is
+// each item as written, without its "%".
+bool parse_lods(const std::string& text, std::vector<LevelRequest>& levels) {
+  levels.clear();
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    std::string item = text.substr(begin, comma - begin);
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    if (item.empty()) return false;
+    LevelRequest level;
+    const bool percent = item.back() == '%';
+    level.label = percent ? item.substr(0, item.size() - 1) : item;
+    try {
+      std::size_t used = 0;
+      if (percent) {
+        const double p = std::stod(level.label, &used);
+        if (used != level.label.size() || !(p > 0 && p <= 100)) return false;
+        level.kind = LevelRequest::Kind::kRatio;
+        level.ratio = p / 100;
+      } else {
+        if (level.label.find_first_not_of("0123456789") != std::string::npos) return false;
+        level.kind = LevelRequest::Kind::kFaces;
+        level.count = std::stoull(level.label, &used);
+      }
+    } catch (const std::exception&) {
+      return false;
+    }
+    levels.push_back(level);
+    if (comma == text.size()) return true;
+    begin = comma + 1;
+  }
+}
+
+struct Settings {
+  std::vector<LevelRequest> levels;
+  ErrorBound error;
+  std::string output_format;  // --format, or empty
+  pm::ReadOptions read;
+  bool skip_existing = false;
+  bool create_directories = false;
+  const pm::Mesh* compare_with = nullptr;  // --compare ORIGINAL
+  bool json_comparison = false;
+};
+
+pm::MeshFormat output_format_for(const std::string& output, const std::string& format_option) {
+  if (!format_option.empty()) return pm::mesh_format_from_path("." + format_option);
+  if (output == "-") return pm::MeshFormat::kObj;
+  return pm::mesh_format_from_path(output);
+}
+
+int print_info(const std::string& input, const pm::ReadOptions& read_options) {
+  std::string bytes;
+  if (pm::Status s = pm::cli::read_whole_input(input, bytes, read_options.max_memory); !s)
+    return pm::cli::fail(kTool, input, s);
   pm::PmInfo info;
   if (pm::Status s = pm::read_pm_info(bytes, info); !s) return pm::cli::fail(kTool, input, s);
   std::printf("file:             %s (%zu bytes)\n", input.c_str(), bytes.size());
@@ -57,50 +127,236 @@ int print_info(const std::string& input, std::string_view bytes) {
 
 // --compare: one line for people, or one JSON object for scripts (--json). A percentage of
 // a zero diagonal (a flat point) has no value: "n/a", or null in JSON.
-void print_comparison(const pm::SurfaceDistance& d, const pm::Mesh& lod, std::size_t level,
-                      double seconds, bool json) {
+std::string comparison_text(const pm::SurfaceDistance& d, const pm::Mesh& lod, std::size_t level,
+                            double seconds, bool json) {
   const bool has_diagonal = d.diagonal > 0;
   const double hausdorff_percent = has_diagonal ? 100 * d.hausdorff / d.diagonal : 0;
   const double rms_percent = has_diagonal ? 100 * d.rms / d.diagonal : 0;
+  char text[512];
   if (!json) {
     char percents[2][32] = {"n/a", "n/a"};
     if (has_diagonal) {
       std::snprintf(percents[0], sizeof percents[0], "%.3g%%", hausdorff_percent);
       std::snprintf(percents[1], sizeof percents[1], "%.3g%%", rms_percent);
     }
-    std::printf("hausdorff %.6g (%s of diagonal) rms %.6g (%s) faces %zu samples %zu\n",
-                d.hausdorff, percents[0], d.rms, percents[1], lod.face_count(), d.samples);
-    return;
+    std::snprintf(text, sizeof text,
+                  "hausdorff %.6g (%s of diagonal) rms %.6g (%s) faces %zu samples %zu\n",
+                  d.hausdorff, percents[0], d.rms, percents[1], lod.face_count(), d.samples);
+    return text;
   }
   char percents[2][32] = {"null", "null"};
   if (has_diagonal) {
     std::snprintf(percents[0], sizeof percents[0], "%.17g", hausdorff_percent);
     std::snprintf(percents[1], sizeof percents[1], "%.17g", rms_percent);
   }
-  std::printf(
-      "{\"faces\":%zu,\"vertices\":%zu,\"level\":%zu,\"hausdorff\":%.17g,\"rms\":%.17g,"
-      "\"hausdorff_percent\":%s,\"rms_percent\":%s,\"diagonal\":%.17g,\"samples\":%zu,"
-      "\"seconds\":%.3f}\n",
-      lod.face_count(), lod.vertex_count(), level, d.hausdorff, d.rms, percents[0], percents[1],
-      d.diagonal, d.samples, seconds);
+  std::snprintf(text, sizeof text,
+                "{\"faces\":%zu,\"vertices\":%zu,\"level\":%zu,\"hausdorff\":%.17g,\"rms\":%.17g,"
+                "\"hausdorff_percent\":%s,\"rms_percent\":%s,\"diagonal\":%.17g,\"samples\":%zu,"
+                "\"seconds\":%.3f}\n",
+                lod.face_count(), lod.vertex_count(), level, d.hausdorff, d.rms, percents[0],
+                percents[1], d.diagonal, d.samples, seconds);
+  return text;
+}
+
+// The level a request selects in this file.
+pm::Status select_level(const LevelRequest& request, const pm::ProgressiveMesh& progressive,
+                        const Settings& settings, const std::string& input,
+                        pm::cli::JobProgress& progress, std::size_t& level) {
+  const std::size_t full_faces = pm::faces_at_level(progressive, progressive.splits.size());
+  level = progressive.splits.size();
+  switch (request.kind) {
+    case LevelRequest::Kind::kFull:
+      return pm::Status::ok();
+    case LevelRequest::Kind::kVertices:
+      level = pm::level_for_vertices(progressive, request.count);
+      return pm::Status::ok();
+    case LevelRequest::Kind::kFaces:
+    case LevelRequest::Kind::kRatio: {
+      const std::size_t wanted =
+          request.kind == LevelRequest::Kind::kFaces
+              ? request.count
+              : static_cast<std::size_t>(std::llround(request.ratio * full_faces));
+      level = pm::level_for_faces(progressive, wanted);
+      const std::size_t base_faces = pm::faces_at_level(progressive, 0);
+      if (wanted < base_faces)
+        progress.note(input + ": " + std::to_string(wanted) +
+                      " faces requested; the base mesh has " + std::to_string(base_faces));
+      return pm::Status::ok();
+    }
+    case LevelRequest::Kind::kError: {
+      const double bound =
+          settings.error.absolute
+              ? settings.error.value
+              : settings.error.value * pm::bounding_box_diagonal(progressive.positions) / 100.0;
+      if (settings.error.estimate) {
+        level = pm::level_for_error(progressive, bound);
+        return pm::Status::ok();
+      }
+      const auto search_start = std::chrono::steady_clock::now();
+      pm::MeasuredLevel found;
+      if (pm::Status s = pm::level_for_measured_error(progressive, bound, {}, found); !s) return s;
+      level = found.level;
+      const double diagonal = found.distance.diagonal;
+      char note[256];
+      std::snprintf(note, sizeof note,
+                    ": measured Hausdorff %.6g (%.4g%% of diagonal) <= %.6g, %zu levels "
+                    "measured, %.2f s",
+                    found.distance.hausdorff,
+                    diagonal > 0 ? 100 * found.distance.hausdorff / diagonal : 0.0, bound,
+                    found.measurements, pm::cli::seconds_since(search_start));
+      progress.note(input + note);
+      return pm::Status::ok();
+    }
+  }
+  return pm::Status::ok();
+}
+
+// What one written level says in the JSON ("null" members until it is written).
+struct WrittenLevel {
+  std::string output, label;
+  bool written = false;
+  std::size_t level = 0, faces = 0, vertices = 0;
+};
+
+std::string json_members(const std::vector<WrittenLevel>& levels, const pm::ProgressiveMesh* pm) {
+  auto number = [](bool known, std::size_t value) {
+    return known ? std::to_string(value) : std::string("null");
+  };
+  std::string json = "\"outputs\":[";
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const WrittenLevel& l = levels[i];
+    json += std::string(i ? "," : "") +
+            "{\"output\":" + (l.output.empty() ? "null" : pm::cli::json_string(l.output)) +
+            ",\"lod\":" + (l.label.empty() ? "null" : pm::cli::json_string(l.label)) +
+            ",\"level\":" + number(l.written, l.level) +
+            ",\"faces\":" + number(l.written, l.faces) +
+            ",\"vertices\":" + number(l.written, l.vertices) + "}";
+  }
+  json += "],\"full_faces\":" + number(pm, pm ? pm::faces_at_level(*pm, pm->splits.size()) : 0) +
+          ",\"splits\":" + number(pm, pm ? pm->splits.size() : 0);
+  return json;
+}
+
+pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& progress,
+                             const Settings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string& input = task.input.path;
+  std::vector<WrittenLevel> written(settings.levels.size());
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    written[i].label = settings.levels[i].label;
+    if (i < task.outputs.size()) written[i].output = task.outputs[i];
+  }
+  pm::cli::Outcome outcome;
+  outcome.json = json_members(written, nullptr);
+  auto failed = [&outcome](const pm::Status& status) {
+    outcome.status = status;
+    outcome.exit_code = pm::cli::exit_code_for(status.code());
+    return outcome;
+  };
+  if (!task.input.problem) return failed(task.input.problem);
+  if (settings.skip_existing && pm::cli::all_outputs_exist(task)) {
+    outcome.skipped = true;
+    outcome.summary = input + ": skipped, its outputs exist";
+    return outcome;
+  }
+
+  std::string bytes;
+  if (pm::Status s = pm::cli::read_whole_input(input, bytes, settings.read.max_memory); !s)
+    return failed(s);
+  pm::ProgressiveMesh progressive;
+  if (pm::Status s = pm::read_pm(bytes, progressive, settings.read); !s) return failed(s);
+  bytes = std::string();
+  if (!task.conflict) return failed(task.conflict);
+
+  std::string faces_list;
+  pm::Mesh last;
+  for (std::size_t i = 0; i < settings.levels.size(); ++i) {
+    std::size_t level = 0;
+    if (pm::Status s =
+            select_level(settings.levels[i], progressive, settings, input, progress, level);
+        !s)
+      return failed(s);
+    last = pm::extract_level(progressive, level);
+    if (!written[i].output.empty()) {
+      const std::string& output = written[i].output;
+      const pm::MeshFormat format = output_format_for(output, settings.output_format);
+      std::string encoded;
+      if (pm::Status s = pm::write_mesh_to_memory(last, format, encoded); !s) {
+        outcome.error_file = output;
+        return failed(s);
+      }
+      const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl;
+      pm::Status s =
+          settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
+      if (s) s = pm::cli::write_output_atomically(output, encoded, binary);
+      if (!s) {
+        failed(s);
+        outcome.exit_code = pm::cli::exit_code_for_write(s);
+        outcome.error_file = output;
+        return outcome;
+      }
+    }
+    written[i].written = true;
+    written[i].level = level;
+    written[i].faces = last.face_count();
+    written[i].vertices = last.vertex_count();
+    outcome.faces += last.face_count();
+    faces_list += (i ? ", " : "") + std::to_string(last.face_count());
+    progress.set_faces(outcome.faces);
+    progress.set_fraction(static_cast<double>(i + 1) / settings.levels.size());
+  }
+  if (settings.compare_with) {
+    const auto compare_start = std::chrono::steady_clock::now();
+    pm::SurfaceDistance distance;
+    if (pm::Status s = pm::measure_surface_distance(*settings.compare_with, last, {}, distance); !s)
+      return failed(s);
+    outcome.stdout_text =
+        comparison_text(distance, last, written.front().level,
+                        pm::cli::seconds_since(compare_start), settings.json_comparison);
+  }
+  outcome.json = json_members(written, &progressive);
+  char summary[256];
+  const std::string name = input == "-" ? "(stdin)" : input;
+  if (written.size() == 1) {
+    std::snprintf(summary, sizeof summary,
+                  ": level %zu of %zu: %zu faces, %zu vertices, recorded error %.6g, %.2f s",
+                  written[0].level, progressive.splits.size(), written[0].faces,
+                  written[0].vertices, double(pm::error_at_level(progressive, written[0].level)),
+                  pm::cli::seconds_since(start));
+    outcome.summary = name + summary;
+  } else {
+    std::snprintf(summary, sizeof summary, " faces, %.2f s", pm::cli::seconds_since(start));
+    outcome.summary =
+        name + ": " + std::to_string(written.size()) + " levels: " + faces_list + summary;
+  }
+  return outcome;
+}
+
+int fail_usage(const std::string& message) {
+  std::cerr << kTool << ": " << message << "\n";
+  return pm::cli::kExitUsage;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "pmdec: decode a level of detail from a progressive mesh (.pm).\n"
-      "Without a level option, writes full detail: the input mesh, exactly."};
+      "pmdec: decode levels of detail from progressive meshes (.pm).\n"
+      "Without a level option, writes full detail: the input mesh, exactly.\n"
+      "Many inputs are decoded at once (-j); a failure does not stop the others."};
   app.set_version_flag("--version", std::string("pmdec ") + PM_VERSION_STRING);
-  std::string input, output, error_text, output_format, compare_path;
+  pm::cli::BatchCommandLine command;
+  Settings settings;
+  std::string error_text, compare_path, lods_text, max_memory_text;
   std::size_t vertices = 0, faces = 0;
   double ratio = 1.0;
-  bool quiet = false, info = false, json = false, absolute = false, estimate = false;
-  app.add_option("input", input, "Input .pm file, or - for standard input")->required();
-  app.add_option(
-      "-o,--output", output,
-      "Output mesh; the extension picks OBJ, PLY, OFF or STL; - writes OBJ to standard output");
-  app.add_option("--format", output_format,
+  bool info = false;
+  command.add_options(
+      app, "Input .pm files, directories (with -r), or - for standard input",
+      "Output mesh, - for OBJ on standard output, or a template: {stem} {ext} {name} {dir} "
+      "{lod}; the extension picks OBJ, PLY, OFF or STL (default with --out-dir: "
+      "{dir}/{stem}.obj, with --lods {dir}/{stem}_{lod}.obj)");
+  app.add_option("--format", settings.output_format,
                  "Output format, overriding the extension (obj, ply, off, stl)");
   auto* by_vertices =
       app.add_option("--vertices", vertices, "Level with at least this many vertices");
@@ -112,127 +368,162 @@ int main(int argc, char** argv) {
       "--error", error_text,
       "Coarsest level whose measured Hausdorff distance to full detail is at most E percent "
       "of the bounding-box diagonal (E or E%); see --absolute and --estimate");
-  app.add_flag("--absolute", absolute, "With --error: E is in model units")->needs(by_error);
-  app.add_flag("--estimate", estimate,
+  auto* by_lods = app.add_option(
+      "--lods", lods_text,
+      "Several levels per input, comma-separated: percentages of the full faces (25%) or "
+      "face counts (5000); name the outputs with {lod} in -o");
+  app.add_flag("--absolute", settings.error.absolute, "With --error: E is in model units")
+      ->needs(by_error);
+  app.add_flag("--estimate", settings.error.estimate,
                "With --error: select by the errors recorded in the file, without measuring "
                "(instant, but not a guarantee)")
       ->needs(by_error);
-  by_vertices->excludes(by_faces)->excludes(by_ratio)->excludes(by_error);
-  by_faces->excludes(by_ratio)->excludes(by_error);
-  by_ratio->excludes(by_error);
+  by_vertices->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)->excludes(by_lods);
+  by_faces->excludes(by_ratio)->excludes(by_error)->excludes(by_lods);
+  by_ratio->excludes(by_error)->excludes(by_lods);
+  by_error->excludes(by_lods);
   auto* compare = app.add_option("--compare", compare_path,
                                  "Measure the level's distance (Hausdorff, RMS) to this original "
-                                 "mesh and print it on standard output; -o becomes optional");
-  app.add_flag("--json", json, "With --compare: print one JSON object instead")->needs(compare);
+                                 "mesh and print it on standard output (one input; -o becomes "
+                                 "optional; with --json, one JSON object)");
+  compare->excludes(by_lods);
+  auto* max_memory = app.add_option("--max-memory", max_memory_text,
+                                    "Refuse a .pm whose decoding needs more memory than this "
+                                    "(1000000, 512k, 512M, 2G: powers of 1024)")
+                         ->type_name("SIZE");
   app.add_flag("--info", info, "Print the header, counts and error range, and exit");
-  app.add_flag("-q,--quiet", quiet, "Print errors only");
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
-      "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large.");
+      "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large\n"
+      "(or more than --max-memory), 8 several inputs and some failed (each is reported).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? pm::cli::kExitOk : pm::cli::kExitUsage;
   }
-  pm::cli::install_cleanup_handlers();
-  const auto start = std::chrono::steady_clock::now();
+  if (max_memory->count() > 0 && !pm::cli::parse_size(max_memory_text, settings.read.max_memory))
+    return fail_usage("--max-memory " + max_memory_text +
+                      ": expected a positive size such as 1000000, 512M or 2G");
 
-  std::string bytes;
-  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s)
-    return pm::cli::fail(kTool, input, s);
-  if (info) return print_info(input, bytes);
-  if (output.empty() && compare_path.empty()) {
-    std::cerr << kTool << ": no output given (use -o FILE, or -o - for OBJ on standard output)\n";
-    return pm::cli::kExitUsage;
+  if (info) {
+    std::vector<pm::cli::Input> inputs;
+    pm::cli::InputOptions input_options{command.inputs, command.lists, command.recursive, {"pm"}};
+    if (command.inputs.empty() && command.lists.empty())
+      return fail_usage("no input: give files, directories with -r, or --from-list FILE");
+    if (pm::Status s = pm::cli::gather_inputs(input_options, inputs); !s) {
+      std::cerr << kTool << ": " << s.message() << "\n";
+      return pm::cli::exit_code_for(s.code());
+    }
+    int exit_code = pm::cli::kExitOk;
+    std::size_t failures = 0;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      if (i > 0) std::printf("\n");
+      exit_code = inputs[i].problem ? print_info(inputs[i].path, settings.read)
+                                    : pm::cli::fail(kTool, inputs[i].path, inputs[i].problem);
+      if (exit_code != pm::cli::kExitOk) ++failures;
+    }
+    if (inputs.size() == 1) return exit_code;
+    return failures ? pm::cli::kExitSomeFailed : pm::cli::kExitOk;
   }
-  if (output == "-" && !compare_path.empty()) {
-    std::cerr << kTool << ": --compare prints on standard output: write the mesh to a file\n";
-    return pm::cli::kExitUsage;
+
+  if (command.output.empty() && command.out_dir.empty() && compare_path.empty())
+    return fail_usage(
+        "no output given (use -o FILE, -o - for OBJ on standard output, or --out-dir DIR)");
+  if (command.output == "-" && !compare_path.empty())
+    return fail_usage("--compare prints on standard output: write the mesh to a file");
+
+  LevelRequest single;
+  if (*by_lods) {
+    if (!parse_lods(lods_text, settings.levels))
+      return fail_usage("--lods " + lods_text +
+                        ": expected a comma-separated list of percentages (25%) or face counts");
+    for (std::size_t i = 0; i < settings.levels.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (settings.levels[i].label == settings.levels[j].label)
+          return fail_usage("--lods " + lods_text + ": two levels are named " +
+                            settings.levels[i].label);
+    if (command.output == "-" && settings.levels.size() > 1)
+      return fail_usage("-o - takes one level; --lods gives " +
+                        std::to_string(settings.levels.size()));
+  } else {
+    if (*by_vertices) {
+      single.kind = LevelRequest::Kind::kVertices;
+      single.count = vertices;
+    } else if (*by_faces) {
+      single.kind = LevelRequest::Kind::kFaces;
+      single.count = faces;
+    } else if (*by_ratio) {
+      single.kind = LevelRequest::Kind::kRatio;
+      single.ratio = ratio;
+    } else if (*by_error) {
+      single.kind = LevelRequest::Kind::kError;
+      if (!parse_error_bound(error_text, settings.error.absolute, settings.error.value))
+        return fail_usage(std::string("--error: not a non-negative number") +
+                          (settings.error.absolute ? " (no % with --absolute)" : " or percentage") +
+                          ": " + error_text);
+    }
+    settings.levels = {single};
   }
-  pm::MeshFormat format = output_format.empty() ? pm::mesh_format_from_path(output)
-                                                : pm::mesh_format_from_path("." + output_format);
-  if (output == "-" && output_format.empty()) format = pm::MeshFormat::kObj;
-  if (!output.empty() && format == pm::MeshFormat::kUnknown)
-    return pm::cli::fail(kTool, output,
-                         pm::Status(pm::ErrorCode::kUnsupportedFormat,
-                                    "unknown output format (use .obj .ply .off .stl or --format)"));
+
+  pm::cli::PlanSettings plan;
+  plan.extensions = {"pm"};
+  plan.extra_names = {"lod"};
+  plan.default_template = *by_lods ? "{dir}/{stem}_{lod}.obj" : "{dir}/{stem}.obj";
+  for (const LevelRequest& level : settings.levels) plan.variants.push_back({{"lod", level.label}});
+  pm::cli::OutputTemplate name_template;
+  if (!command.output.empty() && command.output != "-" &&
+      pm::cli::OutputTemplate::parse(command.output, plan.extra_names, name_template)) {
+    if (name_template.has_placeholder("lod") && !*by_lods)
+      return fail_usage("-o " + command.output + ": {lod} needs --lods");
+    if (!name_template.has_placeholder("lod") && settings.levels.size() > 1)
+      return fail_usage("-o " + command.output + ": name the levels of --lods apart with {lod}");
+  }
+  std::vector<pm::cli::Task> tasks;
+  if (pm::Status s = pm::cli::plan_tasks(command, plan, tasks); !s) {
+    std::cerr << kTool << ": " << s.message() << "\n";
+    return pm::cli::exit_code_for(s.code());
+  }
+  // --compare alone writes no mesh.
+  if (command.output.empty() && command.out_dir.empty())
+    for (pm::cli::Task& task : tasks) task.outputs.clear();
+  for (const pm::cli::Task& task : tasks)
+    for (const std::string& output : task.outputs)
+      if (output_format_for(output, settings.output_format) == pm::MeshFormat::kUnknown)
+        return pm::cli::fail(
+            kTool, output,
+            pm::Status(pm::ErrorCode::kUnsupportedFormat,
+                       "unknown output format (use .obj .ply .off .stl or --format)"));
+  if (command.dry_run) {
+    pm::cli::print_plan(tasks, command.json, /*outputs_as_array=*/true, command.skip_existing);
+    return pm::cli::kExitOk;
+  }
 
   // Read before any work is done or any file written, so that a bad ORIGINAL costs nothing.
   pm::Mesh original;
+  pm::cli::RunOptions run_options = command.run_options(kTool);
   if (!compare_path.empty()) {
+    if (tasks.size() != 1)
+      return fail_usage("--compare takes a single input (" + std::to_string(tasks.size()) +
+                        " given)");
     if (pm::Status s = pm::read_mesh(compare_path, original); !s)
       return pm::cli::fail(kTool, compare_path, s);
+    settings.compare_with = &original;
+    // The comparison is the JSON object of --json.
+    settings.json_comparison = command.json;
+    run_options.json = false;
   }
+  if (tasks.empty() && !command.quiet) std::cerr << kTool << ": no input files\n";
 
-  pm::ProgressiveMesh progressive;
-  if (pm::Status s = pm::read_pm(bytes, progressive); !s) return pm::cli::fail(kTool, input, s);
-  bytes = std::string();
-
-  const std::size_t full_faces = pm::faces_at_level(progressive, progressive.splits.size());
-  std::size_t level = progressive.splits.size();
-  if (*by_vertices) {
-    level = pm::level_for_vertices(progressive, vertices);
-  } else if (*by_faces || *by_ratio) {
-    const std::size_t wanted =
-        *by_faces ? faces : static_cast<std::size_t>(std::llround(ratio * full_faces));
-    level = pm::level_for_faces(progressive, wanted);
-    if (!quiet && wanted < pm::faces_at_level(progressive, 0))
-      std::cerr << kTool << ": " << input << ": " << wanted
-                << " faces requested; the base mesh has " << pm::faces_at_level(progressive, 0)
-                << "\n";
-  } else if (*by_error) {
-    double bound = 0;
-    if (!parse_error_bound(error_text, absolute, progressive, bound)) {
-      std::cerr << kTool << ": --error: not a non-negative number"
-                << (absolute ? " (no % with --absolute)" : " or percentage") << ": "
-                << error_text << "\n";
-      return pm::cli::kExitUsage;
-    }
-    if (estimate) {
-      level = pm::level_for_error(progressive, bound);
-    } else {
-      const auto search_start = std::chrono::steady_clock::now();
-      pm::MeasuredLevel found;
-      if (pm::Status s = pm::level_for_measured_error(progressive, bound, {}, found); !s)
-        return pm::cli::fail(kTool, input, s);
-      level = found.level;
-      if (!quiet) {
-        const double diagonal = found.distance.diagonal;
-        std::fprintf(stderr,
-                     "pmdec: %s: measured Hausdorff %.6g (%.4g%% of diagonal) <= %.6g, "
-                     "%zu levels measured, %.2f s\n",
-                     input.c_str(), found.distance.hausdorff,
-                     diagonal > 0 ? 100 * found.distance.hausdorff / diagonal : 0.0, bound,
-                     found.measurements, pm::cli::seconds_since(search_start));
-      }
-    }
-  }
-
-  const pm::Mesh mesh = pm::extract_level(progressive, level);
-  if (!output.empty()) {
-    std::string encoded;
-    if (pm::Status s = pm::write_mesh_to_memory(mesh, format, encoded); !s)
-      return pm::cli::fail(kTool, output, s);
-    const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl;
-    if (pm::Status s = pm::cli::write_output_atomically(output, encoded, binary); !s) {
-      pm::cli::fail(kTool, output, s);
-      return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage
-                                                         : pm::cli::kExitCannotWrite;
-    }
-  }
-  if (!compare_path.empty()) {
-    const auto compare_start = std::chrono::steady_clock::now();
-    pm::SurfaceDistance distance;
-    if (pm::Status s = pm::measure_surface_distance(original, mesh, {}, distance); !s)
-      return pm::cli::fail(kTool, compare_path, s);
-    print_comparison(distance, mesh, level, pm::cli::seconds_since(compare_start), json);
-  }
-  if (!quiet) {
-    std::fprintf(
-        stderr, "pmdec: %s: level %zu of %zu: %zu faces, %zu vertices, recorded error %.6g, %.2f s\n",
-        input.c_str(), level, progressive.splits.size(), mesh.face_count(), mesh.vertex_count(),
-        double(pm::error_at_level(progressive, level)), pm::cli::seconds_since(start));
-  }
-  return pm::cli::kExitOk;
+  pm::cli::install_cleanup_handlers();
+  std::vector<std::string> outputs;
+  for (const pm::cli::Task& task : tasks)
+    outputs.insert(outputs.end(), task.outputs.begin(), task.outputs.end());
+  pm::cli::remove_stale_temporaries(outputs);
+  settings.skip_existing = command.skip_existing;
+  settings.create_directories = !command.out_dir.empty();
+  return pm::cli::run_batch(tasks, run_options,
+                            [&settings](const pm::cli::Task& task, pm::cli::JobProgress& progress) {
+                              return decode_file(task, progress, settings);
+                            });
 }

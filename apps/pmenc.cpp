@@ -1,11 +1,11 @@
-// pmenc: mesh in, progressive mesh (.pm) out. Parse, call the library, report.
-#include <unistd.h>
-
+// pmenc: meshes in, progressive meshes (.pm) out. Parse, plan, call the library per file,
+// report.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 #include <map>
 
+#include "batch_options.h"
 #include "cli_common.h"
 #include "pm/encoder.h"
 #include "pm/mesh_io.h"
@@ -15,53 +15,136 @@ namespace {
 
 constexpr const char* kTool = "pmenc";
 
-std::string default_output_for(const std::string& input) {
-  if (input == "-") return "-";
-  const auto slash = input.find_last_of('/');
-  const auto dot = input.find_last_of('.');
-  const bool has_extension =
-      dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  return (has_extension ? input.substr(0, dot) : input) + ".pm";
-}
+struct Settings {
+  pm::EncodeOptions encode;
+  pm::WriteOptions write;
+  std::string input_format;  // --format, or empty
+  bool skip_existing = false;
+  bool create_directories = false;  // --out-dir: the mirrored tree is made as needed
+};
 
-void report_repairs(const std::string& input, const pm::RepairReport& r) {
-  if (!r.any()) return;
-  std::cerr << kTool << ": " << input << ": repaired for simplification (undone at full detail):";
+std::string repairs_note(const std::string& input, const pm::RepairReport& r) {
+  std::string line = input + ": repaired for simplification (undone at full detail):";
   const char* separator = " ";
   auto item = [&](std::size_t n, const char* what) {
     if (!n) return;
-    std::cerr << separator << n << ' ' << what;
+    line += separator + std::to_string(n) + ' ' + what;
     separator = ", ";
   };
   item(r.complex_edges, "non-manifold edges cut");
   item(r.vertices_duplicated, "vertices duplicated at non-manifold spots (kept, never removed)");
   item(r.carried_faces, "faces with a repeated vertex carried as-is");
   item(r.loose_vertices, "unreferenced vertices kept for full detail");
-  std::cerr << '\n';
+  return line;
+}
+
+// The JSON members of one file; counts are null unless it was converted.
+std::string json_members(const std::string& output, const pm::EncodeStats* stats,
+                         std::size_t pm_bytes) {
+  std::string json = "\"output\":" + pm::cli::json_string(output);
+  auto member = [&](const char* key, std::size_t value) {
+    json += std::string(",\"") + key + "\":" + (stats ? std::to_string(value) : "null");
+  };
+  member("input_faces", stats ? stats->input_faces : 0);
+  member("base_faces", stats ? stats->base_faces : 0);
+  member("base_vertices", stats ? stats->base_vertices : 0);
+  member("splits", stats ? stats->collapses : 0);
+  member("pm_bytes", pm_bytes);
+  return json;
+}
+
+pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& progress,
+                             const Settings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string& input = task.input.path;
+  const std::string& output = task.outputs.front();
+  pm::cli::Outcome outcome;
+  outcome.json = json_members(output, nullptr, 0);
+  auto failed = [&outcome](const pm::Status& status) {
+    outcome.status = status;
+    outcome.exit_code = pm::cli::exit_code_for(status.code());
+    return outcome;
+  };
+  if (!task.input.problem) return failed(task.input.problem);
+  if (settings.skip_existing && pm::cli::all_outputs_exist(task)) {
+    outcome.skipped = true;
+    outcome.summary = input + ": skipped, " + output + " exists";
+    return outcome;
+  }
+
+  pm::MeshFormat format = settings.input_format.empty()
+                              ? pm::mesh_format_from_path(input)
+                              : pm::mesh_format_from_path("." + settings.input_format);
+  if (format == pm::MeshFormat::kUnknown && input != "-")
+    return failed(pm::Status(pm::ErrorCode::kUnsupportedFormat,
+                             "unknown mesh format (use .obj .ply .off .stl or --format)"));
+  std::string bytes;
+  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s) return failed(s);
+  if (format == pm::MeshFormat::kUnknown) format = pm::cli::sniff_mesh_format(bytes);
+  if (format == pm::MeshFormat::kUnknown)
+    return failed(pm::Status(pm::ErrorCode::kUnsupportedFormat,
+                             "cannot tell the mesh format of standard input: use --format "
+                             "obj|ply|off|stl"));
+  pm::Mesh mesh;
+  pm::ReadReport read_report;
+  if (pm::Status s = pm::read_mesh_from_memory(bytes, format, mesh, &read_report); !s)
+    return failed(s);
+  bytes = std::string();
+  if (!task.conflict) return failed(task.conflict);
+  progress.set_faces(mesh.face_count());
+  if (read_report.polygons_triangulated)
+    progress.note(input + ": " + std::to_string(read_report.polygons_triangulated) +
+                  " polygons split into triangles");
+
+  pm::EncodeOptions options = settings.encode;
+  options.progress = [&progress](double fraction) { progress.set_fraction(fraction); };
+  pm::ProgressiveMesh progressive;
+  pm::EncodeStats stats;
+  if (pm::Status s = pm::encode(mesh, options, progressive, &stats); !s) return failed(s);
+  mesh = pm::Mesh();
+  if (stats.repair.any()) progress.note(repairs_note(input, stats.repair));
+
+  std::string encoded;
+  if (pm::Status s = pm::write_pm(progressive, settings.write, encoded); !s) return failed(s);
+  pm::Status written =
+      settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
+  if (written) written = pm::cli::write_output_atomically(output, encoded, /*binary=*/true);
+  if (!written) {
+    failed(written);
+    outcome.exit_code = pm::cli::exit_code_for_write(written);
+    outcome.error_file = output;
+    return outcome;
+  }
+  outcome.faces = stats.input_faces;
+  outcome.json = json_members(output, &stats, encoded.size());
+  char summary[256];
+  std::snprintf(summary, sizeof summary,
+                ": %zu faces, base mesh %zu faces / %zu vertices, %zu splits, %s in %.2f s",
+                stats.input_faces, stats.base_faces, stats.base_vertices, stats.collapses,
+                pm::cli::human_bytes(encoded.size()).c_str(), pm::cli::seconds_since(start));
+  outcome.summary = (input == "-" ? std::string("(stdin)") : input) + summary;
+  return outcome;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "pmenc: encode a triangle mesh as a progressive mesh (.pm).\n"
+      "pmenc: encode triangle meshes as progressive meshes (.pm).\n"
       "Reads OBJ, PLY, OFF or STL; writes the base mesh and the vertex splits that\n"
-      "restore the input exactly. Decode any level of detail with pmdec."};
+      "restore the input exactly. Decode any level of detail with pmdec.\n"
+      "Many inputs are converted at once (-j); a failure does not stop the others."};
   app.set_version_flag("--version", std::string("pmenc ") + PM_VERSION_STRING);
-  std::string input, output;
-  pm::EncodeOptions options;
-  bool quiet = false;
-  std::string input_format;
-  int zstd_level = pm::WriteOptions{}.zstd_level;
-  app.add_option("input", input, "Input mesh (.obj .ply .off .stl), or - for standard input")
-      ->required();
-  app.add_option("-o,--output", output,
-                 "Output .pm file, or - for standard output "
-                 "(default: the input's name with .pm)");
-  app.add_option("--format", input_format,
+  pm::cli::BatchCommandLine command;
+  Settings settings;
+  command.add_options(
+      app, "Input meshes (.obj .ply .off .stl), directories (with -r), or - for standard input",
+      "Output .pm file, - for standard output, or a template: {stem} {ext} {name} {dir} "
+      "(default: {dir}/{stem}.pm, the input's name with .pm)");
+  app.add_option("--format", settings.input_format,
                  "Input format when it cannot be told from the name "
-                 "(obj, ply, off, stl); needed for standard input");
-  app.add_option("--metric", options.metric,
+                 "(obj, ply, off, stl); standard input is recognized by its content");
+  app.add_option("--metric", settings.encode.metric,
                  "Collapse cost: schroeder (distance to plane or feature line, Schroeder 1992) "
                  "or quadric (Garland and Heckbert 1997)")
       ->transform(CLI::CheckedTransformer(
@@ -69,84 +152,59 @@ int main(int argc, char** argv) {
                                             {"quadric", pm::Metric::kQuadric}},
           CLI::ignore_case))
       ->default_str("quadric");
-  app.add_option("--feature-angle", options.feature_angle_deg,
+  app.add_option("--feature-angle", settings.encode.feature_angle_deg,
                  "Edges whose faces meet at more than this angle (degrees) are sharp features "
                  "(default: 30 for schroeder, 180 for quadric, which holds boundaries only)")
       ->check(CLI::Range(0.0, 180.0));
-  app.add_option("--max-normal-flip", options.max_normal_flip_deg,
+  app.add_option("--max-normal-flip", settings.encode.max_normal_flip_deg,
                  "Reject collapses that turn a face normal by more than this (degrees)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 180.0));
-  app.add_flag("--keep-corners", options.keep_corners,
+  app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
-  app.add_option("--min-faces", options.min_faces, "Stop simplifying at this many faces");
-  app.add_option("--min-vertices", options.min_vertices, "Stop simplifying at this many vertices");
-  app.add_option("--zstd-level", zstd_level, "zstd compression level")
+  app.add_flag("--drop-attributes", settings.encode.drop_attributes,
+               "Encode geometry only: no colours, texture coordinates, normals or materials");
+  app.add_option("--min-faces", settings.encode.min_faces, "Stop simplifying at this many faces");
+  app.add_option("--min-vertices", settings.encode.min_vertices,
+                 "Stop simplifying at this many vertices");
+  app.add_option("--zstd-level", settings.write.zstd_level, "zstd compression level")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
-  app.add_flag("-q,--quiet", quiet, "Print errors only");
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid input,\n"
-      "5 cannot write output, 6 unsupported format or version, 7 input too large.");
+      "5 cannot write output, 6 unsupported format or version, 7 input too large,\n"
+      "8 several inputs and some failed (each is reported; the others were converted).");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? pm::cli::kExitOk : pm::cli::kExitUsage;
   }
-  if (output.empty()) output = default_output_for(input);
+
+  pm::cli::PlanSettings plan;
+  plan.extensions = {"obj", "ply", "off", "stl"};
+  plan.default_template = "{dir}/{stem}.pm";
+  plan.variants = {{}};
+  plan.stdin_default_output = "-";
+  std::vector<pm::cli::Task> tasks;
+  if (pm::Status s = pm::cli::plan_tasks(command, plan, tasks); !s) {
+    std::cerr << kTool << ": " << s.message() << "\n";
+    return pm::cli::exit_code_for(s.code());
+  }
+  if (command.dry_run) {
+    pm::cli::print_plan(tasks, command.json, /*outputs_as_array=*/false, command.skip_existing);
+    return pm::cli::kExitOk;
+  }
+  if (tasks.empty() && !command.quiet) std::cerr << kTool << ": no input files\n";
+
   pm::cli::install_cleanup_handlers();
-  const auto start = std::chrono::steady_clock::now();
-
-  pm::MeshFormat format = input_format.empty() ? pm::mesh_format_from_path(input)
-                                               : pm::mesh_format_from_path("." + input_format);
-  if (format == pm::MeshFormat::kUnknown) {
-    return pm::cli::fail(
-        kTool, input,
-        pm::Status(pm::ErrorCode::kUnsupportedFormat,
-                   input == "-" ? "standard input needs --format obj|ply|off|stl"
-                                : "unknown mesh format (use .obj .ply .off .stl or --format)"));
-  }
-  std::string bytes;
-  if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s)
-    return pm::cli::fail(kTool, input, s);
-  pm::Mesh mesh;
-  pm::ReadReport read_report;
-  if (pm::Status s = pm::read_mesh_from_memory(bytes, format, mesh, &read_report); !s)
-    return pm::cli::fail(kTool, input, s);
-  bytes = std::string();
-  if (read_report.polygons_triangulated && !quiet)
-    std::cerr << kTool << ": " << input << ": " << read_report.polygons_triangulated
-              << " polygons split into triangles\n";
-
-  if (!quiet && isatty(2)) {
-    options.progress = [](double fraction) {
-      std::fprintf(stderr, "\rpmenc: simplifying %3d%%", static_cast<int>(fraction * 100));
-      if (fraction >= 1.0) std::fprintf(stderr, "\r%24s\r", "");
-    };
-  }
-  pm::ProgressiveMesh progressive;
-  pm::EncodeStats stats;
-  if (pm::Status s = pm::encode(mesh, options, progressive, &stats); !s)
-    return pm::cli::fail(kTool, input, s);
-  if (!quiet) report_repairs(input, stats.repair);
-
-  std::string encoded;
-  pm::WriteOptions write_options;
-  write_options.zstd_level = zstd_level;
-  if (pm::Status s = pm::write_pm(progressive, write_options, encoded); !s)
-    return pm::cli::fail(kTool, input, s);
-  if (pm::Status s = pm::cli::write_output_atomically(output, encoded, /*binary=*/true); !s) {
-    pm::cli::fail(kTool, output, s);
-    return s.code() == pm::ErrorCode::kInvalidArgument ? pm::cli::kExitUsage
-                                                       : pm::cli::kExitCannotWrite;
-  }
-  if (!quiet) {
-    std::fprintf(
-        stderr,
-        "pmenc: %s: %zu faces, base mesh %zu faces / %zu vertices, %zu splits, %s in %.2f s\n",
-        input.c_str(), stats.input_faces, stats.base_faces, stats.base_vertices, stats.collapses,
-        pm::cli::human_bytes(encoded.size()).c_str(), pm::cli::seconds_since(start));
-  }
-  return pm::cli::kExitOk;
+  std::vector<std::string> outputs;
+  for (const pm::cli::Task& task : tasks) outputs.push_back(task.outputs.front());
+  pm::cli::remove_stale_temporaries(outputs);
+  settings.skip_existing = command.skip_existing;
+  settings.create_directories = !command.out_dir.empty();
+  return pm::cli::run_batch(tasks, command.run_options(kTool),
+                            [&settings](const pm::cli::Task& task, pm::cli::JobProgress& progress) {
+                              return encode_file(task, progress, settings);
+                            });
 }

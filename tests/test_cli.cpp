@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
+#include "pm/lod.h"
 #include "pm/mesh_io.h"
+#include "pm/pm_codec.h"
 #include "test_meshes.h"
 #include "test_util.h"
 
@@ -274,6 +277,161 @@ TEST(Cli, MetricOptionSelectsTheCost) {
   EXPECT_TRUE(test::same_faces(read_or_fail(input), read_or_fail(dir.file("q.obj"))));
   EXPECT_EQ(pmenc({input, "--metric", "volume", "-o", dir.file("x.pm")}).exit_code, 2);
   EXPECT_FALSE(test::file_exists(dir.file("x.pm")));
+}
+
+}  // namespace
+}  // namespace pm
+
+namespace pm {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Hardening (issue 9): pmdec --max-memory, the invalid models of assimp-testmodels.
+
+TEST(Cli, MaxMemoryRefusesLargerDecodesWithExitCode7) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code,
+            0);
+  ASSERT_EQ(pmdec({dir.file("s.pm"), "-o", dir.file("free.obj"), "-q"}).exit_code, 0);
+  const std::size_t file_size = test::read_file(dir.file("s.pm")).size();
+  // The file itself counts: one byte less than it is refused before decoding, whatever the
+  // suffix (k is 1024 bytes).
+  const std::size_t below_in_k = (file_size - 1) / 1024;
+  const std::vector<std::pair<std::string, std::size_t>> limits = {
+      {std::to_string(file_size - 1), file_size - 1},
+      {std::to_string(below_in_k) + "k", below_in_k * 1024},
+      {std::to_string(below_in_k) + "KiB", below_in_k * 1024}};
+  for (const auto& [limit, bytes] : limits) {
+    SCOPED_TRACE(limit);
+    const CommandResult r =
+        pmdec({dir.file("s.pm"), "--max-memory", limit, "-o", dir.file("out.obj")});
+    EXPECT_EQ(r.exit_code, 7) << r.err;
+    EXPECT_EQ(r.err, "pmdec: " + dir.file("s.pm") + ": input is " + std::to_string(file_size) +
+                         " bytes, more than the memory limit of " + std::to_string(bytes) +
+                         " bytes\n");
+  }
+  // A limit the file fits in but its decoded mesh (positions, faces, splits) does not:
+  // refused by the decoder, before it allocates, in one line.
+  CommandResult r = pmdec(
+      {dir.file("s.pm"), "--max-memory", std::to_string(file_size), "-o", dir.file("out.obj")});
+  EXPECT_EQ(r.exit_code, 7) << r.err;
+  expect_one_line_error(r, "pmdec", dir.file("s.pm"));
+  EXPECT_FALSE(test::file_exists(dir.file("out.obj")));
+  // Generous limits in every spelling decode the same bytes as no limit.
+  for (const char* limit : {"1000000", "1M", "512M", "2G", "2g", "1T", "4MB", "1.5M"}) {
+    SCOPED_TRACE(limit);
+    r = pmdec({dir.file("s.pm"), "--max-memory", limit, "-o", dir.file("out.obj"), "-q"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(test::read_file(dir.file("out.obj")), test::read_file(dir.file("free.obj")));
+  }
+  for (const char* bad : {"", "abc", "0", "-5", "12Q", "1.2.3", "M", "5 M"}) {
+    SCOPED_TRACE(bad);
+    r = pmdec({dir.file("s.pm"), "--max-memory", bad, "-o", dir.file("bad.obj")});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_FALSE(test::file_exists(dir.file("bad.obj")));
+  }
+  // Standard input is bounded while it is read.
+  r = test::run_command({PMDEC_PATH, "-", "--max-memory", std::to_string(file_size - 1), "-o", "-"},
+                        test::read_file(dir.file("s.pm")));
+  EXPECT_EQ(r.exit_code, 7) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+// Every file of Debian's assimp-testmodels "invalid" folder: a one-line error naming the
+// file with a documented exit code, or, for a mesh that is valid after all, a conversion
+// (with its repairs reported) and exit 0. Never a signal, never a partial or stray file.
+TEST(BadInput, AssimpInvalidModelsFailCleanly) {
+  const std::string folder = "/usr/share/assimp/models/invalid";
+  if (!test::file_exists(folder)) {
+    std::cerr << folder << " not found (Debian package assimp-testmodels): skipping\n";
+    GTEST_SKIP() << folder << " not found";
+  }
+  std::vector<std::string> names = listing(folder);
+  ASSERT_FALSE(names.empty());
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    TempDir dir;
+    const std::string input = folder + "/" + name;
+    const CommandResult r = pmenc({input, "-o", dir.file("out.pm")});
+    EXPECT_LT(r.exit_code, 128) << "killed by signal " << r.exit_code - 128;
+    if (r.exit_code == 0) {
+      EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"out.pm"});
+      ProgressiveMesh progressive;
+      EXPECT_TRUE(read_pm(test::read_file(dir.file("out.pm")), progressive).is_ok());
+      continue;
+    }
+    EXPECT_TRUE(r.exit_code == 3 || r.exit_code == 4 || r.exit_code == 6 || r.exit_code == 7)
+        << r.exit_code << ": " << r.err;
+    expect_one_line_error(r, "pmenc", input);
+    EXPECT_GT(r.err.size(), ("pmenc: " + input + ": \n").size()) << "no message";
+    EXPECT_TRUE(listing(dir.path()).empty());
+  }
+}
+
+// --drop-attributes: the geometry, exactly, and nothing else.
+TEST(Cli, DropAttributesKeepsTheFacesOnly) {
+  TempDir dir;
+  // polygons.obj has texture coordinates, normals and a material.
+  const std::string input = test::sample_mesh_path("polygons.obj");
+  ASSERT_EQ(pmenc({input, "--drop-attributes", "-o", dir.file("p.pm"), "-q"}).exit_code, 0);
+  ProgressiveMesh progressive;
+  ASSERT_TRUE(read_pm(test::read_file(dir.file("p.pm")), progressive).is_ok());
+  EXPECT_FALSE(progressive.has_uvs());
+  EXPECT_FALSE(progressive.has_normals());
+  EXPECT_FALSE(progressive.has_materials());
+  EXPECT_TRUE(progressive.colors.empty());
+  EXPECT_TRUE(
+      test::same_faces(read_or_fail(input), extract_level(progressive, progressive.splits.size())));
+}
+
+// ---------------------------------------------------------------------------------------
+// Man pages: written by hand, installed by cmake --install; they must describe every
+// option --help lists and every exit code.
+
+std::string man_page(const std::string& tool) {
+  return test::read_file(std::string(PM_SAMPLES_DIR) + "/../apps/man/" + tool + ".1");
+}
+
+// The long options of --help, e.g. "--out-dir".
+std::vector<std::string> long_options(const std::string& help) {
+  std::vector<std::string> options;
+  for (std::size_t at = help.find("--"); at != std::string::npos; at = help.find("--", at + 2)) {
+    std::size_t end = at + 2;
+    while (end < help.size() &&
+           (std::islower(static_cast<unsigned char>(help[end])) || help[end] == '-'))
+      ++end;
+    if (end > at + 2) options.push_back(help.substr(at, end - at));
+  }
+  std::sort(options.begin(), options.end());
+  options.erase(std::unique(options.begin(), options.end()), options.end());
+  return options;
+}
+
+TEST(Cli, ManPagesDescribeEveryOptionAndExitCode) {
+  for (const char* tool : {"pmenc", "pmdec"}) {
+    SCOPED_TRACE(tool);
+    const std::string page = man_page(tool);
+    const CommandResult help =
+        run_command({std::string(tool) == "pmenc" ? PMENC_PATH : PMDEC_PATH, "--help"});
+    ASSERT_EQ(help.exit_code, 0);
+    const std::vector<std::string> options = long_options(help.out);
+    EXPECT_GE(options.size(), 15u);
+    for (const std::string& option : options) {
+      std::string roff;  // "--out-dir" is written "\-\-out\-dir"
+      for (char c : option) roff += c == '-' ? std::string("\\-") : std::string(1, c);
+      EXPECT_NE(page.find("\\fB" + roff + "\\fR"), std::string::npos) << option;
+    }
+    for (int code = 0; code <= 8; ++code)
+      EXPECT_NE(page.find(".TP\n.B " + std::to_string(code) + "\n"), std::string::npos) << code;
+    // groff, when there, renders the page without a warning.
+    if (test::file_exists("/usr/bin/groff")) {
+      const CommandResult render =
+          run_command({"/usr/bin/groff", "-man", "-Tutf8", "-wall",
+                       std::string(PM_SAMPLES_DIR) + "/../apps/man/" + tool + ".1"});
+      EXPECT_EQ(render.exit_code, 0);
+      EXPECT_EQ(render.err, "");
+    }
+  }
 }
 
 }  // namespace

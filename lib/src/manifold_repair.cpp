@@ -7,6 +7,8 @@
 // level of detail.
 #include "manifold_repair.h"
 
+#include "openmesh_logs.h"
+
 #include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
 #include <cmath>
@@ -87,7 +89,7 @@ Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
   }
 
   // OpenMesh reports rejected faces on its error stream; the library never prints.
-  omerr().disable();
+  silence_openmesh_logs();
 
   // Faces with a repeated index have no place in a half-edge mesh: carry them aside.
   std::vector<uint8_t> carried(face_count, 0);

@@ -62,6 +62,7 @@
 #include <vector>
 
 #include "mesh_readers.h"
+#include "openmesh_logs.h"
 
 namespace pm {
 namespace {
@@ -1319,12 +1320,6 @@ std::mutex& openmesh_mutex() {
   return mutex;
 }
 
-// The library never prints; OpenMesh logs through these streams by default.
-void silence_openmesh() {
-  omerr().disable();
-  omlog().disable();
-  omout().disable();
-}
 
 enum class StlKind { kAscii, kBinary, kInvalid };
 
@@ -1453,7 +1448,7 @@ Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
   std::string abort_message;
   try {
     std::lock_guard<std::mutex> lock(openmesh_mutex());
-    silence_openmesh();
+    silence_openmesh_logs();
     ok = OpenMesh::IO::IOManager().read(in, name, importer, options);
   } catch (const AbortRead& abort) {
     abort_message = abort.message;

@@ -1,0 +1,625 @@
+#include "batch.h"
+
+#include <sched.h>
+#include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <new>
+#include <numeric>
+#include <set>
+#include <thread>
+
+#include "cli_common.h"
+
+namespace pm::cli {
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------
+// Inputs
+
+namespace {
+
+std::string lower_case(std::string_view text) {
+  std::string lower(text);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lower;
+}
+
+bool has_wanted_extension(const std::string& file_name,
+                          const std::vector<std::string>& extensions) {
+  const std::size_t dot = file_name.rfind('.');
+  if (dot == std::string::npos || dot == 0) return false;
+  const std::string extension = lower_case(std::string_view(file_name).substr(dot + 1));
+  return std::find(extensions.begin(), extensions.end(), extension) != extensions.end();
+}
+
+std::string join(const std::string& directory, const std::string& name) {
+  return !directory.empty() && directory.back() == '/' ? directory + name : directory + "/" + name;
+}
+
+// Files with a wanted extension below directory, depth first, each directory's entries
+// sorted by name. Symbolic links to files are followed, links to directories are not (as
+// find(1) does), so that a link cannot make the walk loop.
+void walk(const std::string& directory, const std::vector<std::string>& extensions,
+          std::vector<Input>& inputs) {
+  std::error_code error;
+  fs::directory_iterator it(directory, error);
+  if (error) {
+    inputs.push_back(
+        {directory, 0, Status(ErrorCode::kIoError, "cannot read directory: " + error.message())});
+    return;
+  }
+  std::vector<std::string> names;
+  for (; it != fs::directory_iterator(); it.increment(error)) {
+    if (error) break;
+    names.push_back(it->path().filename().string());
+  }
+  if (error) {
+    inputs.push_back(
+        {directory, 0, Status(ErrorCode::kIoError, "cannot read directory: " + error.message())});
+    return;
+  }
+  std::sort(names.begin(), names.end());
+  for (const std::string& name : names) {
+    const std::string path = join(directory, name);
+    struct stat link_info {};
+    if (lstat(path.c_str(), &link_info) != 0) continue;  // gone since the listing
+    if (S_ISDIR(link_info.st_mode)) {
+      walk(path, extensions, inputs);
+      continue;
+    }
+    struct stat info {};
+    if (stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) continue;
+    if (has_wanted_extension(name, extensions))
+      inputs.push_back({path, static_cast<uint64_t>(info.st_size), Status::ok()});
+  }
+}
+
+void add_named(const std::string& path, const InputOptions& options, std::vector<Input>& inputs) {
+  if (path == "-") {
+    inputs.push_back({path, 0, Status::ok()});
+    return;
+  }
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0) {
+    inputs.push_back({path, 0, Status::ok()});  // the conversion reports why it cannot open it
+    return;
+  }
+  if (S_ISDIR(info.st_mode)) {
+    if (options.recursive) {
+      walk(path, options.extensions, inputs);
+    } else {
+      inputs.push_back(
+          {path, 0,
+           Status(ErrorCode::kIoError, "is a directory (use -r to convert the files in it)")});
+    }
+    return;
+  }
+  inputs.push_back({path, static_cast<uint64_t>(info.st_size), Status::ok()});
+}
+
+}  // namespace
+
+Status gather_inputs(const InputOptions& options, std::vector<Input>& inputs) {
+  inputs.clear();
+  // A file named twice (in a list and by a directory, say) is converted once.
+  std::set<std::string> seen;
+  const auto already_seen = [&seen](const Input& input) {
+    return !seen.insert(fs::path(input.path).lexically_normal().string()).second;
+  };
+  for (const std::string& argument : options.arguments) add_named(argument, options, inputs);
+  for (const std::string& list_file : options.list_files) {
+    std::string text;
+    if (Status s = read_whole_input(list_file, text); !s)
+      return Status(s.code(), error_line("--from-list", list_file, s.message()));
+    std::size_t begin = 0;
+    while (begin < text.size()) {
+      std::size_t end = text.find('\n', begin);
+      if (end == std::string::npos) end = text.size();
+      std::string line = text.substr(begin, end - begin);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (!line.empty()) add_named(line, options, inputs);
+      begin = end + 1;
+    }
+  }
+  inputs.erase(std::remove_if(inputs.begin(), inputs.end(), already_seen), inputs.end());
+  return Status::ok();
+}
+
+// ---------------------------------------------------------------------------------------
+// Output names
+
+Status OutputTemplate::parse(const std::string& text, const std::vector<std::string>& extra_names,
+                             OutputTemplate& result) {
+  std::vector<std::string> known = {"stem", "ext", "name", "dir"};
+  known.insert(known.end(), extra_names.begin(), extra_names.end());
+  auto known_list = [&known] {
+    std::string list;
+    for (const std::string& name : known) list += (list.empty() ? "{" : ", {") + name + "}";
+    return list;
+  };
+  result.pieces_.clear();
+  std::string literal;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    // "{{" and "}}" are literal braces.
+    if ((text[i] == '{' || text[i] == '}') && i + 1 < text.size() && text[i + 1] == text[i]) {
+      literal += text[i++];
+      continue;
+    }
+    if (text[i] == '}')
+      return Status(ErrorCode::kInvalidArgument,
+                    "-o " + text + ": unmatched } (write }} for a brace)");
+    if (text[i] != '{') {
+      literal += text[i];
+      continue;
+    }
+    const std::size_t close = text.find('}', i);
+    if (close == std::string::npos)
+      return Status(ErrorCode::kInvalidArgument,
+                    "-o " + text + ": unmatched { (write {{ for a brace)");
+    const std::string name = text.substr(i + 1, close - i - 1);
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      return Status(ErrorCode::kInvalidArgument, "-o " + text + ": unknown placeholder {" + name +
+                                                     "} (known: " + known_list() + ")");
+    if (!literal.empty()) result.pieces_.push_back({false, literal});
+    literal.clear();
+    result.pieces_.push_back({true, name});
+    i = close;
+  }
+  if (!literal.empty()) result.pieces_.push_back({false, literal});
+  return Status::ok();
+}
+
+bool OutputTemplate::has_placeholder(std::string_view name) const {
+  return std::any_of(pieces_.begin(), pieces_.end(),
+                     [name](const Piece& p) { return p.placeholder && p.text == name; });
+}
+
+bool OutputTemplate::has_placeholders() const {
+  return std::any_of(pieces_.begin(), pieces_.end(), [](const Piece& p) { return p.placeholder; });
+}
+
+std::string OutputTemplate::expand(
+    const std::string& input, const std::vector<std::pair<std::string, std::string>>& extra) const {
+  const std::size_t slash = input.rfind('/');
+  const std::string name = slash == std::string::npos ? input : input.substr(slash + 1);
+  const std::string dir = slash == std::string::npos ? "."
+                          : slash == 0               ? "/"
+                                                     : input.substr(0, slash);
+  const std::size_t dot = name.rfind('.');
+  const bool has_extension = dot != std::string::npos && dot > 0;
+  const std::string stem = has_extension ? name.substr(0, dot) : name;
+  const std::string ext = has_extension ? name.substr(dot + 1) : "";
+  std::string out;
+  for (const Piece& piece : pieces_) {
+    if (!piece.placeholder) {
+      out += piece.text;
+    } else if (piece.text == "stem") {
+      out += stem;
+    } else if (piece.text == "ext") {
+      out += ext;
+    } else if (piece.text == "name") {
+      out += name;
+    } else if (piece.text == "dir") {
+      out += dir;
+    } else {
+      for (const auto& [key, value] : extra)
+        if (key == piece.text) out += value;
+    }
+  }
+  return out;
+}
+
+std::string place_output(const std::string& out_dir, const std::string& expanded) {
+  const fs::path normal = fs::path(expanded).lexically_normal();
+  if (out_dir.empty()) return normal.string();
+  fs::path relative;
+  bool leading = true;
+  for (const fs::path& part : normal.relative_path()) {
+    if (leading && part == "..") continue;
+    leading = false;
+    relative /= part;
+  }
+  return (fs::path(out_dir) / relative).lexically_normal().string();
+}
+
+// ---------------------------------------------------------------------------------------
+// Shards
+
+bool Shard::parse(std::string_view text, Shard& shard) {
+  const std::size_t slash = text.find('/');
+  if (slash == std::string_view::npos) return false;
+  auto number = [](std::string_view digits, uint32_t& value) {
+    if (digits.empty() || digits.size() > 9) return false;
+    value = 0;
+    for (char c : digits) {
+      if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+      value = value * 10 + static_cast<uint32_t>(c - '0');
+    }
+    return true;
+  };
+  Shard parsed;
+  if (!number(text.substr(0, slash), parsed.index) || !number(text.substr(slash + 1), parsed.count))
+    return false;
+  if (parsed.count < 1 || parsed.index < 1 || parsed.index > parsed.count) return false;
+  shard = parsed;
+  return true;
+}
+
+bool Shard::contains(const std::string& input_path) const {
+  // FNV-1a over the normalized path ("./a//b.obj" and "a/b.obj" are one file), then the
+  // splitmix64 finalizer, whose low bits are well mixed for the modulo.
+  const std::string key = fs::path(input_path).lexically_normal().generic_string();
+  uint64_t hash = 0xcbf29ce484222325ull;
+  for (unsigned char c : key) hash = (hash ^ c) * 0x100000001b3ull;
+  hash ^= hash >> 30;
+  hash *= 0xbf58476d1ce4e5b9ull;
+  hash ^= hash >> 27;
+  hash *= 0x94d049bb133111ebull;
+  hash ^= hash >> 31;
+  return hash % count == index - 1;
+}
+
+// ---------------------------------------------------------------------------------------
+// Running
+
+void mark_output_conflicts(std::vector<Task>& tasks) {
+  const auto without_extension = [](const std::string& path) {
+    const std::size_t dot = path.rfind('.');
+    return dot == std::string::npos || path.find('/', dot) != std::string::npos
+               ? path
+               : path.substr(0, dot);
+  };
+  std::map<std::string, std::size_t> writer_of;  // output -> index of the first task
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    Task& task = tasks[i];
+    for (const std::string& output : task.outputs) {
+      if (output == "-") continue;
+      const auto [it, inserted] = writer_of.emplace(output, i);
+      if (inserted || it->second == i || !task.conflict) continue;
+      const std::string& other = tasks[it->second].input.path;
+      const bool same_stem = without_extension(other) == without_extension(task.input.path);
+      task.conflict = Status(ErrorCode::kInvalidArgument,
+                             output + " is also the output of " + other +
+                                 ", given earlier (name the outputs apart, e.g. with " +
+                                 (same_stem ? "{ext}" : "{dir}") + " in -o)");
+    }
+  }
+}
+
+bool all_outputs_exist(const Task& task) {
+  if (task.outputs.empty()) return false;
+  for (const std::string& output : task.outputs) {
+    struct stat info {};
+    if (output == "-" || stat(output.c_str(), &info) != 0) return false;
+  }
+  return true;
+}
+
+void print_plan(const std::vector<Task>& tasks, bool json, bool outputs_as_array,
+                bool skip_existing) {
+  for (const Task& task : tasks) {
+    if (skip_existing && all_outputs_exist(task)) continue;
+    std::string line;
+    if (json) {
+      line = "{\"input\":" + json_string(task.input.path);
+      if (outputs_as_array) {
+        line += ",\"outputs\":[";
+        for (std::size_t i = 0; i < task.outputs.size(); ++i)
+          line += (i ? "," : "") + json_string(task.outputs[i]);
+        line += "]";
+      } else {
+        line += ",\"output\":" + (task.outputs.empty() ? "null" : json_string(task.outputs[0]));
+      }
+      line += "}";
+    } else {
+      line = task.input.path;
+      for (const std::string& output : task.outputs) line += "\t" + output;
+    }
+    line += "\n";
+    std::fwrite(line.data(), 1, line.size(), stdout);
+  }
+  std::fflush(stdout);
+}
+
+unsigned default_jobs() {
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof set, &set) == 0) {
+    const int count = CPU_COUNT(&set);
+    if (count > 0) return static_cast<unsigned>(count);
+  }
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+bool stderr_wants_progress_bar() {
+  if (!isatty(STDERR_FILENO)) return false;
+  const char* term = std::getenv("TERM");
+  return !(term && std::strcmp(term, "dumb") == 0);
+}
+
+namespace {
+
+// What one worker thread is converting, for the progress bar.
+struct WorkerState {
+  std::atomic<bool> busy{false};
+  std::atomic<uint64_t> size{0};
+  std::atomic<uint64_t> faces{0};
+  std::atomic<double> fraction{0};
+};
+
+std::string count_text(double value) {
+  char text[32];
+  if (value >= 1e6)
+    std::snprintf(text, sizeof text, "%.2fM", value / 1e6);
+  else if (value >= 1e4)
+    std::snprintf(text, sizeof text, "%.0fk", value / 1e3);
+  else
+    std::snprintf(text, sizeof text, "%.0f", value);
+  return text;
+}
+
+std::string duration_text(double seconds) {
+  const long s = std::lround(seconds);
+  char text[32];
+  if (s >= 3600)
+    std::snprintf(text, sizeof text, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  else
+    std::snprintf(text, sizeof text, "%ld:%02ld", s / 60, s % 60);
+  return text;
+}
+
+int terminal_width() {
+  winsize size{};
+  if (ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col >= 20) return size.ws_col;
+  return 80;
+}
+
+// Everything a batch prints: error and note lines and the bar on stderr, JSON and the tools'
+// text on stdout, one whole line at a time under one lock.
+class Board {
+ public:
+  Board(const RunOptions& options, const std::vector<Task>& tasks,
+        std::vector<WorkerState>& workers)
+      : options_(options), workers_(workers), task_count_(tasks.size()) {
+    for (const Task& task : tasks) total_bytes_ += task.input.size;
+  }
+
+  void note(const std::string& line) {
+    if (options_.quiet) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    print_locked(std::string(options_.tool) + ": " + line);
+  }
+
+  void finish(const Task& task, Outcome& outcome, double seconds) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++done_;
+    done_bytes_ += task.input.size;
+    done_faces_ += outcome.faces;
+    const bool failed = !outcome.status;
+    if (failed) {
+      ++failed_;
+      if (outcome.exit_code == kExitOk) outcome.exit_code = exit_code_for(outcome.status.code());
+      const std::string& file = outcome.error_file.empty() ? task.input.path : outcome.error_file;
+      print_locked(error_line(options_.tool, file, outcome.status.message()));
+    } else {
+      if (outcome.skipped) ++skipped_;
+      // With the bar, per-file lines are for a single file only (the bar counts the others).
+      const bool lines_wanted = !options_.progress_bar || task_count_ == 1;
+      if (!options_.quiet && lines_wanted && !outcome.summary.empty())
+        print_locked(std::string(options_.tool) + ": " + outcome.summary);
+    }
+    if (options_.json) print_json_locked(task, outcome, seconds);
+    if (!outcome.stdout_text.empty()) {
+      std::fwrite(outcome.stdout_text.data(), 1, outcome.stdout_text.size(), stdout);
+      std::fflush(stdout);
+    }
+    if (bar_visible_) draw_bar_locked();
+  }
+
+  void draw_bar() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    draw_bar_locked();
+  }
+
+  // Clears the bar and prints the totals of a batch of several files.
+  void close(double seconds) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    clear_bar_locked();
+    bar_visible_ = false;
+    if (options_.quiet || task_count_ < 2) return;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%s: %zu files: %zu converted, %zu skipped, %zu failed, %s faces in %.2f s",
+                  options_.tool, task_count_, done_ - failed_ - skipped_, skipped_, failed_,
+                  count_text(static_cast<double>(done_faces_)).c_str(), seconds);
+    print_locked(line);
+  }
+
+  std::size_t failed() const { return failed_; }
+
+ private:
+  void print_locked(const std::string& line) {
+    clear_bar_locked();
+    std::string text = line + "\n";
+    std::fwrite(text.data(), 1, text.size(), stderr);
+    if (bar_visible_) draw_bar_locked();
+    std::fflush(stderr);
+  }
+
+  void clear_bar_locked() {
+    if (bar_drawn_) std::fputs("\r\x1b[K", stderr);
+    bar_drawn_ = false;
+  }
+
+  void draw_bar_locked() {
+    if (!options_.progress_bar || options_.quiet) return;
+    bar_visible_ = true;
+    const double elapsed = seconds_since(start_);
+    double bytes = static_cast<double>(done_bytes_);
+    double faces = static_cast<double>(done_faces_);
+    for (const WorkerState& worker : workers_) {
+      if (!worker.busy.load()) continue;
+      const double fraction = std::clamp(worker.fraction.load(), 0.0, 1.0);
+      bytes += fraction * static_cast<double>(worker.size.load());
+      faces += fraction * static_cast<double>(worker.faces.load());
+    }
+    const double done = total_bytes_ > 0 ? bytes / static_cast<double>(total_bytes_)
+                                         : static_cast<double>(done_) / task_count_;
+    constexpr int kBarWidth = 20;
+    const int filled = std::clamp(static_cast<int>(done * kBarWidth), 0, kBarWidth);
+    std::string line = std::string(options_.tool) + " " + std::to_string(done_) + "/" +
+                       std::to_string(task_count_) + " files [" + std::string(filled, '#') +
+                       std::string(kBarWidth - filled, '.') + "] ";
+    char figures[128];
+    std::snprintf(figures, sizeof figures, "%3d%%  %s faces/s  ETA %s",
+                  static_cast<int>(done * 100),
+                  count_text(elapsed > 0 ? faces / elapsed : 0).c_str(),
+                  done > 0.005 && elapsed > 0.5 ? duration_text(elapsed * (1 - done) / done).c_str()
+                                                : "-:--");
+    line += figures;
+    if (failed_) line += "  " + std::to_string(failed_) + " failed";
+    const std::size_t width = static_cast<std::size_t>(terminal_width() - 1);
+    if (line.size() > width) line.resize(width);
+    std::fputs(("\r" + line + "\x1b[K").c_str(), stderr);
+    std::fflush(stderr);
+    bar_drawn_ = true;
+  }
+
+  void print_json_locked(const Task& task, const Outcome& outcome, double seconds) {
+    const char* status = !outcome.status ? "failed" : outcome.skipped ? "skipped" : "ok";
+    std::string line = "{\"input\":" + json_string(task.input.path) + ",";
+    if (!outcome.json.empty()) line += outcome.json + ",";
+    line += std::string("\"status\":\"") + status +
+            "\",\"error\":" + (outcome.status ? "null" : json_string(outcome.status.message())) +
+            ",\"error_code\":" +
+            (outcome.status ? "null" : json_string(error_code_name(outcome.status.code()))) +
+            ",\"exit_code\":" + std::to_string(outcome.status ? 0 : outcome.exit_code);
+    char tail[64];
+    std::snprintf(tail, sizeof tail, ",\"seconds\":%.3f}\n", seconds);
+    line += tail;
+    std::fwrite(line.data(), 1, line.size(), stdout);
+    std::fflush(stdout);
+  }
+
+  const RunOptions& options_;
+  std::vector<WorkerState>& workers_;
+  const std::size_t task_count_;
+  uint64_t total_bytes_ = 0;
+  const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::mutex mutex_;
+  std::size_t done_ = 0, failed_ = 0, skipped_ = 0;
+  uint64_t done_bytes_ = 0, done_faces_ = 0;
+  bool bar_visible_ = false;  // the bar has been shown and is to be redrawn after lines
+  bool bar_drawn_ = false;    // the bar is on the current line of the terminal now
+};
+
+class WorkerProgress final : public JobProgress {
+ public:
+  WorkerProgress(WorkerState& state, Board& board) : state_(state), board_(board) {}
+  void set_faces(uint64_t faces) override { state_.faces.store(faces); }
+  void set_fraction(double fraction) override { state_.fraction.store(fraction); }
+  void note(const std::string& line) override { board_.note(line); }
+
+ private:
+  WorkerState& state_;
+  Board& board_;
+};
+
+Outcome run_one(const Task& task, const Job& job, JobProgress& progress) {
+  try {
+    return job(task, progress);
+  } catch (const std::bad_alloc&) {
+    Outcome outcome;
+    outcome.status = Status(ErrorCode::kResourceLimit, "out of memory (try fewer jobs, -j 1)");
+    return outcome;
+  } catch (const std::exception& e) {
+    Outcome outcome;
+    outcome.status = Status(ErrorCode::kInternal, std::string("internal error: ") + e.what());
+    return outcome;
+  }
+}
+
+}  // namespace
+
+int run_batch(const std::vector<Task>& tasks, const RunOptions& options, const Job& job) {
+  const auto start = std::chrono::steady_clock::now();
+  const unsigned threads = static_cast<unsigned>(
+      std::clamp<std::size_t>(options.jobs, 1, std::max<std::size_t>(tasks.size(), 1)));
+  std::vector<WorkerState> workers(threads);
+  Board board(options, tasks, workers);
+
+  // Largest first: the long conversions start early, so that no core waits at the end on
+  // one big file while the others are idle.
+  std::vector<std::size_t> order(tasks.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&tasks](std::size_t a, std::size_t b) {
+    return tasks[a].input.size > tasks[b].input.size;
+  });
+  std::atomic<std::size_t> next{0};
+  int single_exit_code = kExitOk;
+  auto work = [&](unsigned worker) {
+    WorkerProgress progress(workers[worker], board);
+    for (;;) {
+      const std::size_t i = next.fetch_add(1);
+      if (i >= order.size()) return;
+      const Task& task = tasks[order[i]];
+      WorkerState& state = workers[worker];
+      state.faces = 0;
+      state.fraction = 0;
+      state.size = task.input.size;
+      state.busy = true;
+      const auto task_start = std::chrono::steady_clock::now();
+      Outcome outcome = run_one(task, job, progress);
+      state.busy = false;
+      board.finish(task, outcome, seconds_since(task_start));
+      if (tasks.size() == 1) single_exit_code = outcome.status ? kExitOk : outcome.exit_code;
+    }
+  };
+
+  // The bar is redrawn by a ticker, so that the ETA moves while files take their time.
+  std::mutex ticker_mutex;
+  std::condition_variable ticker_wake;
+  bool finished = false;
+  std::thread ticker;
+  if (options.progress_bar && !options.quiet) {
+    ticker = std::thread([&] {
+      std::unique_lock<std::mutex> lock(ticker_mutex);
+      while (!finished) {
+        board.draw_bar();
+        ticker_wake.wait_for(lock, std::chrono::milliseconds(200));
+      }
+    });
+  }
+  if (threads == 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, t);
+    for (std::thread& thread : pool) thread.join();
+  }
+  if (ticker.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(ticker_mutex);
+      finished = true;
+    }
+    ticker_wake.notify_all();
+    ticker.join();
+  }
+  board.close(seconds_since(start));
+  if (tasks.size() == 1) return single_exit_code;
+  return board.failed() ? kExitSomeFailed : kExitOk;
+}
+
+}  // namespace pm::cli
