@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "batch_options.h"
 #include "cli_common.h"
 #include "pm/lod.h"
+#include "pm/lod_runtime.h"
 #include "pm/measured_level.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
@@ -84,8 +86,46 @@ bool parse_lods(const std::string& text, std::vector<LevelRequest>& levels) {
   }
 }
 
+// --morph FROM:TO[:ALPHA] and --morph-frames K: a geomorph (Hoppe 1996, §4.2) between two
+// levels, written at one alpha or at K evenly spaced ones.
+struct MorphRequest {
+  LevelRequest from, to;
+  std::vector<float> alphas;  // one per output
+};
+
+bool parse_morph(const std::string& text, int frames, MorphRequest& morph) {
+  std::vector<std::string> parts;
+  std::size_t begin = 0;
+  for (std::size_t colon; (colon = text.find(':', begin)) != std::string::npos; begin = colon + 1)
+    parts.push_back(text.substr(begin, colon - begin));
+  parts.push_back(text.substr(begin));
+  if (parts.size() != 2 && parts.size() != 3) return false;
+  std::vector<LevelRequest> ends;
+  if (!parse_lods(parts[0] + "," + parts[1], ends)) return false;
+  morph.from = ends[0];
+  morph.to = ends[1];
+  morph.alphas.clear();
+  if (parts.size() == 3) {
+    if (frames) return false;  // one or the other
+    try {
+      std::size_t used = 0;
+      const double alpha = std::stod(parts[2], &used);
+      if (used != parts[2].size() || !(alpha >= 0 && alpha <= 1)) return false;
+      morph.alphas.push_back(static_cast<float>(alpha));
+    } catch (const std::exception&) {
+      return false;
+    }
+  } else {
+    if (frames < 1) return false;
+    for (int i = 0; i < frames; ++i)
+      morph.alphas.push_back(frames == 1 ? 1.0f : float(i) / float(frames - 1));
+  }
+  return true;
+}
+
 struct Settings {
   std::vector<LevelRequest> levels;
+  std::optional<MorphRequest> morph;  // the levels are then its frames
   ErrorBound error;
   std::string output_format;  // --format, or empty
   pm::ReadOptions read;
@@ -109,7 +149,25 @@ int print_info(const std::string& input, const pm::ReadOptions& read_options) {
   if (pm::Status s = pm::read_pm_info(bytes, info); !s) return pm::cli::fail(kTool, input, s);
   std::printf("file:             %s (%zu bytes)\n", input.c_str(), bytes.size());
   std::printf("format version:   %u.%u\n", info.major, info.minor);
+  std::string attributes;
+  auto add = [&attributes](const std::string& item) {
+    attributes += (attributes.empty() ? "" : "; ") + item;
+  };
+  if (info.color_components) add(info.color_components == 4 ? "colours (rgba)" : "colours (rgb)");
+  if (info.uv_count || info.has_uvs)
+    add(std::to_string(info.uv_count) + " texture coordinates" +
+        (info.has_uvs ? " per corner" : " (table only)"));
+  if (info.normal_count || info.has_normals)
+    add(std::to_string(info.normal_count) + " normals" +
+        (info.has_normals ? " per corner" : " (table only)"));
+  if (info.material_count || info.has_materials)
+    add(std::to_string(info.material_count) + " materials" +
+        (info.has_materials ? " per face" : " (table only)"));
+  if (info.material_library_count)
+    add(std::to_string(info.material_library_count) + " material " +
+        (info.material_library_count == 1 ? "library" : "libraries"));
   std::printf("flags:            0x%08x\n", info.flags);
+  std::printf("attributes:       %s\n", attributes.empty() ? "none" : attributes.c_str());
   std::printf("base mesh:        %u vertices, %u faces\n", info.base_vertex_count,
               info.base_face_count);
   std::printf("vertex splits:    %u\n", info.split_count);
@@ -268,15 +326,42 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   bytes = std::string();
   if (!task.conflict) return failed(task.conflict);
 
+  // The meshes to write: each requested level, all from one walk over the splits
+  // (pm::extract_levels), or the frames of a geomorph.
+  std::vector<std::size_t> levels(settings.levels.size());
+  std::vector<pm::Mesh> meshes(settings.levels.size());
+  if (settings.morph) {
+    std::size_t from = 0, to = 0;
+    if (pm::Status s = select_level(settings.morph->from, progressive, settings, input, progress, from); !s)
+      return failed(s);
+    if (pm::Status s = select_level(settings.morph->to, progressive, settings, input, progress, to); !s)
+      return failed(s);
+    // A geomorph runs from the coarser level to the finer; FROM finer than TO runs it backwards.
+    const bool backwards = from > to;
+    pm::RuntimeLod lod(progressive);
+    const pm::RuntimeLod::Geomorph morph = lod.geomorph(std::min(from, to), std::max(from, to));
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      const float alpha = settings.morph->alphas[i];
+      meshes[i] = morph.mesh(backwards ? 1.0f - alpha : alpha);
+      levels[i] = std::max(from, to);
+    }
+  } else {
+    for (std::size_t i = 0; i < settings.levels.size(); ++i)
+      if (pm::Status s =
+              select_level(settings.levels[i], progressive, settings, input, progress, levels[i]);
+          !s)
+        return failed(s);
+    pm::extract_levels(progressive, levels, [&](std::size_t level, const pm::Mesh& mesh) {
+      for (std::size_t i = 0; i < levels.size(); ++i)
+        if (levels[i] == level) meshes[i] = mesh;
+    });
+  }
+
   std::string faces_list;
   pm::Mesh last;
   for (std::size_t i = 0; i < settings.levels.size(); ++i) {
-    std::size_t level = 0;
-    if (pm::Status s =
-            select_level(settings.levels[i], progressive, settings, input, progress, level);
-        !s)
-      return failed(s);
-    last = pm::extract_level(progressive, level);
+    const std::size_t level = levels[i];
+    last = std::move(meshes[i]);
     if (!written[i].output.empty()) {
       const std::string& output = written[i].output;
       const pm::MeshFormat format = output_format_for(output, settings.output_format);
@@ -391,7 +476,21 @@ int main(int argc, char** argv) {
                                     "Refuse a .pm whose decoding needs more memory than this "
                                     "(1000000, 512k, 512M, 2G: powers of 1024)")
                          ->type_name("SIZE");
-  app.add_flag("--info", info, "Print the header, counts and error range, and exit");
+  std::string morph_text;
+  int morph_frames = 0;
+  auto* by_morph = app.add_option(
+      "--morph", morph_text,
+      "FROM:TO[:ALPHA]: a geomorph between two levels (face counts or percentages, as in "
+      "--lods), blended at ALPHA in [0, 1] (0: FROM's geometry, 1: TO's), with the finer "
+      "level's connectivity");
+  auto* by_frames = app.add_option("--morph-frames", morph_frames,
+                                   "With --morph FROM:TO: write K frames, alpha from 0 to 1 "
+                                   "({frame} in -o numbers them)")
+                        ->check(CLI::PositiveNumber)
+                        ->needs(by_morph);
+  by_morph->excludes(by_vertices)->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)
+      ->excludes(by_lods)->excludes(compare);
+  app.add_flag("--info", info, "Print the header, counts, attributes and error range, and exit");
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
       "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large\n"
@@ -434,7 +533,24 @@ int main(int argc, char** argv) {
     return fail_usage("--compare prints on standard output: write the mesh to a file");
 
   LevelRequest single;
-  if (*by_lods) {
+  if (*by_morph) {
+    MorphRequest morph;
+    if (!parse_morph(morph_text, morph_frames, morph))
+      return fail_usage("--morph " + morph_text +
+                        ": expected FROM:TO:ALPHA (ALPHA in [0, 1]), or FROM:TO with "
+                        "--morph-frames K; FROM and TO are percentages (25%) or face counts");
+    // One output per frame; {frame} numbers them from 0, zero-padded.
+    const std::size_t width = std::to_string(morph.alphas.size() - 1).size();
+    for (std::size_t i = 0; i < morph.alphas.size(); ++i) {
+      LevelRequest frame;
+      frame.label = std::string(width - std::to_string(i).size(), '0') + std::to_string(i);
+      settings.levels.push_back(frame);
+    }
+    if (command.output == "-" && settings.levels.size() > 1)
+      return fail_usage("-o - takes one frame; --morph-frames gives " +
+                        std::to_string(settings.levels.size()));
+    settings.morph = morph;
+  } else if (*by_lods) {
     if (!parse_lods(lods_text, settings.levels))
       return fail_usage("--lods " + lods_text +
                         ": expected a comma-separated list of percentages (25%) or face counts");
@@ -468,15 +584,24 @@ int main(int argc, char** argv) {
 
   pm::cli::PlanSettings plan;
   plan.extensions = {"pm"};
-  plan.extra_names = {"lod"};
-  plan.default_template = *by_lods ? "{dir}/{stem}_{lod}.obj" : "{dir}/{stem}.obj";
-  for (const LevelRequest& level : settings.levels) plan.variants.push_back({{"lod", level.label}});
+  plan.extra_names = {"lod", "frame"};
+  plan.default_template = *by_lods                              ? "{dir}/{stem}_{lod}.obj"
+                          : *by_frames                          ? "{dir}/{stem}_morph_{frame}.obj"
+                          : *by_morph                           ? "{dir}/{stem}_morph.obj"
+                                                                : "{dir}/{stem}.obj";
+  for (const LevelRequest& level : settings.levels)
+    plan.variants.push_back({{"lod", *by_lods ? level.label : ""},
+                             {"frame", *by_morph ? level.label : ""}});
   pm::cli::OutputTemplate name_template;
   if (!command.output.empty() && command.output != "-" &&
       pm::cli::OutputTemplate::parse(command.output, plan.extra_names, name_template)) {
     if (name_template.has_placeholder("lod") && !*by_lods)
       return fail_usage("-o " + command.output + ": {lod} needs --lods");
-    if (!name_template.has_placeholder("lod") && settings.levels.size() > 1)
+    if (name_template.has_placeholder("frame") && !*by_frames)
+      return fail_usage("-o " + command.output + ": {frame} needs --morph-frames");
+    if (!name_template.has_placeholder("frame") && *by_frames && settings.levels.size() > 1)
+      return fail_usage("-o " + command.output + ": name the frames apart with {frame}");
+    if (!name_template.has_placeholder("lod") && *by_lods && settings.levels.size() > 1)
       return fail_usage("-o " + command.output + ": name the levels of --lods apart with {lod}");
   }
   std::vector<pm::cli::Task> tasks;
