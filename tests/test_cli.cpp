@@ -161,28 +161,6 @@ TEST(Cli, InfoListsTheAttributes) {
             std::string::npos);
 }
 
-// Faces of no area (a geomorph's start flattens the faces the coarse level lacks) dropped.
-Mesh without_flat_faces(const Mesh& mesh) {
-  Mesh out = mesh;
-  out.triangles.clear();
-  out.uv_indices.clear();
-  out.normal_indices.clear();
-  out.face_materials.clear();
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const uint32_t* t = &mesh.triangles[3 * f];
-    auto same = [&](uint32_t a, uint32_t b) {
-      return std::equal(&mesh.positions[3 * a], &mesh.positions[3 * a] + 3, &mesh.positions[3 * b]);
-    };
-    if (same(t[0], t[1]) || same(t[1], t[2]) || same(t[0], t[2])) continue;
-    out.triangles.insert(out.triangles.end(), t, t + 3);
-    if (mesh.has_uvs()) out.uv_indices.insert(out.uv_indices.end(), &mesh.uv_indices[3 * f], &mesh.uv_indices[3 * f] + 3);
-    if (mesh.has_normals())
-      out.normal_indices.insert(out.normal_indices.end(), &mesh.normal_indices[3 * f], &mesh.normal_indices[3 * f] + 3);
-    if (mesh.has_materials()) out.face_materials.push_back(mesh.face_materials[f]);
-  }
-  return out;
-}
-
 TEST(Cli, MorphEndsAreTheTwoLevelsAndFramesRunBetweenThem) {
   TempDir dir;
   const std::string pm = dir.file("t.pm");
@@ -193,7 +171,7 @@ TEST(Cli, MorphEndsAreTheTwoLevelsAndFramesRunBetweenThem) {
   ASSERT_EQ(pmdec({pm, "--morph", "50%:10%:1", "-o", dir.file("back.obj"), "-q"}).exit_code, 0);
   const Mesh coarse = read_or_fail(dir.file("lod_10.obj")), fine = read_or_fail(dir.file("lod_50.obj"));
   EXPECT_TRUE(test::same_attributed_faces(fine, read_or_fail(dir.file("m1.obj"))));
-  EXPECT_TRUE(test::same_attributed_faces(coarse, without_flat_faces(read_or_fail(dir.file("m0.obj")))));
+  EXPECT_TRUE(test::same_attributed_faces(coarse, test::without_flat_faces(read_or_fail(dir.file("m0.obj")))));
   // FROM finer than TO runs the morph backwards: alpha 1 is the coarse level.
   EXPECT_EQ(test::read_file(dir.file("back.obj")), test::read_file(dir.file("m0.obj")));
   // Frames: alpha 0, 1/3, 2/3, 1, numbered from 0; the ends are the two levels.

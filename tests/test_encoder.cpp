@@ -85,17 +85,9 @@ TEST_P(EveryMesh, EveryLevelKeepsTheInputTopology) {
     const std::size_t level = n * i / kLevels;
     const Mesh lod = extract_level(e.pm, level);
     const test::TopologySummary out = test::summarize_topology(lod);
-    SCOPED_TRACE("level " + std::to_string(level) + " of " + std::to_string(n) + ": " +
-                 test::to_string(out) + " vs input " + test::to_string(in));
-    EXPECT_EQ(out.euler, in.euler);
-    EXPECT_EQ(out.boundary_loops, in.boundary_loops);
-    EXPECT_EQ(out.components, in.components);
-    EXPECT_EQ(out.edge_manifold, in.edge_manifold);
-    EXPECT_EQ(out.vertex_manifold, in.vertex_manifold);
-    EXPECT_EQ(out.non_manifold_edges, in.non_manifold_edges);
-    EXPECT_EQ(out.non_manifold_vertices, in.non_manifold_vertices);
+    SCOPED_TRACE("level " + std::to_string(level) + " of " + std::to_string(n));
     // Collapses never make a degenerate face; the input's own stay.
-    EXPECT_LE(out.zero_area_faces, in.zero_area_faces);
+    EXPECT_TRUE(test::keeps_topology(in, out));
     EXPECT_EQ(lod.face_count(), faces_at_level(e.pm, level));
     EXPECT_EQ(lod.vertex_count(), vertices_at_level(e.pm, level));
   }

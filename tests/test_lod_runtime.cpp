@@ -115,28 +115,6 @@ TEST(RuntimeLod, ActiveWedgesAndFacesArePrefixes) {
   EXPECT_GT(lod.memory_bytes(), 0u);
 }
 
-// Faces by positions, dropping those the morph has flattened to a segment or a point.
-Mesh without_collapsed_faces(const Mesh& mesh) {
-  Mesh out = mesh;
-  out.triangles.clear();
-  out.uv_indices.clear();
-  out.normal_indices.clear();
-  out.face_materials.clear();
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const float* p[3];
-    for (int k = 0; k < 3; ++k) p[k] = &mesh.positions[3 * mesh.triangles[3 * f + k]];
-    auto same = [](const float* a, const float* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; };
-    if (same(p[0], p[1]) || same(p[1], p[2]) || same(p[0], p[2])) continue;
-    for (int k = 0; k < 3; ++k) {
-      out.triangles.push_back(mesh.triangles[3 * f + k]);
-      if (mesh.has_uvs()) out.uv_indices.push_back(mesh.uv_indices[3 * f + k]);
-      if (mesh.has_normals()) out.normal_indices.push_back(mesh.normal_indices[3 * f + k]);
-    }
-    if (mesh.has_materials()) out.face_materials.push_back(mesh.face_materials[f]);
-  }
-  return out;
-}
-
 TEST(Geomorph, EndsAreTheTwoLevelsExactlyAndEveryAlphaHasTheFineConnectivity) {
   const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
   RuntimeLod lod(pm);
@@ -151,7 +129,7 @@ TEST(Geomorph, EndsAreTheTwoLevelsExactlyAndEveryAlphaHasTheFineConnectivity) {
     EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, b), morph.mesh(1.0f)));
     // alpha = 0: level a's faces, with b's extra faces flattened to nothing.
     EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, a),
-                                            without_collapsed_faces(morph.mesh(0.0f))));
+                                            test::without_flat_faces(morph.mesh(0.0f))));
     // Any alpha: b's connectivity, positions between the ends.
     const Mesh start = morph.mesh(0.0f), end = morph.mesh(1.0f);
     for (float alpha : {0.25f, 0.5f, 0.9f}) {
@@ -175,7 +153,7 @@ TEST(Geomorph, OnARealMeshTheCoarseEndIsTheCoarseLevel) {
   const std::size_t a = level_for_faces(pm, mesh.face_count() / 10);
   const std::size_t b = level_for_faces(pm, mesh.face_count() / 2);
   const RuntimeLod::Geomorph morph = lod.geomorph(a, b);
-  EXPECT_TRUE(test::same_faces(extract_level(pm, a), without_collapsed_faces(morph.mesh(0.0f))));
+  EXPECT_TRUE(test::same_faces(extract_level(pm, a), test::without_flat_faces(morph.mesh(0.0f))));
   const Mesh fine = extract_level(pm, b);
   EXPECT_TRUE(test::same_faces(fine, morph.mesh(1.0f)));
   // Every alpha: level b's vertices and connectivity, so its topology.

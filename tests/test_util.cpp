@@ -660,9 +660,15 @@ std::vector<AttributedFace> attributed_faces(const pm::Mesh& m) {
   faces.reserve(m.face_count());
   for (std::size_t f = 0; f < m.face_count(); ++f) {
     AttributedFace face;
-    for (int k = 0; k < 3; ++k) face.corners[k] = attributed_corner(m, f, k);
-    const auto first = std::min_element(face.corners.begin(), face.corners.end());
-    std::rotate(face.corners.begin(), first, face.corners.end());
+    std::array<std::vector<uint32_t>, 3> corners;
+    for (int k = 0; k < 3; ++k) corners[k] = attributed_corner(m, f, k);
+    // The smallest of the three rotations as a whole: with two equal corners, the smallest
+    // corner alone would not pick one rotation.
+    for (int start = 0; start < 3; ++start) {
+      const std::array<std::vector<uint32_t>, 3> rotated = {
+          corners[start], corners[(start + 1) % 3], corners[(start + 2) % 3]};
+      if (start == 0 || rotated < face.corners) face.corners = rotated;
+    }
     if (m.has_materials() && m.face_materials[f] != pm::kNoAttribute)
       face.material = m.material_names[m.face_materials[f]];
     faces.push_back(std::move(face));
@@ -723,6 +729,41 @@ pm::Mesh seamed_grid(int n) {
       add(i, j, i + 1, j + 1, i, j + 1);
     }
   return m;
+}
+
+::testing::AssertionResult keeps_topology(const TopologySummary& in, const TopologySummary& out) {
+  const bool same = out.euler == in.euler && out.boundary_loops == in.boundary_loops &&
+                    out.components == in.components && out.edge_manifold == in.edge_manifold &&
+                    out.vertex_manifold == in.vertex_manifold &&
+                    out.non_manifold_edges == in.non_manifold_edges &&
+                    out.non_manifold_vertices == in.non_manifold_vertices &&
+                    out.zero_area_faces <= in.zero_area_faces;
+  if (same) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "level " << to_string(out) << " vs input " << to_string(in);
+}
+
+pm::Mesh without_flat_faces(const pm::Mesh& mesh) {
+  pm::Mesh out = mesh;
+  out.triangles.clear();
+  out.uv_indices.clear();
+  out.normal_indices.clear();
+  out.face_materials.clear();
+  auto same = [&](uint32_t a, uint32_t b) {
+    return std::equal(&mesh.positions[3 * std::size_t{a}], &mesh.positions[3 * std::size_t{a}] + 3,
+                      &mesh.positions[3 * std::size_t{b}]);
+  };
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const uint32_t* t = &mesh.triangles[3 * f];
+    if (same(t[0], t[1]) || same(t[1], t[2]) || same(t[0], t[2])) continue;
+    out.triangles.insert(out.triangles.end(), t, t + 3);
+    if (mesh.has_uvs())
+      out.uv_indices.insert(out.uv_indices.end(), &mesh.uv_indices[3 * f], &mesh.uv_indices[3 * f] + 3);
+    if (mesh.has_normals())
+      out.normal_indices.insert(out.normal_indices.end(), &mesh.normal_indices[3 * f],
+                                &mesh.normal_indices[3 * f] + 3);
+    if (mesh.has_materials()) out.face_materials.push_back(mesh.face_materials[f]);
+  }
+  return out;
 }
 
 }  // namespace pm::test

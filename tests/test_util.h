@@ -78,6 +78,15 @@ std::string to_string(const TopologySummary& summary);
 // So that GoogleTest prints summaries readably in failure messages.
 void PrintTo(const TopologySummary& summary, std::ostream* out);
 
+// What every level of detail shares with its input: Euler characteristic, boundary loops,
+// components, edge and vertex manifoldness and the non-manifold counts; and no more
+// zero-area faces. The failure message gives both summaries.
+::testing::AssertionResult keeps_topology(const TopologySummary& input, const TopologySummary& level);
+
+// The mesh without the faces two of whose corners share a position (what a geomorph's start
+// flattens), with their attributes and materials.
+pm::Mesh without_flat_faces(const pm::Mesh& mesh);
+
 // ---------------------------------------------------------------------------------------
 // Exact face-set comparison
 // ---------------------------------------------------------------------------------------

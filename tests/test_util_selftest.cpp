@@ -404,5 +404,24 @@ TEST(MeshLocations, SharedMeshesAreListedWhenPresent) {
   }
 }
 
+TEST(AttributedFaces, RotationsOfAFaceWithTwoEqualCornersCompareEqual) {
+  // Corners A, A, B (two vertices at one position, as at a weld or a seam split) written
+  // from each corner: one face whatever the start.
+  pm::Mesh a, b, c;
+  for (pm::Mesh* m : {&a, &b, &c}) m->positions = {0, 0, 0, 0, 0, 0, 1, 0, 0};
+  a.triangles = {0, 1, 2};
+  b.triangles = {1, 2, 0};
+  c.triangles = {2, 0, 1};
+  EXPECT_TRUE(same_attributed_faces(a, b));
+  EXPECT_TRUE(same_attributed_faces(a, c));
+  // A texture coordinate tells the two equal positions apart.
+  for (pm::Mesh* m : {&a, &b}) m->uvs = {0, 0, 0.5f, 0, 1, 0};
+  a.uv_indices = {0, 1, 2};
+  b.uv_indices = {1, 2, 0};
+  EXPECT_TRUE(same_attributed_faces(a, b));
+  b.uv_indices = {0, 2, 1};
+  EXPECT_FALSE(same_attributed_faces(a, b));
+}
+
 }  // namespace
 }  // namespace pm::test

@@ -71,6 +71,49 @@ inline bool same_faces(const Mesh& a, const Mesh& b) {
   return canonical_faces(a) == canonical_faces(b);
 }
 
+// Faces with everything their corners carry (position, colour, texture coordinate and normal
+// bits; ~0 for a missing one) and their material's name, rotated and sorted as above: equal
+// lists mean the same attributed faces whatever the numbering of vertices and values.
+inline std::vector<std::vector<uint32_t>> attributed_faces(const Mesh& mesh, bool materials) {
+  auto bits = [](float x) {
+    uint32_t b;
+    std::memcpy(&b, &x, 4);
+    return b;
+  };
+  std::vector<std::vector<uint32_t>> faces(mesh.face_count());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    std::vector<uint32_t> corners[3];
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t c = 3 * f + k, v = mesh.triangles[c];
+      for (int i = 0; i < 3; ++i) corners[k].push_back(bits(mesh.positions[3 * v + i]));
+      for (uint32_t i = 0; i < mesh.color_components; ++i)
+        corners[k].push_back(bits(mesh.colors[mesh.color_components * v + i]));
+      for (int i = 0; mesh.has_uvs() && i < 2; ++i)
+        corners[k].push_back(mesh.uv_indices[c] == kNoAttribute
+                                 ? ~0u
+                                 : bits(mesh.uvs[2 * std::size_t{mesh.uv_indices[c]} + i]));
+      for (int i = 0; mesh.has_normals() && i < 3; ++i)
+        corners[k].push_back(mesh.normal_indices[c] == kNoAttribute
+                                 ? ~0u
+                                 : bits(mesh.normals[3 * std::size_t{mesh.normal_indices[c]} + i]));
+    }
+    // The smallest of the three rotations as a whole: with two equal corners, the smallest
+    // corner alone would not pick one rotation.
+    for (int start = 0; start < 3; ++start) {
+      std::vector<uint32_t> rotated;
+      for (int k = 0; k < 3; ++k) {
+        const auto& corner = corners[(start + k) % 3];
+        rotated.insert(rotated.end(), corner.begin(), corner.end());
+      }
+      if (start == 0 || rotated < faces[f]) faces[f] = std::move(rotated);
+    }
+    if (materials && mesh.has_materials() && mesh.face_materials[f] != kNoAttribute)
+      for (char ch : mesh.material_names[mesh.face_materials[f]]) faces[f].push_back(uint8_t(ch));
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
 inline bool same_floats(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() &&
          (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
@@ -81,6 +124,15 @@ inline bool identical(const ProgressiveMesh& a, const ProgressiveMesh& b) {
       !same_floats(a.positions, b.positions) || a.base_faces != b.base_faces ||
       a.moved_faces != b.moved_faces || a.carried_faces != b.carried_faces ||
       a.splits.size() != b.splits.size() || a.welds.size() != b.welds.size()) {
+    return false;
+  }
+  // The attributes, bit for bit.
+  if (a.color_components != b.color_components || !same_floats(a.colors, b.colors) ||
+      !same_floats(a.uvs, b.uvs) || !same_floats(a.normals, b.normals) ||
+      a.material_names != b.material_names || a.material_libraries != b.material_libraries ||
+      a.face_uvs != b.face_uvs || a.face_normals != b.face_normals ||
+      a.face_materials != b.face_materials || a.moved_uvs != b.moved_uvs ||
+      a.moved_normals != b.moved_normals) {
     return false;
   }
   for (std::size_t i = 0; i < a.splits.size(); ++i) {
@@ -167,6 +219,10 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
     return 0;
   }
   check_mesh(mesh, "reader: face index out of range");
+  {
+    std::string problem;
+    if (!validate_attributes(mesh, &problem)) fail("reader: invalid attributes: " + problem);
+  }
   for (float x : mesh.positions) check(std::isfinite(x), "reader: non-finite coordinate");
 
   // The writer's output reads back to the same faces. Not for STL: its reader merges equal
@@ -181,7 +237,12 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
       const Status read_back = read_mesh_from_memory(written, format, reread);
       if (!read_back) fail("reading back what the writer wrote: " + read_back.message());
       check(same_faces(mesh, reread), "written and read back: different faces");
-      check(reread.vertex_count() == mesh.vertex_count(), "written and read back: vertex count");
+      // OFF keeps no materials, and writes a vertex once per combination of its corners'
+      // texture coordinates and normals (a seam); the values survive.
+      const bool off = format == MeshFormat::kOff;
+      check(attributed_faces(mesh, !off) == attributed_faces(reread, !off),
+            "written and read back: different corner attributes");
+      check(off || reread.vertex_count() == mesh.vertex_count(), "written and read back: vertex count");
     }
   }
 
@@ -196,7 +257,8 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
     // float32 error bounds, may not encode.
     const bool allowed = (encoded.code() == ErrorCode::kEmptyMesh && mesh.vertex_count() == 0) ||
                          (encoded.code() == ErrorCode::kResourceLimit &&
-                          diagonal(mesh.positions) > kMaxEncodeDiagonal);
+                          diagonal(mesh.positions) > kMaxEncodeDiagonal) ||
+                         !check_material_strings(mesh.material_names, mesh.material_libraries);
     if (!allowed) {
       fail(std::string("encode failed on a mesh the reader accepted: ") +
            error_code_name(encoded.code()) + ": " + encoded.message());
@@ -208,6 +270,8 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
   // Nothing is lost: full detail is the input's faces, exactly, with every vertex.
   const Mesh full = extract_level(pm, pm.split_count());
   check(same_faces(mesh, full), "full detail differs from the input's faces");
+  check(attributed_faces(mesh, true) == attributed_faces(full, true),
+        "full detail differs from the input's corner attributes");
   check(full.vertex_count() == mesh.vertex_count(), "full detail has a different vertex count");
   check_levels(pm);
   check_pm_round_trip(pm);
