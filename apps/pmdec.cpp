@@ -323,7 +323,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     return failed(s);
   pm::ProgressiveMesh progressive;
   if (pm::Status s = pm::read_pm(bytes, progressive, settings.read); !s) return failed(s);
-  bytes = std::string();
+  std::string().swap(bytes);  // frees the buffer (assigning an empty string keeps it)
   if (!task.conflict) return failed(task.conflict);
 
   // The meshes to write: each requested level, all from one walk over the splits

@@ -89,7 +89,7 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   pm::ReadReport read_report;
   if (pm::Status s = pm::read_mesh_from_memory(bytes, format, mesh, &read_report); !s)
     return failed(s);
-  bytes = std::string();
+  std::string().swap(bytes);  // frees the buffer (assigning an empty string keeps it)
   if (!task.conflict) return failed(task.conflict);
   progress.set_faces(mesh.face_count());
   if (read_report.polygons_triangulated)

@@ -1,0 +1,218 @@
+#!/usr/bin/env bash
+# The memory and scale benchmark in one command (issue 9's memory item, issue 10's
+# whole-process table): wall time and peak memory (/usr/bin/time -v) of whole processes on
+# large meshes made by Loop subdivision (pm_make_big_mesh, big_mesh.h):
+#
+#   pmenc big.obj -o big.pm, pmdec big.pm -o full.obj        ours
+#   OpenMesh-mkbalancedpm big.obj -o big.om.pm               OpenMesh's progressive mesh
+#   pm_bench_scale_peers meshopt big.obj                     load, meshopt_simplify to 1%
+#   pm_bench_scale_peers openmesh big.obj                    load, DecimaterT to 1%
+#
+# on nefertiti × 16 (1.6M faces), and with --big (or PM_SCALE_BIG=1) on stanford-bunny × 64
+# (4.4M faces; about 15 minutes more on two cores). Writes tests/bench/scale.md and prints
+# it. Installs what is missing with apt, builds in build-bench/ (or $PM_BENCH_BUILD).
+#
+#   run_scale.sh [--big] [--runs N] [--fast-runs N]
+#
+# --runs: runs of the slow tools (pmenc, mkbalancedpm, the OpenMesh decimater), 1 by
+# default since pmenc takes minutes here; --fast-runs: runs of pmdec and meshopt (5). Each
+# row reports the median of its runs. See tests/bench/README.md, "Scale and memory".
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+build="${PM_BENCH_BUILD:-$repo/build-bench}"
+meshes="$repo/../shared/meshes"
+report="$repo/tests/bench/scale.md"
+
+big="${PM_SCALE_BIG:-0}"
+runs=1
+fast_runs=5
+while (($#)); do
+  case "$1" in
+    --big) big=1 ;;
+    --runs) runs="$2"; shift ;;
+    --fast-runs) fast_runs="$2"; shift ;;
+    *) echo "usage: run_scale.sh [--big] [--runs N] [--fast-runs N]" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# `time` is GNU time (/usr/bin/time -v gives the peak resident set); libopenmesh-apps has
+# OpenMesh-mkbalancedpm.
+missing=()
+for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
+               zlib1g-dev time libopenmesh-apps; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+    missing+=("$package")
+done
+if ((${#missing[@]})); then
+  echo "run_scale.sh: installing ${missing[*]}" >&2
+  sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
+fi
+
+# The inputs are made from the shared meshes: without them the committed table stays.
+for source in nefertiti.obj stanford-bunny.obj; do
+  if [[ ! -f "$meshes/$source" ]]; then
+    echo >&2
+    echo "*** NOTE: $meshes/$source is missing: the large meshes are made from it." >&2
+    echo "*** Put the test meshes there (see its README.md) and run this again." >&2
+    echo "*** $report was left as it was." >&2
+    exit 0
+  fi
+done
+
+cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON \
+  -DPM_BUILD_TESTS=OFF >/dev/null
+cmake --build "$build" -j"$(nproc)" --target pmenc pmdec pm_make_big_mesh pm_bench_scale_peers
+
+bin="$build/apps"
+bench="$build/tests/bench"
+work="$bench/scale"
+mkdir -p "$work"
+trap 'rm -f "$report.tmp"' EXIT
+
+# --- measuring one process -----------------------------------------------------------------
+
+# measure LABEL CMD...: runs CMD under /usr/bin/time -v (niced, as the other benchmarks), and
+# appends "wall_seconds peak_kib" to $work/LABEL.runs. A failed command stops the script:
+# a table with a failed run in it would be wrong.
+measure() {
+  local label="$1"
+  shift
+  local log="$work/$label.time"
+  if ! nice /usr/bin/time -v -o "$log" "$@" >"$work/$label.stdout" 2>"$work/$label.stderr"; then
+    echo "run_scale.sh: $label failed: $*" >&2
+    tail -5 "$work/$label.stderr" >&2
+    exit 1
+  fi
+  # GNU time's wall clock is h:mm:ss.ss or m:ss.ss.
+  awk -F': ' '
+    /Elapsed \(wall clock\)/ { n = split($2, p, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + p[i] }
+    /Maximum resident set size/ { kib = $2 }
+    END { printf "%.2f %d\n", s, kib }' "$log" >>"$work/$label.runs"
+}
+
+# median FILE COLUMN: the median of a column of numbers (the mean of the middle two when even).
+median() {
+  sort -g -k"$2,$2" "$1" | awk -v c="$2" '{ v[NR] = $c }
+    END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
+}
+
+# Formatting: MiB with one decimal, bytes per face as a whole number, ratios with 2 digits.
+mib() { awk -v k="$1" 'BEGIN { printf "%.1f", k / 1024 }'; }
+per_face() { awk -v k="$1" -v f="$2" 'BEGIN { printf "%.0f", k * 1024 / f }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f×", a / b }'; }
+thousands() { sed ':a;s/\B[0-9]\{3\}\>/,&/;ta' <<<"$1"; }
+seconds() { awk -v s="$1" 'BEGIN { printf (s < 10 ? "%.2f" : "%.1f"), s }'; }
+
+# --- one mesh ------------------------------------------------------------------------------
+
+# run_mesh SOURCE STEPS NAME: makes the OBJ (kept in $work while its source is unchanged),
+# runs every tool on it and appends the mesh's section to the report.
+run_mesh() {
+  local source="$1" steps="$2" name="$3"
+  local obj="$work/$name.obj"
+  if [[ ! -s "$obj" || "$meshes/$source" -nt "$obj" ]]; then
+    echo "run_scale.sh: making $name.obj ($source after $steps Loop steps)" >&2
+    "$bench/pm_make_big_mesh" "$meshes/$source" "$steps" "$obj" -q
+  fi
+  local faces vertices obj_bytes
+  faces=$(grep -c '^f ' "$obj")
+  vertices=$(grep -c '^v ' "$obj")
+  obj_bytes=$(stat -c %s "$obj")
+  rm -f "$work/$name".*.runs
+
+  local i
+  for ((i = 1; i <= runs; ++i)); do
+    echo "run_scale.sh: $name: pmenc, run $i of $runs" >&2
+    measure "$name.pmenc" "$bin/pmenc" "$obj" -o "$work/$name.pm"
+    echo "run_scale.sh: $name: OpenMesh-mkbalancedpm, run $i of $runs" >&2
+    measure "$name.mkbalancedpm" OpenMesh-mkbalancedpm -o "$work/$name.om.pm" "$obj"
+    echo "run_scale.sh: $name: OpenMesh DecimaterT to 1%, run $i of $runs" >&2
+    measure "$name.openmesh" "$bench/pm_bench_scale_peers" openmesh "$obj"
+  done
+  for ((i = 1; i <= fast_runs; ++i)); do
+    echo "run_scale.sh: $name: pmdec and meshopt, run $i of $fast_runs" >&2
+    measure "$name.pmdec" "$bin/pmdec" "$work/$name.pm" -o "$work/$name.full.obj"
+    measure "$name.meshopt" "$bench/pm_bench_scale_peers" meshopt "$obj"
+  done
+  # The full-detail output is the input again: checked by its face count, then dropped.
+  local full_faces
+  full_faces=$(grep -c '^f ' "$work/$name.full.obj")
+  [[ "$full_faces" -eq "$faces" ]] ||
+    { echo "run_scale.sh: pmdec wrote $full_faces faces, not $faces" >&2; exit 1; }
+  rm -f "$work/$name.full.obj"
+
+  local enc_kib dec_kib
+  enc_kib=$(median "$work/$name.pmenc.runs" 2)
+  dec_kib=$(median "$work/$name.pmdec.runs" 2)
+  {
+    echo
+    echo "## $source after $steps Loop steps: $(thousands "$faces") faces, $(thousands "$vertices") vertices"
+    echo
+    echo "Input: \`$name.obj\`, $(mib $((obj_bytes / 1024))) MiB (pm's OBJ writer). Output: \`$name.pm\` $(thousands "$(stat -c %s "$work/$name.pm")") bytes, OpenMesh's \`$name.om.pm\` $(thousands "$(stat -c %s "$work/$name.om.pm")") bytes."
+    echo
+    echo "| process | runs | wall (s) | peak RSS (MiB) | bytes per input face | pmenc / this | pmdec / this |"
+    echo "|---|---:|---:|---:|---:|---:|---:|"
+    local label title n wall kib
+    for label in pmenc pmdec mkbalancedpm meshopt openmesh; do
+      case "$label" in
+        pmenc) title="**\`pmenc $name.obj -o $name.pm\`** (ours: the whole sequence to the base mesh)" ;;
+        pmdec) title="**\`pmdec $name.pm -o full.obj\`** (ours: full detail)" ;;
+        mkbalancedpm) title="\`OpenMesh-mkbalancedpm -o $name.om.pm $name.obj\` (OpenMesh's whole sequence)" ;;
+        meshopt) title="meshopt: load (minimal reader), \`meshopt_simplify\` to 1%" ;;
+        openmesh) title="OpenMesh: \`read_mesh\`, DecimaterT (ModQuadricT + ModNormalFlippingT) to 1%" ;;
+      esac
+      n=$(wc -l <"$work/$name.$label.runs")
+      wall=$(median "$work/$name.$label.runs" 1)
+      kib=$(median "$work/$name.$label.runs" 2)
+      echo "| $title | $n | $(seconds "$wall") | $(mib "$kib") | $(per_face "$kib" "$faces") | $(ratio "$enc_kib" "$kib") | $(ratio "$dec_kib" "$kib") |"
+    done
+    echo
+    echo "Peers' results, from their own output (the last run): meshopt $(sed 's/.*faces_out=\([0-9]*\).*/\1/' "$work/$name.meshopt.stdout") faces in $(sed 's/.*simplify_s=\([0-9.]*\).*/\1/' "$work/$name.meshopt.stdout") s after $(sed 's/.*load_s=\([0-9.]*\).*/\1/' "$work/$name.meshopt.stdout") s of loading; OpenMesh's decimater $(sed 's/.*faces_out=\([0-9]*\).*/\1/' "$work/$name.openmesh.stdout") faces in $(sed 's/.*simplify_s=\([0-9.]*\).*/\1/' "$work/$name.openmesh.stdout") s after $(sed 's/.*load_s=\([0-9.]*\).*/\1/' "$work/$name.openmesh.stdout") s of loading."
+  } >>"$report.tmp"
+}
+
+# --- the report ----------------------------------------------------------------------------
+
+# The programs' own footprint, for reading the per-face numbers: pmenc and pmdec doing nothing.
+rm -f "$work"/baseline.*.runs
+measure baseline.pmenc "$bin/pmenc" --version
+measure baseline.pmdec "$bin/pmdec" --version
+
+commit="$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+if [[ -n "$(git -C "$repo" status --porcelain -- lib formats apps 2>/dev/null)" ]]; then
+  commit="$commit with uncommitted changes in lib/, formats/ or apps/"
+fi
+cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
+om_version="$(dpkg-query -W -f='${Version}' libopenmesh-apps 2>/dev/null || echo unknown)"
+mo_version="$(dpkg-query -W -f='${Version}' libmeshoptimizer-dev 2>/dev/null || echo unknown)"
+{
+  echo "# Memory and scale benchmark"
+  echo
+  echo "Issue 9 (peak memory of pmenc and pmdec per input face) and issue 10's whole-process table: each tool is one process under \`/usr/bin/time -v\`, on meshes made by Loop subdivision. Regenerate with \`bash tests/bench/run_scale.sh --big\` (without \`--big\`, the 4.4M-face mesh is left out); how each number is measured is in [README.md](README.md), \"Scale and memory\"."
+  echo
+  echo "- machine: $(uname -m), $cpu, $(nproc) hardware threads (Linux $(uname -r)), $(free -g | awk '/^Mem:/ { print $2 }') GB of memory"
+  echo "- date: $(date -u '+%Y-%m-%d %H:%M') UTC"
+  echo "- commit: $commit"
+  echo "- load average at the start (1, 5, 15 min): $(cut -d' ' -f1-3 /proc/loadavg) (a shared machine: the neighbours' work is in every wall-clock time)"
+  echo "- peers: OpenMesh $om_version (libopenmesh-apps), meshoptimizer $mo_version"
+  echo "- runs: $runs of pmenc, OpenMesh-mkbalancedpm and the OpenMesh decimater; $fast_runs of pmdec and meshopt; each row is the median of its runs$( ((runs == 1)) && echo " (so the slow tools' rows are single runs)")"
+  echo "- bytes per input face: peak resident set / input faces, the program's own footprint included (pmenc alone, \`--version\`: $(mib "$(median "$work/baseline.pmenc.runs" 2)") MiB; pmdec: $(mib "$(median "$work/baseline.pmdec.runs" 2)") MiB)"
+} >"$report.tmp"
+
+run_mesh nefertiti.obj 2 nefertiti-loop2
+if ((big)); then
+  run_mesh stanford-bunny.obj 3 stanford-bunny-loop3
+else
+  {
+    echo
+    echo "The 4.4M-face mesh (stanford-bunny.obj after 3 Loop steps) was not run: \`run_scale.sh --big\` adds it (about 15 minutes more)."
+  } >>"$report.tmp"
+fi
+
+mv "$report.tmp" "$report"
+cat "$report"
