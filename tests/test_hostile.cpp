@@ -106,6 +106,19 @@ TEST(Hostile, FacesWithARepeatedVertexAreCarriedAtEveryLevel) {
   }
 }
 
+TEST(Hostile, FacesThatAreAllCarriedKeepTheirAttributes) {
+  // A quad whose first and third corners are one vertex: both fan triangles repeat a vertex,
+  // so no face reaches the half-edge mesh (found by fuzz_obj_reader).
+  Mesh m = mesh_of({2, 4, 0, 4, 1, 0, 3, 1, 0}, {1, 0, 1, 1, 1, 2});
+  m.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  m.uv_indices = {0, 1, 2, 0, 2, 3};
+  m.material_names = {"paint"};
+  m.face_materials = {0, 0};
+  const ProgressiveMesh pm = encode_and_check(m);
+  EXPECT_EQ(pm.base_face_count(), 0u);
+  EXPECT_TRUE(test::same_attributed_faces(m, extract_level(pm, 0)));
+}
+
 TEST(Hostile, DuplicateFacesAreKeptBothWays) {
   Mesh m;
   add_grid(m, 8, 0);

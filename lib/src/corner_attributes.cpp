@@ -92,6 +92,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const ManifoldMesh& repair
       for (int c = 0; c < 3; ++c) k.ids[f][c] = (*input_ids[kind])[input_corner(f, c)];
   }
   if (!input.face_materials.empty()) {
+    has_materials_ = true;
     material_.resize(faces);
     for (std::size_t f = 0; f < faces; ++f) material_[f] = input.face_materials[repaired.input_face[f]];
   }

@@ -37,7 +37,8 @@ class CornerAttributes {
 
   bool has_uvs() const { return kinds_[kUv].present; }
   bool has_normals() const { return kinds_[kNormal].present; }
-  bool has_materials() const { return !material_.empty(); }
+  // The input has materials (even if every face was carried aside and none is here).
+  bool has_materials() const { return has_materials_; }
   bool any() const { return has_uvs() || has_normals() || has_materials(); }
 
   // An interior edge whose two faces differ in material, or in a corner's texture
@@ -100,6 +101,7 @@ class CornerAttributes {
   std::vector<std::array<uint32_t, 3>> vertex_;  // per face: the vertex of each corner
   Kind kinds_[kKinds];
   std::vector<uint32_t> material_;  // per face, or empty
+  bool has_materials_ = false;
   std::vector<AttributeQuadric<2>> uv_quadrics_;
   std::vector<AttributeQuadric<3>> normal_quadrics_;
 };
