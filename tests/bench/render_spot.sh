@@ -10,27 +10,16 @@ build="${PM_BENCH_BUILD:-$repo/build-bench}"
 spot="$repo/../shared/meshes/spot.obj"
 images="$repo/tests/bench/images"
 
-missing=()
-for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
-               zlib1g-dev; do
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
-    missing+=("$package")
-done
-if ((${#missing[@]})); then
-  echo "render_spot.sh: installing ${missing[*]}" >&2
-  sudo=""
-  [[ $(id -u) -eq 0 ]] || sudo="sudo"
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
-fi
+# shellcheck source=bench_setup.sh
+source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_install render_spot.sh
 
 if [[ ! -f "$spot" ]]; then
   echo "*** NOTE: $spot is missing: the images were left as they were." >&2
   exit 0
 fi
 
-cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON \
-  -DPM_BUILD_TESTS=OFF >/dev/null
+bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pm_bench_uv pm_render
 
 lods="$(mktemp -d)"

@@ -39,19 +39,9 @@ done
 
 # `time` is GNU time (/usr/bin/time -v gives the peak resident set); libopenmesh-apps has
 # OpenMesh-mkbalancedpm.
-missing=()
-for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
-               zlib1g-dev time libopenmesh-apps; do
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
-    missing+=("$package")
-done
-if ((${#missing[@]})); then
-  echo "run_scale.sh: installing ${missing[*]}" >&2
-  sudo=""
-  [[ $(id -u) -eq 0 ]] || sudo="sudo"
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
-fi
+# shellcheck source=bench_setup.sh
+source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_install run_scale.sh time libopenmesh-apps
 
 # The inputs are made from the shared meshes: without them the committed table stays.
 for source in nefertiti.obj stanford-bunny.obj; do
@@ -64,8 +54,7 @@ for source in nefertiti.obj stanford-bunny.obj; do
   fi
 done
 
-cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON \
-  -DPM_BUILD_TESTS=OFF >/dev/null
+bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pmenc pmdec pm_make_big_mesh pm_bench_scale_peers
 
 bin="$build/apps"

@@ -11,19 +11,9 @@ build="${PM_BENCH_BUILD:-$repo/build-bench}"
 meshes="$repo/../shared/meshes"
 report="$repo/tests/bench/uv.md"
 
-missing=()
-for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
-               zlib1g-dev; do
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
-    missing+=("$package")
-done
-if ((${#missing[@]})); then
-  echo "run_uv.sh: installing ${missing[*]}" >&2
-  sudo=""
-  [[ $(id -u) -eq 0 ]] || sudo="sudo"
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
-fi
+# shellcheck source=bench_setup.sh
+source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_install run_uv.sh
 
 # spot, the acceptance mesh, is in ../shared/meshes: without it the committed table stays.
 if [[ ! -d "$meshes" ]]; then
@@ -34,8 +24,7 @@ if [[ ! -d "$meshes" ]]; then
   exit 0
 fi
 
-cmake -S "$repo" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON \
-  -DPM_BUILD_TESTS=OFF >/dev/null
+bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pm_bench_uv
 
 # Written to a temporary file first, so a failed run leaves the committed table in place.

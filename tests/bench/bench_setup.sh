@@ -1,0 +1,26 @@
+# shellcheck shell=bash
+# Sourced by the benchmark scripts: what each of them needs before it runs.
+#   bench_install TOOL [EXTRA_PACKAGE...]  installs the missing Debian packages the benchmarks
+#                                          build with, plus the script's own extras
+#   bench_configure REPO BUILD             configures BUILD for the benchmarks (tests off)
+
+bench_install() {
+  local tool=$1
+  shift
+  local missing=() package
+  for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
+                 zlib1g-dev "$@"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+      missing+=("$package")
+  done
+  ((${#missing[@]})) || return 0
+  echo "$tool: installing ${missing[*]}" >&2
+  local sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}"
+}
+
+bench_configure() {
+  cmake -S "$1" -B "$2" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON -DPM_BUILD_TESTS=OFF >/dev/null
+}
