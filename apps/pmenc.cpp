@@ -170,6 +170,23 @@ int main(int argc, char** argv) {
   app.add_option("--zstd-level", settings.write.zstd_level, "zstd compression level")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
+  app.add_option("--quantize", settings.write.position_bits,
+                 "Store positions on a grid of 2^BITS steps over the bounding box (lossy; 0: "
+                 "lossless, the default)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({0}) | CLI::Range(4, 24));
+  app.add_option("--quantize-uv", settings.write.uv_bits,
+                 "Store texture coordinates on a grid of 2^BITS steps (lossy; 0: lossless)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({0}) | CLI::Range(4, 24));
+  app.add_option("--quantize-normal", settings.write.normal_bits,
+                 "Store normals on a grid of 2^BITS steps (lossy; 0: lossless)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({0}) | CLI::Range(4, 24));
+  app.add_option("--chunk-splits", settings.write.chunk_splits,
+                 "Largest chunk of vertex splits (each chunk is compressed on its own)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1 << 20));
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid input,\n"
       "5 cannot write output, 6 unsupported format or version, 7 input too large,\n"

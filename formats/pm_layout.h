@@ -7,8 +7,17 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include <zstd.h>
+
+#include "pm/pm_codec.h"
 #include "pm/status.h"
+
+namespace pm::detail {
+class ByteReader;
+class ByteWriter;
+}  // namespace pm::detail
 
 namespace pm::detail {
 
@@ -22,6 +31,10 @@ inline constexpr std::size_t kHeaderAttributesOffset = 56;
 inline constexpr std::size_t kHeaderReservedOffset = 84;  // bytes 84..91 are reserved in 1.1
 inline constexpr std::size_t kHeaderCrcOffset = 92;       // CRC-32 of bytes 0..91
 inline constexpr std::size_t kSectionHeaderSize = 24;     // tag, flags, stored, raw
+
+// The 1.x versions pm_codec_v1.cpp reads (and writes, for tests): 1.0 and 1.1.
+inline constexpr uint16_t kMajor1 = 1;
+inline constexpr uint16_t kMinor1 = 1;
 
 // The first minor version with the attribute fields and sections (COLR, UVS0, NRML, MATL).
 inline constexpr uint16_t kMinorWithAttributes = 1;
@@ -109,5 +122,29 @@ uint64_t decode_memory(const Header& header, uint64_t largest_raw_size);
 // writer passes raw.size(), tests may lie.
 Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
                       uint64_t declared_raw_size, int zstd_level, std::string& out);
+
+// One zstd frame, exactly `frame.size()` bytes, with a content checksum and a content
+// size equal to `raw_size` (§4.2 of both format documents), decompressed into `raw`.
+Status decompress_frame(const std::string& where, std::string_view frame, uint64_t raw_size,
+                        ZSTD_DCtx* dctx, std::string& raw);
+
+// Material strings (pm-format.md §5.9 in 1.1, the TABL section in 2.0): a varint length
+// then the bytes. string_problem says why a string cannot be stored, or is empty.
+void put_string(ByteWriter& out, const std::string& text);
+std::string string_problem(std::string_view text);
+// `count` strings; `budget` is what is left of the header's string bytes.
+bool read_strings(ByteReader& in, uint32_t count, const char* what, uint64_t& budget,
+                  std::vector<std::string>& out);
+
+// "3190448 bytes (3 MiB)".
+std::string byte_count_text(uint64_t bytes);
+
+// Format 1.x (pm_codec_v1.cpp, pm-format-1.md): the reader of older streams, and the
+// writer, kept for tests and golden files.
+Status write_pm_v1(const ProgressiveMesh& pm, int zstd_level, std::string& bytes);
+Status read_pm_v1(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options);
+Status read_pm_info_v1(std::string_view bytes, PmInfo& info);
+Status check_material_strings_impl(const std::vector<std::string>& names,
+                                   const std::vector<std::string>& libraries);
 
 }  // namespace pm::detail

@@ -1,4 +1,4 @@
-// The .pm codec (formats/pm-format.md) and validate().
+// The 1.x .pm codec (formats/pm-format-1.md), read through read_pm, and validate().
 //
 // Round trips of small literal progressive meshes, field by field, with and without
 // attributes; a 1.0 stream written by the 1.0 writer, which must still decode; a reference
@@ -318,7 +318,7 @@ std::string encode(const ProgressiveMesh& pm, int level = 3) {
   std::string bytes;
   WriteOptions options;
   options.zstd_level = level;
-  const Status status = write_pm(pm, options, bytes);
+  const Status status = detail::write_pm_v1(pm, options.zstd_level, bytes);
   EXPECT_TRUE(status.is_ok()) << status.message();
   return bytes;
 }
@@ -777,7 +777,7 @@ TEST(PmCodecAdversarial, HeaderChecksumMismatch) {
 }
 
 TEST(PmCodecAdversarial, UnknownMajorVersion) {
-  for (uint16_t major : {0, 2, 0xFFFF}) {
+  for (uint16_t major : {0, 3, 0xFFFF}) {
     std::string bytes = encode(small_mesh());
     put_u16_at(bytes, kMajorOffset, major);
     reseal_header(bytes);

@@ -12,18 +12,30 @@
 
 namespace pm {
 
-inline constexpr uint16_t kFormatMajor = 1;
-inline constexpr uint16_t kFormatMinor = 1;  // 1.1: attributes
+// The version write_pm writes. read_pm reads it and every 1.x stream (1.0, 1.1).
+inline constexpr uint16_t kFormatMajor = 2;
+inline constexpr uint16_t kFormatMinor = 0;  // 2.0: chunked splits, one-ring coding, quantization
 
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
+  // Quantization (lossy, by the caller's choice; 0 keeps every float bit): positions on a
+  // uniform grid of 2^position_bits steps over the bounding box's longest side, texture
+  // coordinates and normals on grids of 2^uv_bits / 2^normal_bits steps over their tables'
+  // ranges. Each is 0 or 4..24. The decoded mesh holds the grid points.
+  int position_bits = 0;
+  int uv_bits = 0;
+  int normal_bits = 0;
+  // The splits are stored in chunks of at most this many (each compressed on its own, with
+  // an index, so that a reader decodes only the prefix it needs): the first chunks are
+  // smaller (256, 512, ...) so that a stream cut early still refines. 1..2^20.
+  uint32_t chunk_splits = 4096;
 };
 
-// Serializes pm (which must be valid) to bytes, as format 1.1. Errors: kInvalidArgument
-// when validate(pm) fails, a material name or library holds a NUL, or
-// zstd_level is outside 1..22; kResourceLimit when a count exceeds the format's limits
-// (2^30; 2^20 materials and libraries) or a string is longer than 4096 bytes. `bytes` is
-// untouched on error.
+// Serializes pm (which must be valid) to bytes, as format 2.0. Errors: kInvalidArgument
+// when validate(pm) fails, a material name or library holds a NUL, an option is out of
+// range, or positions to quantize are not finite; kResourceLimit when a count exceeds the
+// format's limits (2^30; 2^20 materials and libraries) or a string is longer than 4096
+// bytes. `bytes` is untouched on error.
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
 
 // Whether the stream can hold these material names and libraries (§5.9, §7.2: at most 2^20
@@ -43,12 +55,68 @@ struct ReadOptions {
   // bytes, the corner-id predictor, the zstd context) and validate()'s, plus 4 KiB. The
   // header and the section headers give every term, so the check comes first.
   uint64_t max_memory = 0;
+  // A 2.0 stream cut short (a download in progress, `head -c`) decodes to the finest level
+  // it holds whole, when this is set and the cut falls after the base mesh (the header,
+  // BASE, WELD, CARY, TABL and INDX sections); ReadResult says so. Otherwise, and for 1.x
+  // streams, a cut stream is kTruncatedStream.
+  bool allow_truncated = false;
+  // Decode only the splits up to this level (2.0 streams: the chunks that hold them; the
+  // rest of the stream is neither decompressed nor checked beyond its section headers).
+  // The mesh may hold more splits (the rest of the last chunk needed), never fewer; without
+  // all splits, it has no loose vertices and no stored order (they belong to full detail).
+  uint64_t max_splits = UINT64_MAX;
 };
 
-// Parses and validates a whole stream. Errors: kTruncatedStream, kCorruptStream,
+// What read_pm decoded, when the stream or the request left out a part of it.
+struct ReadResult {
+  bool truncated = false;    // the stream ended early (allow_truncated)
+  bool partial = false;      // the mesh holds fewer splits than the stream (truncated or max_splits)
+  uint32_t chunks_decoded = 0, chunk_count = 0;  // 2.0 streams
+  std::string warning;       // one line when truncated: where the stream ends
+};
+
+// Parses and validates a stream. Errors: kTruncatedStream, kCorruptStream,
 // kChecksumMismatch, kUnsupportedVersion, kResourceLimit. Never reads out of bounds.
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options,
+               ReadResult* result);
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options);
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm);  // default ReadOptions
+
+// Decodes a 2.0 stream as it arrives (Hoppe 1996, §3: progressive transmission): feed it
+// bytes in order, in pieces of any size; every section that is complete is decoded at
+// once, so mesh() refines chunk by chunk. Streams of version 1.x are decoded whole, when
+// they have fully arrived.
+class PmStreamReader {
+ public:
+  explicit PmStreamReader(const ReadOptions& options = {});
+  ~PmStreamReader();
+  PmStreamReader(const PmStreamReader&) = delete;
+  PmStreamReader& operator=(const PmStreamReader&) = delete;
+
+  // The next bytes. An error (damage, a limit) is final: later calls return it again.
+  Status append(std::string_view bytes);
+  // The end of the stream: kTruncatedStream (with the same message as read_pm) when it
+  // ended before it was complete, unless options.allow_truncated and the base mesh arrived.
+  Status finish(ReadResult* result = nullptr);
+
+  // Whether the base mesh has been decoded (mesh() is then a valid progressive mesh).
+  bool has_base() const;
+  // Whether the whole stream has been decoded.
+  bool complete() const;
+  // The progressive mesh decoded so far: the base mesh and the splits of the complete
+  // chunks (valid once has_base()). Faces at its finest level: full_face_count(), below.
+  const ProgressiveMesh& mesh() const;
+  // Faces of the finest level decoded so far (base + the splits' faces; carried faces
+  // included), and of the whole stream (from the header, once it has arrived).
+  uint64_t decoded_face_count() const;
+  uint64_t stream_face_count() const;
+
+ private:
+  friend Status read_pm(std::string_view, ProgressiveMesh&, const ReadOptions&, ReadResult*);
+  friend Status read_pm_info(std::string_view, struct PmInfo&);
+  struct State;
+  State* state_;
+};
 
 // The header fields, for `pmdec --info`.
 struct PmInfo {
@@ -72,9 +140,23 @@ struct PmInfo {
   uint32_t uv_count = 0, normal_count = 0;
   uint32_t material_count = 0, material_library_count = 0;
   bool has_uvs = false, has_normals = false, has_materials = false;
+  // Added with format 2.0 (zero in 1.x streams): quantization bits (0 = lossless), whether
+  // the input's vertex and face order is stored, and the chunk index: for each chunk, its
+  // splits, and the vertices, faces and error bound of the level after it.
+  uint32_t position_bits = 0, uv_bits = 0, normal_bits = 0;
+  bool keeps_order = false;
+  struct Chunk {
+    uint32_t splits = 0;
+    uint64_t vertices_after = 0, faces_after = 0;  // as vertices_at_level / faces_at_level
+    float error_after = 0;
+    uint64_t stream_end = 0;  // byte offset in the stream just past this chunk
+  };
+  std::vector<Chunk> chunks;
 };
-// Reads and checks the header only (magic, checksum, version, count limits, and that the
-// stream is long enough for the counts); sections are not decompressed. Same errors as read_pm.
+// Reads and checks the header (magic, checksum, version, count limits, and that the stream
+// is long enough for the counts) and, in a 2.0 stream, the chunk index (the sections before
+// it are skipped, not decompressed); `bytes` may be a prefix of the stream that holds them.
+// Same errors as read_pm.
 Status read_pm_info(std::string_view bytes, PmInfo& info);
 
 }  // namespace pm

@@ -1,6 +1,8 @@
-// The .pm stream: a fixed header with a CRC-32, then zstd-compressed sections (BASE, SPLT,
-// WELD, CARY, LOOS; since 1.1 the attribute sections COLR, UVS0, NRML, MATL).
-// formats/pm-format.md is normative; section numbers in comments (§) refer to it.
+// The .pm stream of format 1.x (1.0 and 1.1): a fixed header with a CRC-32, then
+// zstd-compressed sections (BASE, SPLT, WELD, CARY, LOOS; since 1.1 the attribute sections
+// COLR, UVS0, NRML, MATL). Since format 2.0 (pm_codec_v2.cpp) this is the reader of older
+// files, and a writer kept for tests and golden files. formats/pm-format-1.md is normative
+// for it; section numbers in comments (§) refer to it.
 //
 // The reader trusts nothing and validates before it allocates: every count is checked
 // against a hard cap and against the bytes actually present, every section header is
@@ -27,6 +29,7 @@
 #include <vector>
 
 #include "byte_io.h"
+#include "corner_codes.h"
 #include "pm_layout.h"
 
 namespace pm {
@@ -208,7 +211,7 @@ std::string version_text(const Header& h) {
 // A stream of a later minor version may use flag bits or sections this reader does not
 // know: that is a feature it lacks, not damage. In a version it knows, they are corruption.
 ErrorCode unknown_feature_code(const Header& h) {
-  return h.minor > kFormatMinor ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream;
+  return h.minor > kMinor1 ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream;
 }
 
 Status check_count(uint32_t count, uint32_t limit, const char* what) {
@@ -248,7 +251,7 @@ Status check_plausible_size(const Header& h, std::size_t stream_size) {
 Status check_reserved(const Header& h, std::string_view header_bytes) {
   if (h.flags != 0) {
     return Status(unknown_feature_code(h),
-                  h.minor > kFormatMinor
+                  h.minor > kMinor1
                       ? "header: format " + version_text(h) +
                             " uses features this reader lacks (flags " + hex32(h.flags) + ")"
                       : "header: reserved flag bits " + hex32(h.flags) + " set");
@@ -256,7 +259,7 @@ Status check_reserved(const Header& h, std::string_view header_bytes) {
   // A later minor may put fields that older readers can ignore in the reserved bytes and
   // the attribute bits (§3.2); in a version this reader knows they must be zero. In 1.0
   // the attribute fields themselves are reserved bytes.
-  if (h.minor > kFormatMinor) return Status::ok();
+  if (h.minor > kMinor1) return Status::ok();
   const std::size_t first_reserved =
       h.minor < kMinorWithAttributes ? kHeaderAttributesOffset : kHeaderReservedOffset;
   for (std::size_t i = first_reserved; i < kHeaderCrcOffset; ++i) {
@@ -387,10 +390,10 @@ Status parse_header(std::string_view bytes, Header& header) {
                                                     hex32(stored_crc) + ", computed " +
                                                     hex32(computed_crc) + ")");
   }
-  if (h.major != kFormatMajor) {
+  if (h.major != kMajor1) {
     return Status(ErrorCode::kUnsupportedVersion, "header: format version " + version_text(h) +
                                                       " is not supported (this reader reads " +
-                                                      std::to_string(kFormatMajor) + ".x)");
+                                                      std::to_string(kMajor1) + ".x)");
   }
   if (Status status = check_reserved(h, header_bytes); !status) return status;
   // Attribute bits of a later minor are may-ignore (§3.2): this reader sees its own only.
@@ -721,24 +724,6 @@ bool for_each_corner(const ProgressiveMesh& pm, std::size_t face_count, Visit&& 
   return true;
 }
 
-// Corner id codes (§5.10): 0 none; 1 the id this vertex's previous corner had; n >= 2 the
-// previous corner's id (in corner order) plus unzigzag(n - 2).
-struct CornerPredictor {
-  std::vector<uint32_t> last;  // per vertex with corners (B + S): its latest id, or kNoAttribute
-  int64_t previous = 0;        // the latest id of any corner
-
-  explicit CornerPredictor(std::size_t vertices) : last(vertices, kNoAttribute) {}
-
-  uint32_t encode(uint32_t vertex, uint32_t id) {
-    if (id == kNoAttribute) return 0;
-    uint32_t code = 1;
-    if (last[vertex] != id) code = static_cast<uint32_t>(zigzag(int64_t{id} - previous) + 2);
-    last[vertex] = id;
-    previous = id;
-    return code;
-  }
-};
-
 void put_corner_ids(ByteWriter& out, const ProgressiveMesh& pm,
                     const std::vector<uint32_t>& face_ids, const std::vector<uint32_t>& moved_ids) {
   if (face_ids.empty()) return;
@@ -762,33 +747,11 @@ bool read_corner_ids(ByteReader& in, const Header& h, const ProgressiveMesh& pm,
   return for_each_corner(pm, face_slots / 3, [&](uint32_t vertex, std::size_t slot) {
     uint32_t code;
     if (!in.read_varint(code)) return false;
-    uint32_t id = kNoAttribute;
-    if (code == 1) {
-      id = predictor.last[vertex];
-      if (id == kNoAttribute) {
-        return in.fail(ErrorCode::kCorruptStream,
-                       in.where() + ": corner " + std::to_string(corner) +
-                           " repeats the id of vertex " + std::to_string(vertex) +
-                           ", which has none yet");
-      }
-    } else if (code >= 2) {
-      const int64_t value = predictor.previous + unzigzag(code - 2);
-      if (value < 0 || value >= count) {
-        return in.fail(ErrorCode::kCorruptStream,
-                       in.where() + ": corner " + std::to_string(corner) + " has id " +
-                           std::to_string(value) + " of " + std::to_string(count));
-      }
-      id = static_cast<uint32_t>(value);
-      // One encoding per value: an id the vertex repeats must be written as code 1.
-      if (id == predictor.last[vertex]) {
-        return in.fail(ErrorCode::kCorruptStream,
-                       in.where() + ": corner " + std::to_string(corner) + " spells out id " +
-                           std::to_string(id) + ", which its vertex repeats (code 1)");
-      }
-    }
-    if (id != kNoAttribute) {
-      predictor.last[vertex] = id;
-      predictor.previous = id;
+    uint32_t id;
+    std::string problem;
+    if (!predictor.decode(code, vertex, count, id, problem)) {
+      return in.fail(ErrorCode::kCorruptStream,
+                     in.where() + ": corner " + std::to_string(corner) + " " + problem);
     }
     (slot < face_slots ? face_ids[slot] : moved_ids[slot - face_slots]) = id;
     ++corner;
@@ -824,10 +787,14 @@ bool decode_normals(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
          read_corner_ids(in, h, pm, h.normal_count, pm.face_normals, pm.moved_normals);
 }
 
+}  // namespace
+
 void put_string(ByteWriter& out, const std::string& text) {
   out.put_varint(static_cast<uint32_t>(text.size()));
   out.put_bytes(text);
 }
+
+namespace {
 
 std::string encode_materials(const ProgressiveMesh& pm) {
   std::string raw;
@@ -839,6 +806,8 @@ std::string encode_materials(const ProgressiveMesh& pm) {
 }
 
 // Why a material string cannot be stored, or empty (§5.9).
+}  // namespace
+
 std::string string_problem(std::string_view text) {
   if (text.size() > kMaxStringBytes) {
     return std::to_string(text.size()) + " bytes (at most " + std::to_string(kMaxStringBytes) + ")";
@@ -847,7 +816,11 @@ std::string string_problem(std::string_view text) {
   return "";
 }
 
+namespace {
+
 // `count` strings; `budget` is what is left of the header's string bytes.
+}  // namespace
+
 bool read_strings(ByteReader& in, uint32_t count, const char* what, uint64_t& budget,
                   std::vector<std::string>& strings) {
   strings.reserve(count);
@@ -870,6 +843,8 @@ bool read_strings(ByteReader& in, uint32_t count, const char* what, uint64_t& bu
   }
   return true;
 }
+
+namespace {
 
 bool decode_materials(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
   uint64_t budget = h.material_string_bytes;
@@ -911,8 +886,8 @@ constexpr std::array<SectionDecoder, kKnownSectionCount> kDecoders = {
 
 Header header_for(const ProgressiveMesh& pm) {
   Header h;
-  h.major = kFormatMajor;
-  h.minor = kFormatMinor;
+  h.major = kMajor1;
+  h.minor = kMinor1;
   h.base_vertex_count = pm.base_vertex_count;
   h.base_face_count = static_cast<uint32_t>(pm.base_face_count());
   h.split_count = static_cast<uint32_t>(pm.split_count());
@@ -976,6 +951,8 @@ Status check_writable(const ProgressiveMesh& pm) {
 
 // One zstd frame, exactly `frame.size()` bytes, with a content checksum and a content
 // size equal to the section's raw size (§4.2), decompressed into `raw`.
+}  // namespace
+
 Status decompress_frame(const std::string& where, std::string_view frame, uint64_t raw_size,
                         ZSTD_DCtx* dctx, std::string& raw) {
   uint32_t magic = 0;
@@ -1032,6 +1009,8 @@ Status decompress_frame(const std::string& where, std::string_view frame, uint64
   }
   return Status::ok();
 }
+
+namespace {
 
 bool is_tag_character(uint8_t c) {
   return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
@@ -1148,6 +1127,8 @@ Status scan_sections(std::string_view bytes, const Header& h, SectionList& list,
   return Status::ok();
 }
 
+}  // namespace
+
 std::string byte_count_text(uint64_t bytes) {
   std::string text = std::to_string(bytes) + " bytes";
   if (bytes >= (uint64_t{1} << 20)) {
@@ -1155,6 +1136,8 @@ std::string byte_count_text(uint64_t bytes) {
   }
   return text;
 }
+
+namespace {
 
 // read_pm's steps 3 and 4, once the header and section headers are checked.
 Status decode_sections(const Header& h, const SectionList& sections, int section_count,
@@ -1203,11 +1186,9 @@ Status decode_sections(const Header& h, const SectionList& sections, int section
 }
 
 }  // namespace
-}  // namespace detail
 
-using namespace detail;  // NOLINT: the layout helpers are this file's vocabulary
 
-Status check_material_strings(const std::vector<std::string>& names,
+Status check_material_strings_impl(const std::vector<std::string>& names,
                               const std::vector<std::string>& libraries) {
   for (const auto* strings : {&names, &libraries}) {
     const char* what = strings == &names ? "material name " : "material library ";
@@ -1228,15 +1209,15 @@ Status check_material_strings(const std::vector<std::string>& names,
   return Status::ok();
 }
 
-Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
+Status write_pm_v1(const ProgressiveMesh& pm, int zstd_level, std::string& bytes) {
   std::string message;
   if (!validate(pm, &message)) {
     return Status(ErrorCode::kInvalidArgument,
                   "cannot write an invalid progressive mesh: " + message);
   }
   if (Status status = check_writable(pm); !status) return status;
-  if (options.zstd_level < 1 || options.zstd_level > ZSTD_maxCLevel()) {
-    return Status(ErrorCode::kInvalidArgument, "zstd level " + std::to_string(options.zstd_level) +
+  if (zstd_level < 1 || zstd_level > ZSTD_maxCLevel()) {
+    return Status(ErrorCode::kInvalidArgument, "zstd level " + std::to_string(zstd_level) +
                                                    " is outside 1.." +
                                                    std::to_string(ZSTD_maxCLevel()));
   }
@@ -1248,7 +1229,7 @@ Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::str
     const std::string raw = kEncoders[section](pm);
     const uint32_t flags = is_attribute_section(section) ? 0 : kSectionRequired;
     if (Status status =
-            append_section(kKnownTags[section], flags, raw, raw.size(), options.zstd_level, out);
+            append_section(kKnownTags[section], flags, raw, raw.size(), zstd_level, out);
         !status) {
       return status;
     }
@@ -1257,11 +1238,7 @@ Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::str
   return Status::ok();
 }
 
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
-  return read_pm(bytes, pm, ReadOptions{});
-}
-
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
+Status read_pm_v1(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
   // 1. The header (§3.3) and every section header (§4), before anything is allocated.
   Header h;
   if (Status status = parse_header(bytes, h); !status) return status;
@@ -1290,7 +1267,7 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
   }
 }
 
-Status read_pm_info(std::string_view bytes, PmInfo& info) {
+Status read_pm_info_v1(std::string_view bytes, PmInfo& info) {
   Header h;
   if (Status status = parse_header(bytes, h); !status) return status;
   PmInfo result;
@@ -1323,4 +1300,5 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
   return Status::ok();
 }
 
+}  // namespace detail
 }  // namespace pm

@@ -1,0 +1,1673 @@
+// The .pm stream of format 2.0: a fixed header with a CRC-32, then zstd-compressed
+// sections: the base mesh and what every level shares (BASE, WELD, CARY, TABL), an index of
+// the chunks (INDX), the vertex splits in chunks of a few thousand (CHNK), and what only
+// full detail has (LOOS, ORDR). formats/pm-format.md is normative; section numbers in
+// comments (§) refer to it.
+//
+// Progressive by construction (Hoppe 1996, §3, "progressive transmission"): a reader
+// decodes the sections as they arrive, so a stream cut anywhere after the base mesh gives
+// the finest level it holds whole, and a reader that wants a coarse level stops after the
+// chunks that hold it.
+//
+// Compact: a split names vl and vr by their places in u's ring of faces, and its moved
+// faces are those between them (split_fans.h; Hoppe 1998, "Efficient implementation of
+// progressive meshes", §4); the new vertex's position is predicted by the mean of its
+// neighbours in the refined mesh (the "Laplacian" prediction of Taubin, Guéziec, Horn and
+// Lazarus 1998, "Progressive forest split compression", §5) and stored as the difference,
+// in the order-preserving integers of the float bits (lossless) or on a quantization grid
+// (Deering 1995, "Geometry compression", §4: uniform quantization over a bounding box).
+// Each field is a stream of its own in the chunk, which zstd compresses better than
+// interleaved records.
+//
+// The reader trusts nothing, as the 1.x reader: every count is capped, every section header
+// is checked before its payload is decompressed, the memory a decode needs is computed from
+// checked numbers before it is allocated, and the decoded mesh goes through validate().
+#include <zstd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <new>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "byte_io.h"
+#include "corner_codes.h"
+#include "pm/pm_codec.h"
+#include "pm_layout.h"
+#include "split_fans.h"
+
+namespace pm {
+namespace detail {
+namespace {
+
+constexpr uint16_t kMajor2 = 2;
+constexpr uint16_t kMinor2 = 0;
+constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
+constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
+
+constexpr uint32_t kTagTables = make_tag("TABL");
+constexpr uint32_t kTagIndex = make_tag("INDX");
+constexpr uint32_t kTagChunk = make_tag("CHNK");
+constexpr uint32_t kTagOrder = make_tag("ORDR");
+
+// Header offsets (§3.1) that differ from 1.x.
+constexpr std::size_t kOffsetBits = 84;     // position_bits, uv_bits, normal_bits: u8 each
+constexpr std::size_t kOffsetReserved = 87;  // u8, zero
+constexpr std::size_t kOffsetOptions = 88;   // u32
+
+struct Header2 {
+  uint16_t major = kMajor2, minor = kMinor2;
+  uint32_t flags = 0;
+  uint32_t base_vertex_count = 0, base_face_count = 0, split_count = 0;
+  uint32_t loose_vertex_count = 0, weld_count = 0, carried_face_count = 0;
+  uint32_t moved_face_count = 0, split_face_count = 0;
+  uint32_t chunk_count = 0;
+  float max_error = 0.0f;
+  uint32_t attributes = 0, color_components = 0, uv_count = 0, normal_count = 0;
+  uint32_t material_count = 0, material_library_count = 0, material_string_bytes = 0;
+  uint8_t position_bits = 0, uv_bits = 0, normal_bits = 0;
+  uint32_t options = 0;
+
+  uint64_t vertices() const { return uint64_t{base_vertex_count} + split_count + loose_vertex_count; }
+  uint64_t faces() const { return uint64_t{base_face_count} + split_face_count + carried_face_count; }
+  uint64_t split_vertices() const { return uint64_t{base_vertex_count} + split_count; }
+  bool uv_ids() const { return (attributes & kAttributeUvIds) != 0; }
+  bool normal_ids() const { return (attributes & kAttributeNormalIds) != 0; }
+  bool material_ids() const { return (attributes & kAttributeMaterialIds) != 0; }
+};
+
+void append_header2(const Header2& h, std::string& out) {
+  const std::size_t start = out.size();
+  ByteWriter w(out);
+  w.put_bytes(std::string_view(kMagic, sizeof kMagic));
+  w.put_u16(h.major);
+  w.put_u16(h.minor);
+  w.put_u32(h.flags);
+  for (uint32_t count : {h.base_vertex_count, h.base_face_count, h.split_count,
+                         h.loose_vertex_count, h.weld_count, h.carried_face_count,
+                         h.moved_face_count, h.split_face_count, h.chunk_count}) {
+    w.put_u32(count);
+  }
+  w.put_f32(h.max_error);
+  for (uint32_t field : {h.attributes, h.color_components, h.uv_count, h.normal_count,
+                         h.material_count, h.material_library_count, h.material_string_bytes}) {
+    w.put_u32(field);
+  }
+  w.put_u8(h.position_bits);
+  w.put_u8(h.uv_bits);
+  w.put_u8(h.normal_bits);
+  w.put_u8(0);
+  w.put_u32(h.options);
+  w.put_u32(crc32(std::string_view(out).substr(start, kHeaderCrcOffset)));
+}
+
+bool valid_bits(uint32_t bits) { return bits == 0 || (bits >= kMinBits && bits <= kMaxBits); }
+
+Status corrupt(std::string message) { return Status(ErrorCode::kCorruptStream, std::move(message)); }
+
+// §3.3: the header, once 96 bytes have arrived and the caller has seen major 2.
+Status parse_header2(std::string_view bytes, Header2& h) {
+  ByteReader in(bytes.substr(0, kHeaderSize), "header", ErrorCode::kTruncatedStream);
+  in.skip(sizeof kMagic);
+  Header2 r;
+  in.read_u16(r.major);
+  in.read_u16(r.minor);
+  in.read_u32(r.flags);
+  for (uint32_t* count : {&r.base_vertex_count, &r.base_face_count, &r.split_count,
+                          &r.loose_vertex_count, &r.weld_count, &r.carried_face_count,
+                          &r.moved_face_count, &r.split_face_count, &r.chunk_count}) {
+    in.read_u32(*count);
+  }
+  in.read_f32(r.max_error);
+  for (uint32_t* field : {&r.attributes, &r.color_components, &r.uv_count, &r.normal_count,
+                          &r.material_count, &r.material_library_count,
+                          &r.material_string_bytes}) {
+    in.read_u32(*field);
+  }
+  uint8_t reserved = 0;
+  in.read_u8(r.position_bits);
+  in.read_u8(r.uv_bits);
+  in.read_u8(r.normal_bits);
+  in.read_u8(reserved);
+  in.read_u32(r.options);
+  uint32_t stored_crc = 0;
+  in.read_u32(stored_crc);
+  if (!in.status()) return in.status();
+  const uint32_t crc = crc32(bytes.substr(0, kHeaderCrcOffset));
+  if (crc != stored_crc) {
+    return Status(ErrorCode::kChecksumMismatch, "header: checksum mismatch (stored " +
+                                                    std::to_string(stored_crc) + ", computed " +
+                                                    std::to_string(crc) + ")");
+  }
+  const std::string version = std::to_string(r.major) + "." + std::to_string(r.minor);
+  // §3.2: flags and unknown option bits are must-understand; the reserved byte may be used
+  // by a later minor. In a version this reader knows, all of them are damage.
+  const bool later = r.minor > kMinor2;
+  if (r.flags != 0 || (r.options & ~kOptionKeepsOrder) != 0) {
+    return Status(later ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream,
+                  "header: flag or option bits this reader does not know (version " + version + ")");
+  }
+  if (reserved != 0 && !later) return corrupt("header: reserved byte 87 is not zero");
+  if ((r.attributes & ~kKnownAttributeBits) != 0 && !later) {
+    return corrupt("header: reserved attribute bits are set");
+  }
+  r.attributes &= kKnownAttributeBits;
+  // §7.2 limits, then §3.3's consistency rules.
+  for (const auto& [count, what] :
+       {std::pair{r.base_vertex_count, "base vertices"}, {r.base_face_count, "base faces"},
+        {r.split_count, "splits"}, {r.loose_vertex_count, "loose vertices"},
+        {r.weld_count, "welds"}, {r.carried_face_count, "carried faces"},
+        {r.moved_face_count, "moved faces"}, {r.split_face_count, "split faces"},
+        {r.chunk_count, "chunks"}, {r.uv_count, "texture coordinates"},
+        {r.normal_count, "normals"}, {r.material_string_bytes, "material string bytes"}}) {
+    if (count > kMaxCount) {
+      return Status(ErrorCode::kResourceLimit, std::string("header: ") + std::to_string(count) +
+                                                   " " + what + " (at most " +
+                                                   std::to_string(kMaxCount) + ")");
+    }
+  }
+  if (r.material_count > kMaxMaterials || r.material_library_count > kMaxMaterials) {
+    return Status(ErrorCode::kResourceLimit, "header: too many materials or material libraries");
+  }
+  if (r.split_face_count < r.split_count || r.split_face_count > 2 * uint64_t{r.split_count}) {
+    return corrupt("header: " + std::to_string(r.split_count) + " splits cannot add " +
+                   std::to_string(r.split_face_count) + " faces");
+  }
+  if ((r.chunk_count == 0) != (r.split_count == 0) || r.chunk_count > r.split_count) {
+    return corrupt("header: " + std::to_string(r.chunk_count) + " chunks for " +
+                   std::to_string(r.split_count) + " splits");
+  }
+  if (r.weld_count > r.base_vertex_count) return corrupt("header: more welds than base vertices");
+  if (r.split_count == 0 && r.moved_face_count != 0) return corrupt("header: moved faces without splits");
+  if (!std::isfinite(r.max_error) || r.max_error < 0) return corrupt("header: bad max_error");
+  if (r.split_count == 0 && (r.max_error != 0 || std::signbit(r.max_error))) {
+    return corrupt("header: max_error is not +0 without splits");
+  }
+  if (r.color_components != 0 && r.color_components != 3 && r.color_components != 4) {
+    return corrupt("header: " + std::to_string(r.color_components) + " colour components");
+  }
+  if (r.attributes != 0 && r.faces() == 0) return corrupt("header: attribute ids without faces");
+  if (r.material_string_bytes >
+      uint64_t{kMaxStringBytes} * (uint64_t{r.material_count} + r.material_library_count)) {
+    return corrupt("header: material strings longer than the names allow");
+  }
+  if (!valid_bits(r.position_bits) || !valid_bits(r.uv_bits) || !valid_bits(r.normal_bits)) {
+    return corrupt("header: quantization bits must be 0 or 4 to 24");
+  }
+  if (uint64_t{r.base_vertex_count} + r.split_count + r.loose_vertex_count >= 0xFFFFFFFFull) {
+    return corrupt("header: too many vertices for 32-bit ids");
+  }
+  h = r;
+  return Status::ok();
+}
+
+// ---------------------------------------------------------------------------------------
+// Primitive codings (§5.1).
+
+// Floats as unsigned integers in the order of their values (negative floats reversed), so
+// that the difference of two near floats is a small integer whatever their signs and
+// exponents. A bijection on bit patterns: NaN payloads and -0 survive.
+uint32_t ordered_from_float(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, 4);
+  return (bits & 0x80000000u) != 0 ? ~bits : bits | 0x80000000u;
+}
+float float_from_ordered(uint32_t ordered) {
+  const uint32_t bits = (ordered & 0x80000000u) != 0 ? ordered & 0x7FFFFFFFu : ~ordered;
+  float value;
+  std::memcpy(&value, &bits, 4);
+  return value;
+}
+
+// LEB128 of up to 64 bits (residuals, which may exceed 32 bits), canonical as varint.
+void put_varint64(std::string& out, uint64_t value) {
+  while (value >= 0x80) {
+    out.push_back(static_cast<char>((value & 0x7F) | 0x80));
+    value >>= 7;
+  }
+  out.push_back(static_cast<char>(value));
+}
+bool read_varint64(ByteReader& in, uint64_t& value) {
+  uint64_t result = 0;
+  for (int i = 0; i < 10; ++i) {
+    uint8_t byte;
+    if (!in.read_u8(byte)) return false;
+    if (i == 9 && byte > 1) return in.fail(ErrorCode::kCorruptStream, in.where() + ": varint exceeds 64 bits");
+    result |= uint64_t{byte & 0x7Fu} << (7 * i);
+    if ((byte & 0x80) == 0) {
+      if (byte == 0 && i > 0) return in.fail(ErrorCode::kCorruptStream, in.where() + ": overlong varint");
+      value = result;
+      return true;
+    }
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------
+// Quantization grids (§5.3): origin + q * step, q in [0, 2^bits).
+
+struct Grid {
+  int bits = 0;                 // 0: no quantization
+  std::vector<float> origin;    // per component
+  float step = 1.0f;
+
+  double value(uint32_t q, std::size_t component) const {
+    return double{origin[component]} + static_cast<double>(q) * double{step};
+  }
+};
+
+// The grid of `components`-vectors `values` (count of them), over their bounding box's
+// longest side. False when a value is not finite.
+bool make_grid(const float* values, std::size_t count, std::size_t components, int bits,
+               Grid& grid) {
+  grid.bits = bits;
+  grid.origin.assign(components, 0.0f);
+  std::vector<float> top(components, 0.0f);
+  for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t c = 0; c < components; ++c) {
+      const float x = values[components * i + c];
+      if (!std::isfinite(x)) return false;
+      if (i == 0 || x < grid.origin[c]) grid.origin[c] = x;
+      if (i == 0 || x > top[c]) top[c] = x;
+    }
+  }
+  double extent = 0;
+  for (std::size_t c = 0; c < components; ++c) {
+    extent = std::max(extent, double{top[c]} - double{grid.origin[c]});
+  }
+  const double steps = double((uint32_t{1} << bits) - 1);
+  grid.step = extent > 0 ? static_cast<float>(extent / steps) : 1.0f;
+  if (!(grid.step > 0) || !std::isfinite(grid.step)) grid.step = 1.0f;
+  return true;
+}
+
+uint32_t quantize(const Grid& grid, float x, std::size_t component) {
+  const double top = double((uint32_t{1} << grid.bits) - 1);
+  const double q = std::nearbyint((double{x} - double{grid.origin[component]}) / double{grid.step});
+  return static_cast<uint32_t>(std::clamp(q, 0.0, top));
+}
+
+void put_grid(ByteWriter& out, const Grid& grid) {
+  for (float x : grid.origin) out.put_f32(x);
+  out.put_f32(grid.step);
+}
+bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid) {
+  grid.bits = bits;
+  grid.origin.assign(components, 0.0f);
+  for (float& x : grid.origin) {
+    if (!in.read_f32(x)) return false;
+  }
+  if (!in.read_f32(grid.step)) return false;
+  for (float x : grid.origin) {
+    if (!std::isfinite(x)) return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid origin is not finite");
+  }
+  if (!(grid.step > 0) || !std::isfinite(grid.step)) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid step is not a positive number");
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------
+// Values per vertex (positions, colours) in the integers their residuals are taken in
+// (§5.6): the ordered float bits when lossless, the grid index when quantized.
+
+struct VertexValues {
+  std::size_t components = 3;
+  const Grid* grid = nullptr;       // quantized when set
+  std::vector<uint32_t> units;      // components per vertex, as decoded or encoded so far
+
+  float to_float(uint32_t unit, std::size_t c) const {
+    return grid != nullptr ? static_cast<float>(grid->value(unit, c)) : float_from_ordered(unit);
+  }
+  uint32_t from_float(float x, std::size_t c) const {
+    return grid != nullptr ? quantize(*grid, x, c) : ordered_from_float(x);
+  }
+
+  // The prediction of a new vertex from its neighbours in the refined mesh (Taubin et al.
+  // 1998, §5): their mean, in the grid's integers, or in double then rounded to float (when
+  // the mean is not finite, the first neighbour's value, which is u's).
+  void predict(const uint32_t* neighbours, std::size_t count, uint32_t* out) const {
+    for (std::size_t c = 0; c < components; ++c) {
+      if (grid != nullptr) {
+        uint64_t sum = 0;
+        for (std::size_t k = 0; k < count; ++k) sum += units[components * neighbours[k] + c];
+        out[c] = static_cast<uint32_t>((2 * sum + count) / (2 * count));
+      } else {
+        double sum = 0;
+        for (std::size_t k = 0; k < count; ++k) {
+          sum += double{float_from_ordered(units[components * neighbours[k] + c])};
+        }
+        const auto mean = static_cast<float>(sum / double(count));
+        out[c] = std::isfinite(mean) ? ordered_from_float(mean)
+                                     : units[components * neighbours[0] + c];
+      }
+    }
+  }
+};
+
+// ---------------------------------------------------------------------------------------
+// Chunk plan (§5.5): 256 splits, then doubling up to the writer's largest chunk, so that a
+// stream cut early still refines, and big meshes have few chunks.
+
+std::vector<uint32_t> plan_chunks(uint32_t splits, uint32_t largest) {
+  std::vector<uint32_t> sizes;
+  uint32_t size = std::min<uint32_t>(256, largest);
+  for (uint32_t done = 0; done < splits;) {
+    const uint32_t n = std::min(size, splits - done);
+    sizes.push_back(n);
+    done += n;
+    if (size < largest) size = std::min(largest, size * 2);
+  }
+  return sizes;
+}
+
+struct ChunkEntry {
+  uint32_t splits = 0, new_faces = 0, moved_faces = 0;
+  float error_after = 0;
+};
+
+// A chunk's fields (§5.5), each its own stream, in this order.
+enum ChunkStream {
+  kStreamU, kStreamVl, kStreamVr, kStreamExplicit, kStreamErrors, kStreamPositions,
+  kStreamColors, kStreamMaterials, kStreamUvCodes, kStreamNormalCodes, kChunkStreams
+};
+constexpr const char* kStreamNames[kChunkStreams] = {
+    "u", "vl", "vr", "explicit splits", "errors", "positions", "colours", "materials",
+    "texture coordinate ids", "normal ids"};
+
+// The known sections of a stream with this header, in the order it must hold them (§4.3):
+// each is present exactly when it has entries.
+std::vector<uint32_t> expected_sections(const Header2& h) {
+  std::vector<uint32_t> tags;
+  if (h.vertices() > 0 || h.base_face_count > 0) tags.push_back(kTagBase);
+  if (h.weld_count > 0) tags.push_back(kTagWelds);
+  if (h.carried_face_count > 0) tags.push_back(kTagCarried);
+  if (h.uv_count > 0 || h.normal_count > 0 || h.material_count > 0 || h.material_library_count > 0) {
+    tags.push_back(kTagTables);
+  }
+  if (h.chunk_count > 0) {
+    tags.push_back(kTagIndex);
+    tags.insert(tags.end(), h.chunk_count, kTagChunk);
+  }
+  if (h.loose_vertex_count > 0) tags.push_back(kTagLoose);
+  if ((h.options & kOptionKeepsOrder) != 0) tags.push_back(kTagOrder);
+  return tags;
+}
+
+bool is_v2_tag(uint32_t tag) {
+  for (uint32_t known : {kTagBase, kTagWelds, kTagCarried, kTagTables, kTagIndex, kTagChunk,
+                         kTagLoose, kTagOrder}) {
+    if (tag == known) return true;
+  }
+  return false;
+}
+
+// The largest raw size the counts allow a section (§4.4), chunks aside (their bound needs
+// the index: chunk_raw_bound).
+uint64_t raw_bound(const Header2& h, uint32_t tag) {
+  const uint64_t B = h.base_vertex_count, F = h.base_face_count, C = h.carried_face_count;
+  const uint64_t Q = h.color_components, strings = uint64_t{h.material_count} + h.material_library_count;
+  if (tag == kTagBase) return 16 + (12 + 4 * Q) * B + 15 * F + 5 * F + 30 * F;
+  if (tag == kTagWelds) return 10 * uint64_t{h.weld_count};
+  if (tag == kTagCarried) return 15 * C + 5 * C + 30 * C;
+  if (tag == kTagTables) {
+    return 32 + 10 * uint64_t{h.uv_count} + 15 * uint64_t{h.normal_count} +
+           h.material_string_bytes + 3 * strings;
+  }
+  if (tag == kTagIndex) return 19 * uint64_t{h.chunk_count};
+  if (tag == kTagLoose) return (12 + 4 * Q) * uint64_t{h.loose_vertex_count};
+  if (tag == kTagOrder) return 10 * (h.vertices() + h.faces()) + 10;
+  return kMaxZstdRatio * std::numeric_limits<uint32_t>::max();  // chunks: see chunk_raw_bound
+}
+
+uint64_t chunk_raw_bound(const Header2& h, const ChunkEntry& c) {
+  const uint64_t n = c.splits, m = c.moved_faces, a = c.new_faces;
+  return 5 * kChunkStreams + n * (15 + 10 + 30 + 10 * uint64_t{h.color_components}) +
+         (15 * n + 5 * m) + 5 * a + 2 * 5 * (m + 3 * a);
+}
+
+// §7.1: what decoding a stream with this header takes, beyond the raw buffer of the
+// section being decoded.
+struct MemoryPlan {
+  uint64_t mesh = 0, decoding = 0, validating = 0;
+  uint64_t needed(uint64_t largest_raw) const {
+    return mesh + std::max(decoding + largest_raw, validating) + kDecodeMemorySlack;
+  }
+};
+MemoryPlan plan_memory(const Header2& h) {
+  const uint64_t V = h.vertices(), T = h.faces(), M = h.moved_face_count;
+  const uint64_t split_faces = uint64_t{h.base_face_count} + h.split_face_count;
+  const uint64_t strings = uint64_t{h.material_count} + h.material_library_count;
+  MemoryPlan plan;
+  plan.mesh = 12 * V + 12 * uint64_t{h.base_face_count} +
+              sizeof(VertexSplit) * uint64_t{h.split_count} + 4 * M +
+              sizeof(Weld) * uint64_t{h.weld_count} + 12 * uint64_t{h.carried_face_count} +
+              4 * uint64_t{h.color_components} * V + 8 * uint64_t{h.uv_count} +
+              12 * uint64_t{h.normal_count} + sizeof(std::string) * strings +
+              h.material_string_bytes + strings;
+  const uint64_t corner_ids = 4 * (3 * T + M);
+  plan.mesh += (h.uv_ids() ? corner_ids : 0) + (h.normal_ids() ? corner_ids : 0) +
+               (h.material_ids() ? 4 * T : 0);
+  // The fans (3 corners and 3 links per face, a first corner per vertex), the values the
+  // residuals are taken against, the corner-id predictors, the chunk index, zstd.
+  plan.decoding = 24 * split_faces + 4 * h.split_vertices() +
+                  4 * (3 + uint64_t{h.color_components}) * V +
+                  (h.uv_ids() ? 4 * h.split_vertices() : 0) +
+                  (h.normal_ids() ? 4 * h.split_vertices() : 0) +
+                  sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536;
+  plan.validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64);
+  return plan;
+}
+
+Status memory_status(uint64_t needed, uint64_t limit) {
+  if (limit == 0 || needed <= limit) return Status::ok();
+  return Status(ErrorCode::kResourceLimit, "decoding needs " + byte_count_text(needed) +
+                                               " of memory, the limit is " + byte_count_text(limit));
+}
+
+// ---------------------------------------------------------------------------------------
+// Writer.
+
+void put_optional_id(ByteWriter& out, uint32_t id) {
+  out.put_varint(id == kNoAttribute ? 0 : id + 1);
+}
+
+// A value table (UVs or normals), f32 or on a grid (§5.4).
+void put_table(ByteWriter& out, const std::vector<float>& values, std::size_t components,
+               const Grid* grid) {
+  if (grid == nullptr) {
+    for (float x : values) out.put_f32(x);
+    return;
+  }
+  put_grid(out, *grid);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    out.put_varint(quantize(*grid, values[i], i % components));
+  }
+}
+
+struct Writer {
+  const ProgressiveMesh& pm;
+  const WriteOptions& options;
+  Header2 h;
+  Grid position_grid, uv_grid, normal_grid;
+  VertexValues positions, colors;
+  CornerPredictor uv_codes, normal_codes;
+
+  Writer(const ProgressiveMesh& mesh, const WriteOptions& o)
+      : pm(mesh),
+        options(o),
+        uv_codes(pm.base_vertex_count + pm.splits.size()),
+        normal_codes(pm.base_vertex_count + pm.splits.size()) {}
+
+  void put_corner(ByteWriter& uv_out, ByteWriter& normal_out, uint32_t vertex, std::size_t slot) {
+    if (pm.has_uvs()) uv_out.put_varint(uv_codes.encode(vertex, pm.face_uvs[slot]));
+    if (pm.has_normals()) normal_out.put_varint(normal_codes.encode(vertex, pm.face_normals[slot]));
+  }
+
+  void put_positions(ByteWriter& out, uint32_t first, uint32_t count) {
+    for (std::size_t i = 3 * std::size_t{first}; i < 3 * (std::size_t{first} + count); ++i) {
+      if (position_grid.bits != 0) {
+        out.put_varint(positions.units[i]);
+      } else {
+        out.put_f32(pm.positions[i]);
+      }
+    }
+    for (std::size_t i = colors.components * first; i < colors.components * (first + count); ++i) {
+      out.put_f32(pm.colors[i]);
+    }
+  }
+
+  std::string base() {
+    std::string raw;
+    ByteWriter out(raw);
+    if (position_grid.bits != 0) put_grid(out, position_grid);
+    put_positions(out, 0, pm.base_vertex_count);
+    for (uint32_t vertex : pm.base_faces) out.put_varint(vertex);
+    if (pm.has_materials()) {
+      for (std::size_t f = 0; f < pm.base_face_count(); ++f) put_optional_id(out, pm.face_materials[f]);
+    }
+    std::string uv_raw, normal_raw;
+    ByteWriter uv_out(uv_raw), normal_out(normal_raw);
+    for (std::size_t slot = 0; slot < pm.base_faces.size(); ++slot) {
+      put_corner(uv_out, normal_out, pm.base_faces[slot], slot);
+    }
+    return raw + uv_raw + normal_raw;
+  }
+
+  std::string carried() {
+    std::string raw, uv_raw, normal_raw;
+    ByteWriter out(raw), uv_out(uv_raw), normal_out(normal_raw);
+    for (uint32_t vertex : pm.carried_faces) out.put_varint(vertex);
+    const std::size_t first = pm.total_face_count() - pm.carried_faces.size() / 3;
+    if (pm.has_materials()) {
+      for (std::size_t f = first; f < pm.total_face_count(); ++f) put_optional_id(out, pm.face_materials[f]);
+    }
+    for (std::size_t k = 0; k < pm.carried_faces.size(); ++k) {
+      put_corner(uv_out, normal_out, pm.carried_faces[k], 3 * first + k);
+    }
+    return raw + uv_raw + normal_raw;
+  }
+
+  std::string welds() {
+    std::string raw;
+    ByteWriter out(raw);
+    for (const Weld& weld : pm.welds) {
+      out.put_varint(weld.copy);
+      out.put_varint(weld.canonical);
+    }
+    return raw;
+  }
+
+  std::string tables() {
+    std::string raw;
+    ByteWriter out(raw);
+    put_table(out, pm.uvs, 2, uv_grid.bits != 0 ? &uv_grid : nullptr);
+    put_table(out, pm.normals, 3, normal_grid.bits != 0 ? &normal_grid : nullptr);
+    for (const std::string& library : pm.material_libraries) put_string(out, library);
+    for (const std::string& name : pm.material_names) put_string(out, name);
+    return raw;
+  }
+
+  std::string loose() {
+    std::string raw;
+    ByteWriter out(raw);
+    put_positions(out, pm.base_vertex_count + static_cast<uint32_t>(pm.splits.size()),
+                  pm.loose_vertex_count);
+    return raw;
+  }
+
+  // The chunks and their index (§5.5, §5.6), replaying the splits on the fans.
+  void chunks(std::vector<std::string>& raws, std::string& index) {
+    SplitFans fans;
+    fans.reset(h.split_vertices(), uint64_t{h.base_face_count} + h.split_face_count);
+    for (std::size_t f = 0; f < pm.base_face_count(); ++f) {
+      fans.add_face(pm.base_faces[3 * f], pm.base_faces[3 * f + 1], pm.base_faces[3 * f + 2]);
+    }
+    SplitFans::Fan fan;
+    std::vector<uint32_t> arc, record, sorted_arc, neighbours, moved_slots;
+    std::vector<uint32_t> predicted(3), color_predicted(colors.components);
+    ByteWriter index_out(index);
+    float previous_error = h.max_error;
+    uint32_t next_face = static_cast<uint32_t>(pm.base_face_count());
+    std::size_t i = 0;
+    for (uint32_t size : plan_chunks(h.split_count, options.chunk_splits)) {
+      std::string streams[kChunkStreams];
+      ChunkEntry entry;
+      entry.splits = size;
+      ByteWriter u_out(streams[kStreamU]), vl_out(streams[kStreamVl]), vr_out(streams[kStreamVr]),
+          explicit_out(streams[kStreamExplicit]), material_out(streams[kStreamMaterials]),
+          uv_out(streams[kStreamUvCodes]), normal_out(streams[kStreamNormalCodes]);
+      previous_error = pm.splits[i].error;  // the index's error before this chunk
+      for (const std::size_t end = i + size; i < end; ++i) {
+        const VertexSplit& split = pm.splits[i];
+        const auto v = static_cast<uint32_t>(pm.base_vertex_count + i);
+        u_out.put_varint(v - 1 - split.u);
+        const int64_t error_step = int64_t{ordered_from_float(previous_error)} -
+                                   int64_t{ordered_from_float(split.error)};
+        put_varint64(streams[kStreamErrors], zigzag(error_step));
+        previous_error = split.error;
+        record.assign(pm.moved_faces.begin() + split.moved_begin,
+                      pm.moved_faces.begin() + split.moved_begin + split.moved_count);
+        // One-ring coding when the moved faces are the arc from vl to vr around u.
+        bool coded = false;
+        std::size_t place_l = 0, place_r = 0;
+        if (fans.fan(split.u, fan)) {
+          const std::size_t places = fan.closed ? fan.faces.size() : fan.ring.size();
+          const auto place = [&](uint32_t vertex, std::size_t none) {
+            if (vertex == kNoVertex) return fan.closed ? places : none;
+            const auto it = std::find(fan.ring.begin(), fan.ring.begin() + places, vertex);
+            return static_cast<std::size_t>(it - fan.ring.begin());
+          };
+          place_l = place(split.vl, 0);
+          place_r = place(split.vr, fan.faces.size());
+          if (place_l < places && place_r <= places && SplitFans::arc(fan, place_l, place_r, arc)) {
+            sorted_arc = arc;
+            std::sort(sorted_arc.begin(), sorted_arc.end());
+            std::vector<uint32_t> sorted_record = record;
+            std::sort(sorted_record.begin(), sorted_record.end());
+            coded = sorted_arc == sorted_record;
+          }
+        }
+        neighbours.assign(1, split.u);
+        if (coded) {
+          vl_out.put_varint(split.vl == kNoVertex ? 0 : static_cast<uint32_t>(place_l) + 1);
+          vr_out.put_varint(split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1);
+          const std::size_t n = fan.faces.size();
+          for (std::size_t k = 0; k <= arc.size(); ++k) {
+            neighbours.push_back(fan.ring[fan.closed ? (place_l + k) % n : place_l + k]);
+          }
+        } else {
+          vl_out.put_varint(0);
+          vr_out.put_varint(0);
+          explicit_out.put_varint(split.vl == kNoVertex ? 0 : split.vl + 1);
+          explicit_out.put_varint(split.vr == kNoVertex ? 0 : split.vr + 1);
+          explicit_out.put_varint(split.moved_count);
+          for (uint32_t f : record) explicit_out.put_varint(f);
+          arc = record;
+        }
+        // The new vertex's position and colour, against the mean of its neighbours.
+        positions.predict(neighbours.data(), neighbours.size(), predicted.data());
+        for (std::size_t c = 0; c < 3; ++c) {
+          put_varint64(streams[kStreamPositions],
+                       zigzag(int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c]));
+        }
+        if (colors.components != 0) {
+          colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
+          for (std::size_t c = 0; c < colors.components; ++c) {
+            put_varint64(streams[kStreamColors],
+                         zigzag(int64_t{colors.units[colors.components * v + c]} - color_predicted[c]));
+          }
+        }
+        // Attributes: the moved corners in the order stored (the arc's), then fl and fr.
+        for (uint32_t f : arc) {
+          const std::size_t k = split.moved_begin +
+                                (std::find(record.begin(), record.end(), f) - record.begin());
+          if (pm.has_uvs()) uv_out.put_varint(uv_codes.encode(v, pm.moved_uvs[k]));
+          if (pm.has_normals()) normal_out.put_varint(normal_codes.encode(v, pm.moved_normals[k]));
+        }
+        for (int side = 0; side < 2; ++side) {
+          const uint32_t other = side == 0 ? split.vl : split.vr;
+          if (other == kNoVertex) continue;
+          const uint32_t corners[3] = {side == 0 ? v : split.u, side == 0 ? split.u : v, other};
+          for (int c = 0; c < 3; ++c) put_corner(uv_out, normal_out, corners[c], 3 * std::size_t{next_face} + c);
+          if (pm.has_materials()) put_optional_id(material_out, pm.face_materials[next_face]);
+          ++next_face;
+          ++entry.new_faces;
+        }
+        entry.moved_faces += split.moved_count;
+        fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size());
+      }
+      entry.error_after = i < pm.splits.size() ? pm.splits[i].error : 0.0f;
+      index_out.put_varint(entry.splits);
+      index_out.put_varint(entry.new_faces);
+      index_out.put_varint(entry.moved_faces);
+      index_out.put_f32(entry.error_after);
+      std::string raw;
+      for (const std::string& stream : streams) put_varint64(raw, stream.size());
+      for (const std::string& stream : streams) raw += stream;
+      raws.push_back(std::move(raw));
+    }
+  }
+};
+
+Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options) {
+  for (const auto& [count, what] :
+       {std::pair{uint64_t{pm.base_vertex_count}, "base vertices"},
+        {pm.base_face_count(), "base faces"}, {pm.splits.size(), "splits"},
+        {uint64_t{pm.loose_vertex_count}, "loose vertices"}, {pm.welds.size(), "welds"},
+        {pm.carried_faces.size() / 3, "carried faces"}, {pm.moved_faces.size(), "moved faces"},
+        {pm.uv_count(), "texture coordinates"}, {pm.normal_count(), "normals"}}) {
+    if (count > kMaxCount) {
+      return Status(ErrorCode::kResourceLimit, std::to_string(count) + " " + what +
+                                                   " (the format holds at most " +
+                                                   std::to_string(kMaxCount) + ")");
+    }
+  }
+  if (Status status = check_material_strings_impl(pm.material_names, pm.material_libraries); !status) {
+    return status;
+  }
+  if (options.zstd_level < 1 || options.zstd_level > ZSTD_maxCLevel()) {
+    return Status(ErrorCode::kInvalidArgument, "zstd level " + std::to_string(options.zstd_level) +
+                                                   " is outside 1.." + std::to_string(ZSTD_maxCLevel()));
+  }
+  for (const auto& [bits, what] : {std::pair{options.position_bits, "position"},
+                                   {options.uv_bits, "texture coordinate"},
+                                   {options.normal_bits, "normal"}}) {
+    if (!valid_bits(static_cast<uint32_t>(bits)) || bits < 0) {
+      return Status(ErrorCode::kInvalidArgument, std::string(what) + " quantization of " +
+                                                     std::to_string(bits) +
+                                                     " bits (0 for none, or 4 to 24)");
+    }
+  }
+  if (options.chunk_splits < 1 || options.chunk_splits > (1u << 20)) {
+    return Status(ErrorCode::kInvalidArgument, "chunks of " + std::to_string(options.chunk_splits) +
+                                                   " splits (1 to 1048576)");
+  }
+  return Status::ok();
+}
+
+Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
+  std::string message;
+  if (!validate(pm, &message)) {
+    return Status(ErrorCode::kInvalidArgument, "cannot write an invalid progressive mesh: " + message);
+  }
+  if (Status status = check_writable_v2(pm, options); !status) return status;
+  Writer w(pm, options);
+  Header2& h = w.h;
+  h.base_vertex_count = pm.base_vertex_count;
+  h.base_face_count = static_cast<uint32_t>(pm.base_face_count());
+  h.split_count = static_cast<uint32_t>(pm.splits.size());
+  h.loose_vertex_count = pm.loose_vertex_count;
+  h.weld_count = static_cast<uint32_t>(pm.welds.size());
+  h.carried_face_count = static_cast<uint32_t>(pm.carried_faces.size() / 3);
+  h.moved_face_count = static_cast<uint32_t>(pm.moved_faces.size());
+  for (const VertexSplit& split : pm.splits) h.split_face_count += split.new_face_count();
+  h.chunk_count = static_cast<uint32_t>(plan_chunks(h.split_count, options.chunk_splits).size());
+  h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
+  h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
+                 (pm.has_materials() ? kAttributeMaterialIds : 0);
+  h.color_components = pm.color_components;
+  h.uv_count = static_cast<uint32_t>(pm.uv_count());
+  h.normal_count = static_cast<uint32_t>(pm.normal_count());
+  h.material_count = static_cast<uint32_t>(pm.material_names.size());
+  h.material_library_count = static_cast<uint32_t>(pm.material_libraries.size());
+  for (const auto* strings : {&pm.material_names, &pm.material_libraries}) {
+    for (const std::string& text : *strings) h.material_string_bytes += static_cast<uint32_t>(text.size());
+  }
+  // Quantization (§5.3): the grids first, so that every value is known on its grid.
+  const auto grid_of = [](const std::vector<float>& values, std::size_t components, int bits,
+                          Grid& grid, const char* what) {
+    if (bits == 0) return Status::ok();
+    if (!make_grid(values.data(), values.size() / components, components, bits, grid)) {
+      return Status(ErrorCode::kInvalidArgument, std::string("cannot quantize ") + what +
+                                                     " that are not finite numbers");
+    }
+    return Status::ok();
+  };
+  if (Status s = grid_of(pm.positions, 3, options.position_bits, w.position_grid, "positions"); !s) return s;
+  if (Status s = grid_of(pm.uvs, 2, options.uv_bits, w.uv_grid, "texture coordinates"); !s) return s;
+  if (Status s = grid_of(pm.normals, 3, options.normal_bits, w.normal_grid, "normals"); !s) return s;
+  h.position_bits = static_cast<uint8_t>(options.position_bits);
+  h.uv_bits = static_cast<uint8_t>(pm.uvs.empty() ? 0 : options.uv_bits);
+  h.normal_bits = static_cast<uint8_t>(pm.normals.empty() ? 0 : options.normal_bits);
+  if (pm.uvs.empty()) w.uv_grid.bits = 0;
+  if (pm.normals.empty()) w.normal_grid.bits = 0;
+  w.positions.components = 3;
+  w.positions.grid = options.position_bits != 0 ? &w.position_grid : nullptr;
+  w.positions.units.resize(pm.positions.size());
+  for (std::size_t i = 0; i < pm.positions.size(); ++i) {
+    w.positions.units[i] = w.positions.from_float(pm.positions[i], i % 3);
+  }
+  w.colors.components = pm.color_components;
+  w.colors.units.resize(pm.colors.size());
+  for (std::size_t i = 0; i < pm.colors.size(); ++i) w.colors.units[i] = ordered_from_float(pm.colors[i]);
+
+  std::vector<std::pair<uint32_t, std::string>> sections;
+  for (uint32_t tag : expected_sections(h)) {
+    if (tag == kTagBase) sections.emplace_back(tag, w.base());
+    if (tag == kTagWelds) sections.emplace_back(tag, w.welds());
+    if (tag == kTagCarried) sections.emplace_back(tag, w.carried());
+    if (tag == kTagTables) sections.emplace_back(tag, w.tables());
+    if (tag == kTagIndex) {
+      std::vector<std::string> chunks;
+      std::string index;
+      w.chunks(chunks, index);
+      sections.emplace_back(tag, std::move(index));
+      for (std::string& chunk : chunks) sections.emplace_back(kTagChunk, std::move(chunk));
+    }
+    if (tag == kTagLoose) sections.emplace_back(tag, w.loose());
+  }
+  std::string out;
+  append_header2(h, out);
+  for (const auto& [tag, raw] : sections) {
+    if (Status status = append_section(tag, kSectionRequired, raw, raw.size(), options.zstd_level, out);
+        !status) {
+      return status;
+    }
+  }
+  bytes = std::move(out);
+  return Status::ok();
+}
+
+// ---------------------------------------------------------------------------------------
+// Reader.
+
+std::string section_name(uint32_t tag, std::size_t chunk) {
+  return "section " + tag_name(tag) + (tag == kTagChunk ? " " + std::to_string(chunk) : "");
+}
+
+bool read_optional_id(ByteReader& in, uint32_t count, const char* what, uint32_t& id) {
+  uint32_t code;
+  if (!in.read_varint(code)) return false;
+  if (code > count) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": " + what + " " +
+                                                  std::to_string(code - 1) + " of " +
+                                                  std::to_string(count));
+  }
+  id = code == 0 ? kNoAttribute : code - 1;
+  return true;
+}
+
+bool read_table(ByteReader& in, uint32_t count, std::size_t components, int bits,
+                std::vector<float>& values) {
+  values.resize(components * std::size_t{count});
+  if (bits == 0) {
+    for (float& x : values) {
+      if (!in.read_f32(x)) return false;
+    }
+    return true;
+  }
+  Grid grid;
+  if (!read_grid(in, bits, components, grid)) return false;
+  const uint32_t top = (uint32_t{1} << bits) - 1;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    uint32_t q;
+    if (!in.read_varint(q)) return false;
+    if (q > top) return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid index beyond the grid");
+    values[i] = static_cast<float>(grid.value(q, i % components));
+  }
+  return true;
+}
+
+}  // namespace
+}  // namespace detail
+
+using namespace detail;  // NOLINT: the layout helpers are this file's vocabulary
+
+struct PmStreamReader::State {
+  ReadOptions options;
+  Status status;                // the first error: final
+  std::string buffer;           // bytes received and not yet consumed
+  uint64_t consumed = 0;        // stream offset of buffer[0]
+  enum Stage { kHeader, kVersion1, kSections, kDone } stage = kHeader;
+  bool stopped = false;         // done at options.max_splits, before the end of the stream
+  Header2 h;
+  std::vector<uint32_t> expected;
+  std::size_t next = 0;         // index into expected
+  MemoryPlan memory;
+  std::vector<ChunkEntry> index;
+  std::size_t chunks_decoded = 0;
+  bool base_done = false;       // every section before the first chunk decoded
+
+  ProgressiveMesh pm;
+  // Carried faces' attribute ids: the mesh's per-face arrays hold them last (creation order),
+  // after the faces of the splits decoded so far; they are attached when mesh() is read.
+  std::vector<uint32_t> carried_uvs, carried_normals, carried_materials;
+  bool carried_attached = false;
+  uint64_t decoded_faces = 0;
+
+  Grid position_grid;
+  VertexValues positions, colors;
+  std::unique_ptr<CornerPredictor> uv_codes, normal_codes;
+  SplitFans fans;
+  std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> dctx{nullptr, ZSTD_freeDCtx};
+  std::string raw;
+
+  Status fail(Status s) {
+    if (status.is_ok()) status = std::move(s);
+    return status;
+  }
+
+  void detach_carried() {
+    if (!carried_attached) return;
+    const std::size_t keep = 3 * (pm.base_face_count() + (decoded_faces - pm.base_face_count() -
+                                                          pm.carried_faces.size() / 3));
+    if (pm.has_uvs()) pm.face_uvs.resize(keep);
+    if (pm.has_normals()) pm.face_normals.resize(keep);
+    if (pm.has_materials()) pm.face_materials.resize(keep / 3);
+    carried_attached = false;
+  }
+  void attach_carried() {
+    if (carried_attached) return;
+    if (h.uv_ids()) pm.face_uvs.insert(pm.face_uvs.end(), carried_uvs.begin(), carried_uvs.end());
+    if (h.normal_ids()) {
+      pm.face_normals.insert(pm.face_normals.end(), carried_normals.begin(), carried_normals.end());
+    }
+    if (h.material_ids()) {
+      pm.face_materials.insert(pm.face_materials.end(), carried_materials.begin(),
+                               carried_materials.end());
+    }
+    carried_attached = true;
+  }
+
+  Status process(std::string_view bytes, std::size_t& used);
+  Status start(std::string_view header_bytes, bool reserve = true);
+  Status check_section(uint32_t tag, uint32_t flags, uint64_t stored, uint64_t raw_size) const;
+  Status decode(uint32_t tag, ByteReader& in);
+  bool decode_base(ByteReader& in);
+  bool decode_welds(ByteReader& in);
+  bool decode_carried(ByteReader& in);
+  bool decode_tables(ByteReader& in);
+  bool decode_index(ByteReader& in);
+  bool decode_chunk(ByteReader& in);
+  bool decode_loose(ByteReader& in);
+  bool read_vertex_values(ByteReader& in, uint32_t count);
+  bool read_corner(ByteReader& in, int kind, uint32_t vertex, uint32_t& id);
+  bool read_corners(ByteReader& in, const std::vector<uint32_t>& vertices,
+                    std::vector<uint32_t>* uvs, std::vector<uint32_t>* normals);
+};
+
+Status PmStreamReader::State::start(std::string_view header_bytes, bool reserve) {
+  if (Status s = parse_header2(header_bytes, h); !s) return s;
+  expected = expected_sections(h);
+  memory = plan_memory(h);
+  dctx.reset(ZSTD_createDCtx());
+  if (!dctx) return Status(ErrorCode::kInternal, "zstd: cannot create a decompression context");
+  stage = expected.empty() ? kDone : kSections;
+  base_done = h.chunk_count == 0;
+  if (!reserve) return Status::ok();
+  if (Status s = memory_status(memory.needed(0), options.max_memory); !s) return s;
+  // Everything below is bounded by the checked counts (§7.1).
+  const uint64_t V = h.vertices(), split_faces = uint64_t{h.base_face_count} + h.split_face_count;
+  pm.base_vertex_count = h.base_vertex_count;
+  pm.color_components = h.color_components;
+  pm.positions.reserve(3 * V);
+  pm.colors.reserve(uint64_t{h.color_components} * V);
+  pm.base_faces.reserve(3 * uint64_t{h.base_face_count});
+  pm.splits.reserve(h.split_count);
+  pm.moved_faces.reserve(h.moved_face_count);
+  pm.welds.reserve(h.weld_count);
+  pm.carried_faces.reserve(3 * uint64_t{h.carried_face_count});
+  const uint64_t corners = 3 * h.faces();
+  if (h.uv_ids()) {
+    pm.face_uvs.reserve(corners);
+    pm.moved_uvs.reserve(h.moved_face_count);
+    uv_codes = std::make_unique<CornerPredictor>(h.split_vertices());
+  }
+  if (h.normal_ids()) {
+    pm.face_normals.reserve(corners);
+    pm.moved_normals.reserve(h.moved_face_count);
+    normal_codes = std::make_unique<CornerPredictor>(h.split_vertices());
+  }
+  if (h.material_ids()) pm.face_materials.reserve(h.faces());
+  positions.components = 3;
+  positions.grid = h.position_bits != 0 ? &position_grid : nullptr;
+  positions.units.reserve(3 * V);
+  colors.components = h.color_components;
+  colors.units.reserve(uint64_t{h.color_components} * V);
+  fans.reset(h.split_vertices(), split_faces);
+  return Status::ok();
+}
+
+Status PmStreamReader::State::check_section(uint32_t tag, uint32_t flags, uint64_t stored,
+                                            uint64_t raw_size) const {
+  const std::string where = section_name(tag, chunks_decoded);
+  if ((flags & ~kSectionRequired) != 0 || (flags & kSectionRequired) == 0) {
+    return Status(h.minor > kMinor2 && (flags & ~kSectionRequired) != 0 ? ErrorCode::kUnsupportedVersion
+                                                                         : ErrorCode::kCorruptStream,
+                  where + ": flags " + std::to_string(flags) + " (a known section has exactly bit 0)");
+  }
+  if (tag != expected[next]) {
+    return corrupt(where + ": out of order or not expected here (expected " +
+                   section_name(expected[next], chunks_decoded) + ")");
+  }
+  uint64_t bound = raw_bound(h, tag);
+  if (tag == kTagChunk) bound = chunk_raw_bound(h, index[chunks_decoded]);
+  if (raw_size == 0 || raw_size > bound || raw_size > kMaxZstdRatio * stored) {
+    return corrupt(where + ": raw size " + std::to_string(raw_size) + " is impossible here");
+  }
+  return memory_status(memory.needed(raw_size), options.max_memory);
+}
+
+Status PmStreamReader::State::process(std::string_view bytes, std::size_t& used) {
+  used = 0;
+  while (true) {
+    const std::string_view rest = bytes.substr(used);
+    if (stage == kHeader) {
+      // The magic is checked as soon as its bytes arrive: a stream that is not one fails
+      // at once, not when 96 bytes have come.
+      const std::size_t magic = std::min(rest.size(), sizeof kMagic);
+      if (std::memcmp(rest.data(), kMagic, magic) != 0) return corrupt("not a .pm stream (bad magic)");
+      if (rest.size() < 12) return Status::ok();
+      const uint16_t major = static_cast<uint16_t>(static_cast<uint8_t>(rest[8]) |
+                                                   static_cast<uint8_t>(rest[9]) << 8);
+      if (major != kMajor2) {
+        stage = kVersion1;  // decoded whole, at finish()
+        continue;
+      }
+      if (rest.size() < kHeaderSize) return Status::ok();
+      if (Status s = start(rest); !s) return s;
+      used += kHeaderSize;
+      continue;
+    }
+    if (stage == kVersion1) return Status::ok();  // nothing used: finish() reads it all
+    if (stage == kDone) {
+      if (!rest.empty() && !stopped) {
+        return corrupt(std::to_string(rest.size()) + " bytes follow the last section");
+      }
+      return Status::ok();
+    }
+    // A section: its 24-byte header, then its frame.
+    if (rest.size() < kSectionHeaderSize) return Status::ok();
+    ByteReader in(rest, "section header", ErrorCode::kTruncatedStream);
+    uint32_t tag = 0, flags = 0;
+    uint64_t stored = 0, raw_size = 0;
+    in.read_u32(tag);
+    in.read_u32(flags);
+    in.read_u64(stored);
+    in.read_u64(raw_size);
+    for (int k = 0; k < 4; ++k) {
+      const auto c = static_cast<unsigned char>(tag >> (8 * k));
+      if (!std::isalnum(c)) return corrupt("section header: bad tag " + tag_name(tag));
+    }
+    if (!is_v2_tag(tag)) {
+      if ((flags & kSectionRequired) != 0) {
+        return Status(h.minor > kMinor2 ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream,
+                      "section " + tag_name(tag) + ": required, and unknown to this reader");
+      }
+      if (rest.size() - kSectionHeaderSize < stored) return Status::ok();  // wait, then skip
+      used += kSectionHeaderSize + static_cast<std::size_t>(stored);
+      continue;
+    }
+    if (Status s = check_section(tag, flags, stored, raw_size); !s) return s;
+    if (rest.size() - kSectionHeaderSize < stored) return Status::ok();  // the frame has not arrived
+    const std::string where = section_name(tag, chunks_decoded);
+    if (Status s = decompress_frame(where, rest.substr(kSectionHeaderSize, stored), raw_size,
+                                    dctx.get(), raw);
+        !s) {
+      return s;
+    }
+    ByteReader payload(raw, where, ErrorCode::kCorruptStream);
+    if (Status s = decode(tag, payload); !s) return s;
+    if (!payload.at_end()) {
+      return corrupt(where + ": " + std::to_string(payload.remaining()) + " bytes left over");
+    }
+    used += kSectionHeaderSize + static_cast<std::size_t>(stored);
+    ++next;
+    if (next < expected.size() && expected[next] == kTagChunk && !base_done) base_done = true;
+    if (next == expected.size()) {
+      stage = kDone;
+      base_done = true;
+    } else if (tag == kTagChunk && pm.splits.size() >= options.max_splits) {
+      stage = kDone;
+      stopped = true;
+    }
+    if (stage == kDone) {
+      raw = std::string();
+      fans = SplitFans();
+    }
+  }
+}
+
+Status PmStreamReader::State::decode(uint32_t tag, ByteReader& in) {
+  detach_carried();
+  bool ok = true;
+  if (tag == kTagBase) ok = decode_base(in);
+  if (tag == kTagWelds) ok = decode_welds(in);
+  if (tag == kTagCarried) ok = decode_carried(in);
+  if (tag == kTagTables) ok = decode_tables(in);
+  if (tag == kTagIndex) ok = decode_index(in);
+  if (tag == kTagChunk) ok = decode_chunk(in);
+  if (tag == kTagLoose) ok = decode_loose(in);
+  if (tag == kTagOrder) ok = in.fail(ErrorCode::kInternal, "ORDR: not implemented");
+  return ok ? Status::ok() : in.status();
+}
+
+// Positions (f32 or grid indices) and colours of `count` vertices, appended.
+bool PmStreamReader::State::read_vertex_values(ByteReader& in, uint32_t count) {
+  const uint32_t top = h.position_bits != 0 ? (uint32_t{1} << h.position_bits) - 1 : 0;
+  for (std::size_t i = 0; i < 3 * std::size_t{count}; ++i) {
+    if (h.position_bits != 0) {
+      uint32_t q;
+      if (!in.read_varint(q)) return false;
+      if (q > top) return in.fail(ErrorCode::kCorruptStream, in.where() + ": position beyond the grid");
+      positions.units.push_back(q);
+      pm.positions.push_back(positions.to_float(q, i % 3));
+    } else {
+      float x;
+      if (!in.read_f32(x)) return false;
+      positions.units.push_back(ordered_from_float(x));
+      pm.positions.push_back(x);
+    }
+  }
+  for (std::size_t i = 0; i < std::size_t{h.color_components} * count; ++i) {
+    float x;
+    if (!in.read_f32(x)) return false;
+    colors.units.push_back(ordered_from_float(x));
+    pm.colors.push_back(x);
+  }
+  return true;
+}
+
+// One corner's id of `kind` (0 texture coordinates, 1 normals), from its code (§5.7).
+bool PmStreamReader::State::read_corner(ByteReader& in, int kind, uint32_t vertex, uint32_t& id) {
+  CornerPredictor& codes = kind == 0 ? *uv_codes : *normal_codes;
+  uint32_t code;
+  std::string problem;
+  if (!in.read_varint(code)) return false;
+  if (!codes.decode(code, vertex, kind == 0 ? h.uv_count : h.normal_count, id, problem)) {
+    return in.fail(ErrorCode::kCorruptStream,
+                   in.where() + ": a corner of vertex " + std::to_string(vertex) + " " + problem);
+  }
+  return true;
+}
+
+bool PmStreamReader::State::decode_base(ByteReader& in) {
+  if (h.position_bits != 0 && !read_grid(in, h.position_bits, 3, position_grid)) return false;
+  if (!read_vertex_values(in, h.base_vertex_count)) return false;
+  for (uint32_t f = 0; f < h.base_face_count; ++f) {
+    uint32_t v[3];
+    for (uint32_t& vertex : v) {
+      if (!in.read_varint(vertex)) return false;
+      if (vertex >= h.base_vertex_count) {
+        return in.fail(ErrorCode::kCorruptStream, in.where() + ": base face " + std::to_string(f) +
+                                                      " uses vertex " + std::to_string(vertex) +
+                                                      " of " + std::to_string(h.base_vertex_count));
+      }
+    }
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": base face " + std::to_string(f) +
+                                                    " repeats a vertex");
+    }
+    pm.base_faces.insert(pm.base_faces.end(), v, v + 3);
+    fans.add_face(v[0], v[1], v[2]);
+  }
+  if (h.material_ids()) {
+    for (uint32_t f = 0; f < h.base_face_count; ++f) {
+      uint32_t id;
+      if (!read_optional_id(in, h.material_count, "material", id)) return false;
+      pm.face_materials.push_back(id);
+    }
+  }
+  if (!read_corners(in, pm.base_faces, &pm.face_uvs, &pm.face_normals)) return false;
+  decoded_faces = h.base_face_count + uint64_t{h.carried_face_count};
+  return true;
+}
+
+
+// The corner codes of faces whose vertices are `vertices` (3 per face): all texture
+// coordinates' ids, then all normals' (§5.7), appended to the arrays the stream has.
+bool PmStreamReader::State::read_corners(ByteReader& in, const std::vector<uint32_t>& vertices,
+                                         std::vector<uint32_t>* uvs,
+                                         std::vector<uint32_t>* normals) {
+  for (int kind = 0; kind < 2; ++kind) {
+    if ((kind == 0 ? uv_codes : normal_codes) == nullptr) continue;
+    std::vector<uint32_t>& ids = *(kind == 0 ? uvs : normals);
+    for (uint32_t vertex : vertices) {
+      uint32_t id;
+      if (!read_corner(in, kind, vertex, id)) return false;
+      ids.push_back(id);
+    }
+  }
+  return true;
+}
+
+bool PmStreamReader::State::decode_welds(ByteReader& in) {
+  for (uint32_t k = 0; k < h.weld_count; ++k) {
+    Weld weld;
+    if (!in.read_varint(weld.copy) || !in.read_varint(weld.canonical)) return false;
+    pm.welds.push_back(weld);  // their rules are validate()'s (§6), at finish()
+  }
+  return true;
+}
+
+bool PmStreamReader::State::decode_carried(ByteReader& in) {
+  for (uint32_t k = 0; k < 3 * h.carried_face_count; ++k) {
+    uint32_t vertex;
+    if (!in.read_varint(vertex)) return false;
+    if (vertex >= h.base_vertex_count) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": carried face " + std::to_string(k / 3) +
+                                                    " uses vertex " + std::to_string(vertex) + " of " +
+                                                    std::to_string(h.base_vertex_count));
+    }
+    pm.carried_faces.push_back(vertex);
+  }
+  if (h.material_ids()) {
+    for (uint32_t f = 0; f < h.carried_face_count; ++f) {
+      uint32_t id;
+      if (!read_optional_id(in, h.material_count, "material", id)) return false;
+      carried_materials.push_back(id);
+    }
+  }
+  return read_corners(in, pm.carried_faces, &carried_uvs, &carried_normals);
+}
+
+bool PmStreamReader::State::decode_tables(ByteReader& in) {
+  if (!read_table(in, h.uv_count, 2, h.uv_bits, pm.uvs)) return false;
+  if (!read_table(in, h.normal_count, 3, h.normal_bits, pm.normals)) return false;
+  uint64_t budget = h.material_string_bytes;
+  if (!read_strings(in, h.material_library_count, "material library", budget, pm.material_libraries) ||
+      !read_strings(in, h.material_count, "material name", budget, pm.material_names)) {
+    return false;
+  }
+  if (budget != 0) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": the material strings are " +
+                                                  std::to_string(budget) +
+                                                  " bytes shorter than the header says");
+  }
+  return true;
+}
+
+bool PmStreamReader::State::decode_index(ByteReader& in) {
+  index.resize(h.chunk_count);
+  uint64_t splits = 0, new_faces = 0, moved = 0;
+  float previous = h.max_error;
+  for (uint32_t k = 0; k < h.chunk_count; ++k) {
+    ChunkEntry& e = index[k];
+    if (!in.read_varint(e.splits) || !in.read_varint(e.new_faces) || !in.read_varint(e.moved_faces) ||
+        !in.read_f32(e.error_after)) {
+      return false;
+    }
+    splits += e.splits;
+    new_faces += e.new_faces;
+    moved += e.moved_faces;
+    const bool last = k + 1 == h.chunk_count;
+    if (e.splits == 0 || e.new_faces < e.splits || e.new_faces > 2 * uint64_t{e.splits} ||
+        !std::isfinite(e.error_after) || e.error_after < 0 || e.error_after > previous ||
+        (last && (e.error_after != 0 || std::signbit(e.error_after)))) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": chunk " + std::to_string(k) +
+                                                    " is impossible (splits, faces or error)");
+    }
+    previous = e.error_after;
+  }
+  if (splits != h.split_count || new_faces != h.split_face_count || moved != h.moved_face_count) {
+    return in.fail(ErrorCode::kCorruptStream,
+                   in.where() + ": the chunks' splits, faces or moved faces disagree with the header");
+  }
+  base_done = true;
+  return true;
+}
+
+bool PmStreamReader::State::decode_chunk(ByteReader& in) {
+  const ChunkEntry& entry = index[chunks_decoded];
+  const std::string where = in.where();
+  // The streams' sizes, then the streams (§5.5).
+  uint64_t sizes[kChunkStreams];
+  for (uint64_t& size : sizes) {
+    if (!read_varint64(in, size)) return false;
+  }
+  std::vector<ByteReader> streams;
+  streams.reserve(kChunkStreams);
+  for (int k = 0; k < kChunkStreams; ++k) {
+    std::string_view bytes;
+    if (!in.read_bytes(sizes[k], bytes)) return false;
+    streams.emplace_back(bytes, where + " (" + kStreamNames[k] + ")", ErrorCode::kCorruptStream);
+  }
+  const auto failed = [&](ByteReader& stream) { return in.fail(stream.status().code(), stream.status().message()); };
+  const auto bad = [&](uint32_t v, const std::string& what) {
+    return in.fail(ErrorCode::kCorruptStream,
+                   where + ": split " + std::to_string(v - h.base_vertex_count) + " " + what);
+  };
+  ByteReader &u_in = streams[kStreamU], &vl_in = streams[kStreamVl], &vr_in = streams[kStreamVr],
+             &explicit_in = streams[kStreamExplicit], &error_in = streams[kStreamErrors],
+             &position_in = streams[kStreamPositions], &color_in = streams[kStreamColors],
+             &material_in = streams[kStreamMaterials], &uv_in = streams[kStreamUvCodes],
+             &normal_in = streams[kStreamNormalCodes];
+  float previous_error = chunks_decoded == 0 ? h.max_error : index[chunks_decoded - 1].error_after;
+  SplitFans::Fan fan;
+  std::vector<uint32_t> arc, neighbours;
+  uint32_t predicted[3];
+  std::vector<uint32_t> color_predicted(h.color_components);
+  uint32_t new_faces = 0, moved_total = 0;
+  for (uint32_t j = 0; j < entry.splits; ++j) {
+    const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size());
+    VertexSplit split;
+    uint32_t u_offset, vl_code, vr_code;
+    if (!u_in.read_varint(u_offset)) return failed(u_in);
+    if (u_offset >= v) return bad(v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
+    split.u = v - 1 - u_offset;
+    uint64_t error_code;
+    if (!read_varint64(error_in, error_code)) return failed(error_in);
+    const int64_t error_bits = int64_t{ordered_from_float(previous_error)} - unzigzag(error_code);
+    if (error_bits < 0 || error_bits > 0xFFFFFFFFll) return bad(v, "has an impossible error");
+    split.error = float_from_ordered(static_cast<uint32_t>(error_bits));
+    if (!std::isfinite(split.error) || split.error < 0 || split.error > previous_error ||
+        (j == 0 && ordered_from_float(split.error) != ordered_from_float(previous_error))) {
+      return bad(v, "has an error that is negative, not finite, larger than the one before, or "
+                    "not the index's");
+    }
+    previous_error = split.error;
+    if (!vl_in.read_varint(vl_code)) return failed(vl_in);
+    if (!vr_in.read_varint(vr_code)) return failed(vr_in);
+    neighbours.assign(1, split.u);
+    if (vl_code == 0 && vr_code == 0) {
+      // An explicit split: vl, vr and the moved faces as ids (§5.5).
+      uint32_t codes[3];
+      for (uint32_t& code : codes) {
+        if (!explicit_in.read_varint(code)) return failed(explicit_in);
+      }
+      split.vl = codes[0] == 0 ? kNoVertex : codes[0] - 1;
+      split.vr = codes[1] == 0 ? kNoVertex : codes[1] - 1;
+      if ((split.vl != kNoVertex && split.vl >= v) || (split.vr != kNoVertex && split.vr >= v) ||
+          (split.vl == kNoVertex && split.vr == kNoVertex) || split.vl == split.u ||
+          split.vr == split.u || (split.vl == split.vr)) {
+        return bad(v, "has impossible vl and vr");
+      }
+      if (codes[2] > fans.face_count() || codes[2] > h.moved_face_count) return bad(v, "moves too many faces");
+      arc.clear();
+      for (uint32_t k = 0; k < codes[2]; ++k) {
+        uint32_t f;
+        if (!explicit_in.read_varint(f)) return failed(explicit_in);
+        if (!fans.holds_once(f, split.u) || std::find(arc.begin(), arc.end(), f) != arc.end()) {
+          return bad(v, "moves face " + std::to_string(f) + ", which does not hold u once or is moved twice");
+        }
+        arc.push_back(f);
+      }
+    } else {
+      if (!fans.fan(split.u, fan)) return bad(v, "names places around u, whose faces are not a fan");
+      const std::size_t n = fan.faces.size();
+      std::size_t i = 0, end = n;
+      if (vl_code != 0) {
+        i = vl_code - 1;
+        if (i >= (fan.closed ? n : n + 1)) return bad(v, "names place " + std::to_string(i) + " of u's ring for vl");
+      } else if (fan.closed) {
+        return bad(v, "has no vl on a closed fan");
+      }
+      if (vr_code != 0) {
+        const uint64_t length = vr_code - 1;
+        if (length > n) return bad(v, "moves more faces than u has");
+        end = fan.closed ? (i + length) % n : i + length;
+        if (!fan.closed && end > n) return bad(v, "moves faces beyond the end of u's fan");
+      } else if (fan.closed) {
+        return bad(v, "has no vr on a closed fan");
+      }
+      if (!SplitFans::arc(fan, i, end, arc)) return bad(v, "names an impossible arc of u's fan");
+      split.vl = vl_code == 0 ? kNoVertex : fan.ring[i];
+      split.vr = vr_code == 0 ? kNoVertex : fan.ring[end];
+      for (std::size_t k = 0; k <= arc.size(); ++k) neighbours.push_back(fan.ring[fan.closed ? (i + k) % n : i + k]);
+    }
+    if (moved_total + arc.size() > entry.moved_faces) return bad(v, "moves more faces than the index says");
+    split.moved_begin = static_cast<uint32_t>(pm.moved_faces.size());
+    split.moved_count = static_cast<uint32_t>(arc.size());
+    moved_total += split.moved_count;
+    pm.moved_faces.insert(pm.moved_faces.end(), arc.begin(), arc.end());
+    // The position and colour: the neighbours' mean plus the residual.
+    positions.predict(neighbours.data(), neighbours.size(), predicted);
+    for (std::size_t c = 0; c < 3; ++c) {
+      uint64_t code;
+      if (!read_varint64(position_in, code)) return failed(position_in);
+      const int64_t unit = int64_t{predicted[c]} + unzigzag(code);
+      const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
+      if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
+      positions.units.push_back(static_cast<uint32_t>(unit));
+      pm.positions.push_back(positions.to_float(static_cast<uint32_t>(unit), c));
+    }
+    if (h.color_components != 0) {
+      colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
+      for (std::size_t c = 0; c < h.color_components; ++c) {
+        uint64_t code;
+        if (!read_varint64(color_in, code)) return failed(color_in);
+        const int64_t unit = int64_t{color_predicted[c]} + unzigzag(code);
+        if (unit < 0 || unit > 0xFFFFFFFFll) return bad(v, "has an impossible colour");
+        colors.units.push_back(static_cast<uint32_t>(unit));
+        pm.colors.push_back(float_from_ordered(static_cast<uint32_t>(unit)));
+      }
+    }
+    // Attributes: the moved corners, then the new faces' corners and materials.
+    for (std::size_t k = 0; k < arc.size(); ++k) {
+      uint32_t id;
+      if (uv_codes) {
+        if (!read_corner(uv_in, 0, v, id)) return failed(uv_in);
+        pm.moved_uvs.push_back(id);
+      }
+      if (normal_codes) {
+        if (!read_corner(normal_in, 1, v, id)) return failed(normal_in);
+        pm.moved_normals.push_back(id);
+      }
+    }
+    for (int side = 0; side < 2; ++side) {
+      const uint32_t other = side == 0 ? split.vl : split.vr;
+      if (other == kNoVertex) continue;
+      const uint32_t corners[3] = {side == 0 ? v : split.u, side == 0 ? split.u : v, other};
+      for (uint32_t corner : corners) {
+        uint32_t id;
+        if (uv_codes) {
+          if (!read_corner(uv_in, 0, corner, id)) return failed(uv_in);
+          pm.face_uvs.push_back(id);
+        }
+        if (normal_codes) {
+          if (!read_corner(normal_in, 1, corner, id)) return failed(normal_in);
+          pm.face_normals.push_back(id);
+        }
+      }
+      if (h.material_ids()) {
+        uint32_t id;
+        if (!read_optional_id(material_in, h.material_count, "material", id)) return failed(material_in);
+        pm.face_materials.push_back(id);
+      }
+      ++new_faces;
+    }
+    if (new_faces > entry.new_faces) return bad(v, "adds more faces than the index says");
+    fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size());
+    pm.splits.push_back(split);
+  }
+  if (new_faces != entry.new_faces || moved_total != entry.moved_faces) {
+    return in.fail(ErrorCode::kCorruptStream, where + ": its splits add " + std::to_string(new_faces) +
+                                                  " faces and move " + std::to_string(moved_total) +
+                                                  ", the index says " + std::to_string(entry.new_faces) +
+                                                  " and " + std::to_string(entry.moved_faces));
+  }
+  if (ordered_from_float(previous_error) < ordered_from_float(entry.error_after)) {
+    return in.fail(ErrorCode::kCorruptStream, where + ": the index's error after it is larger than its last");
+  }
+  for (ByteReader& stream : streams) {
+    if (!stream.at_end()) {
+      return in.fail(ErrorCode::kCorruptStream, stream.where() + ": " +
+                                                    std::to_string(stream.remaining()) + " bytes left over");
+    }
+  }
+  decoded_faces += new_faces;
+  ++chunks_decoded;
+  return true;
+}
+
+bool PmStreamReader::State::decode_loose(ByteReader& in) {
+  if (!read_vertex_values(in, h.loose_vertex_count)) return false;
+  pm.loose_vertex_count = h.loose_vertex_count;
+  return true;
+}
+
+PmStreamReader::PmStreamReader(const ReadOptions& options) : state_(new State) {
+  state_->options = options;
+}
+PmStreamReader::~PmStreamReader() { delete state_; }
+
+Status PmStreamReader::append(std::string_view bytes) {
+  State& s = *state_;
+  if (!s.status) return s.status;
+  try {
+    std::size_t used = 0;
+    Status status;
+    if (s.buffer.empty()) {
+      status = s.process(bytes, used);
+      if (status && used < bytes.size() && !(s.stage == State::kDone && s.stopped)) {
+        s.buffer.assign(bytes.substr(used));
+      }
+      s.consumed += used;
+    } else {
+      s.buffer.append(bytes);
+      status = s.process(s.buffer, used);
+      s.buffer.erase(0, used);
+      s.consumed += used;
+      if (s.stage == State::kDone && s.stopped) s.buffer = std::string();
+    }
+    if (!status) return s.fail(status);
+  } catch (const std::bad_alloc&) {
+    return s.fail(Status(ErrorCode::kResourceLimit, "out of memory"));
+  }
+  return Status::ok();
+}
+
+Status PmStreamReader::finish(ReadResult* result) {
+  State& s = *state_;
+  if (!s.status) return s.status;
+  ReadResult r;
+  const bool version1 = s.stage == State::kVersion1;
+  if (version1) {
+    // A 1.x stream is decoded whole: its sections are not chunks.
+    ProgressiveMesh pm;
+    if (Status status = read_pm_v1(s.buffer, pm, s.options); !status) return s.fail(status);
+    s.pm = std::move(pm);
+    s.stage = State::kDone;
+    s.base_done = true;
+    s.buffer = std::string();
+  } else if (s.stage != State::kDone) {
+    const std::string where = s.stage == State::kHeader
+                                  ? "the header"
+                                  : section_name(s.expected[s.next], s.chunks_decoded);
+    const std::string message = "truncated in " + where + " (the stream ends at byte " +
+                                std::to_string(s.consumed + s.buffer.size()) + ")";
+    if (!s.options.allow_truncated || !s.base_done) {
+      return s.fail(Status(ErrorCode::kTruncatedStream, message));
+    }
+    r.truncated = true;
+    r.warning = message + ": decoded " + std::to_string(s.pm.splits.size()) + " of " +
+                std::to_string(s.h.split_count) + " splits";
+    s.stage = State::kDone;
+    s.buffer = std::string();
+    s.fans = SplitFans();
+  }
+  s.attach_carried();
+  if (!version1) {
+    r.partial = s.pm.splits.size() < s.h.split_count;
+    r.chunks_decoded = static_cast<uint32_t>(s.chunks_decoded);
+    r.chunk_count = s.h.chunk_count;
+  }
+  std::string message;
+  if (!validate(s.pm, &message)) return s.fail(corrupt(message));
+  if (result != nullptr) *result = r;
+  return Status::ok();
+}
+
+bool PmStreamReader::has_base() const { return state_->base_done; }
+bool PmStreamReader::complete() const {
+  return state_->stage == State::kDone && !state_->stopped;
+}
+const ProgressiveMesh& PmStreamReader::mesh() const {
+  state_->attach_carried();
+  return state_->pm;
+}
+uint64_t PmStreamReader::decoded_face_count() const {
+  return state_->stage == State::kVersion1 ? 0 : state_->decoded_faces;
+}
+uint64_t PmStreamReader::stream_face_count() const {
+  return state_->stage == State::kHeader ? 0 : state_->h.faces();
+}
+
+// ---------------------------------------------------------------------------------------
+// The entry points: 2.0 is written; both majors are read.
+
+Status check_material_strings(const std::vector<std::string>& names,
+                              const std::vector<std::string>& libraries) {
+  return check_material_strings_impl(names, libraries);
+}
+
+Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
+  return write_pm_v2(pm, options, bytes);
+}
+
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options,
+               ReadResult* result) {
+  PmStreamReader reader(options);
+  if (Status status = reader.append(bytes); !status) return status;
+  if (Status status = reader.finish(result); !status) return status;
+  pm = std::move(reader.state_->pm);
+  return Status::ok();
+}
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
+  return read_pm(bytes, pm, options, nullptr);
+}
+Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
+  return read_pm(bytes, pm, ReadOptions{}, nullptr);
+}
+
+Status read_pm_info(std::string_view bytes, PmInfo& info) {
+  if (bytes.size() >= 12 && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0 &&
+      (static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {
+    return read_pm_info_v1(bytes, info);
+  }
+  if (bytes.size() < kHeaderSize) {
+    const std::size_t magic = std::min(bytes.size(), sizeof kMagic);
+    if (std::memcmp(bytes.data(), kMagic, magic) != 0) return corrupt("not a .pm stream (bad magic)");
+    return Status(ErrorCode::kTruncatedStream, "truncated in the header (" +
+                                                   std::to_string(bytes.size()) + " of 96 bytes)");
+  }
+  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return corrupt("not a .pm stream (bad magic)");
+  Header2 h;
+  if (Status status = parse_header2(bytes, h); !status) return status;
+  PmInfo r;
+  r.major = h.major;
+  r.minor = h.minor;
+  r.flags = h.flags;
+  r.base_vertex_count = h.base_vertex_count;
+  r.base_face_count = h.base_face_count;
+  r.split_count = h.split_count;
+  r.loose_vertex_count = h.loose_vertex_count;
+  r.weld_count = h.weld_count;
+  r.carried_face_count = h.carried_face_count;
+  r.moved_face_count = h.moved_face_count;
+  r.split_face_count = h.split_face_count;
+  r.section_count = static_cast<uint32_t>(expected_sections(h).size());
+  r.full_vertex_count = h.vertices() - h.weld_count;
+  r.full_face_count = h.faces();
+  r.max_error = h.max_error;
+  r.color_components = h.color_components;
+  r.uv_count = h.uv_count;
+  r.normal_count = h.normal_count;
+  r.material_count = h.material_count;
+  r.material_library_count = h.material_library_count;
+  r.has_uvs = h.uv_ids();
+  r.has_normals = h.normal_ids();
+  r.has_materials = h.material_ids();
+  r.position_bits = h.position_bits;
+  r.uv_bits = h.uv_bits;
+  r.normal_bits = h.normal_bits;
+  r.keeps_order = (h.options & kOptionKeepsOrder) != 0;
+  // The chunk index: skip the sections before it, decompress it, and walk the chunks'
+  // section headers for their ends.
+  if (h.chunk_count > 0) {
+    ReadOptions options;
+    options.max_splits = 0;
+    options.allow_truncated = true;
+    PmStreamReader::State s;
+    s.options = options;
+    if (Status status = s.start(bytes, false); !status) return status;
+    // Section headers from `offset`: tag and stored size, or false at the end of `bytes`.
+    std::size_t offset = kHeaderSize;
+    const auto section_at = [&](uint32_t& tag, uint32_t& flags, uint64_t& stored, uint64_t& raw_size) {
+      if (offset > bytes.size() || bytes.size() - offset < kSectionHeaderSize) return false;
+      ByteReader in(bytes.substr(offset), "section header", ErrorCode::kTruncatedStream);
+      in.read_u32(tag);
+      in.read_u32(flags);
+      in.read_u64(stored);
+      in.read_u64(raw_size);
+      return true;
+    };
+    uint32_t tag = 0, flags = 0;
+    uint64_t stored = 0, raw_size = 0;
+    while (s.index.empty()) {
+      if (!section_at(tag, flags, stored, raw_size) ||
+          bytes.size() - offset - kSectionHeaderSize < stored) {
+        return Status(ErrorCode::kTruncatedStream, "truncated before the chunk index");
+      }
+      if (tag == kTagIndex) {
+        if (Status status = s.check_section(tag, flags, stored, raw_size); !status) return status;
+        if (Status status = decompress_frame("section INDX", bytes.substr(offset + kSectionHeaderSize, stored),
+                                             raw_size, s.dctx.get(), s.raw);
+            !status) {
+          return status;
+        }
+        ByteReader payload(s.raw, "section INDX", ErrorCode::kCorruptStream);
+        if (!s.decode_index(payload)) return payload.status();
+        if (!payload.at_end()) return corrupt("section INDX: bytes left over");
+      } else if (is_v2_tag(tag)) {
+        if (tag != s.expected[s.next]) return corrupt("section " + tag_name(tag) + ": out of order");
+        ++s.next;
+      }
+      offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
+    }
+    uint64_t splits = 0, faces = uint64_t{h.base_face_count} + h.carried_face_count;
+    for (const ChunkEntry& e : s.index) {
+      PmInfo::Chunk chunk;
+      chunk.splits = e.splits;
+      splits += e.splits;
+      faces += e.new_faces;
+      chunk.vertices_after = h.base_vertex_count + splits - h.weld_count +
+                             (splits == h.split_count ? h.loose_vertex_count : 0);
+      chunk.faces_after = faces;
+      chunk.error_after = e.error_after;
+      // Where the chunk ends, when its section header is in `bytes` (optional sections of
+      // other tools may come between chunks).
+      while (section_at(tag, flags, stored, raw_size) && tag != kTagChunk && stored <= bytes.size()) {
+        offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
+      }
+      if (section_at(tag, flags, stored, raw_size) && stored <= bytes.size()) {
+        offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
+        chunk.stream_end = offset;
+      } else {
+        offset = bytes.size() + 1;  // the rest is not in `bytes`
+      }
+      r.chunks.push_back(chunk);
+    }
+  }
+  info = r;
+  return Status::ok();
+}
+
+}  // namespace pm

@@ -1,0 +1,132 @@
+// Fans of faces around a vertex, kept up to date split by split (see split_fans.h;
+// Hoppe 1996, §3, and Hoppe 1998, §4).
+#include "split_fans.h"
+
+#include <algorithm>
+
+namespace pm::detail {
+
+void SplitFans::reset(std::size_t vertex_count, std::size_t face_count) {
+  corner_vertex_.clear();
+  next_corner_.clear();
+  first_corner_.clear();
+  corner_vertex_.reserve(3 * face_count);
+  next_corner_.reserve(3 * face_count);
+  first_corner_.reserve(vertex_count);
+}
+
+void SplitFans::link(uint32_t corner, uint32_t vertex) {
+  if (vertex >= first_corner_.size()) first_corner_.resize(std::size_t{vertex} + 1, kNone);
+  next_corner_[corner] = first_corner_[vertex];
+  first_corner_[vertex] = corner;
+}
+
+void SplitFans::unlink(uint32_t corner, uint32_t vertex) {
+  uint32_t* link = &first_corner_[vertex];
+  while (*link != corner) link = &next_corner_[*link];
+  *link = next_corner_[corner];
+}
+
+void SplitFans::add_face(uint32_t a, uint32_t b, uint32_t c) {
+  const auto corner = static_cast<uint32_t>(corner_vertex_.size());
+  for (uint32_t vertex : {a, b, c}) {
+    corner_vertex_.push_back(vertex);
+    next_corner_.push_back(kNone);
+  }
+  link(corner, a);
+  link(corner + 1, b);
+  link(corner + 2, c);
+}
+
+bool SplitFans::holds_once(uint32_t f, uint32_t u) const {
+  if (f >= face_count()) return false;
+  const uint32_t* v = face(f);
+  return (v[0] == u) + (v[1] == u) + (v[2] == u) == 1;
+}
+
+bool SplitFans::fan(uint32_t u, Fan& out) {
+  out.ring.clear();
+  out.faces.clear();
+  out.closed = false;
+  wedges_.clear();
+  if (u >= first_corner_.size()) return false;
+  for (uint32_t c = first_corner_[u]; c != kNone; c = next_corner_[c]) {
+    const uint32_t f = c / 3, k = c % 3;
+    const uint32_t* v = face(f);
+    wedges_.push_back({v[(k + 1) % 3], v[(k + 2) % 3], f});
+  }
+  const std::size_t n = wedges_.size();
+  if (n == 0) return false;
+  // Sorted by a, each a and each b at most once: then every wedge has at most one
+  // successor (the wedge whose a is its b), and the wedges form paths and cycles.
+  std::sort(wedges_.begin(), wedges_.end(),
+            [](const Wedge& x, const Wedge& y) { return x.a < y.a; });
+  seconds_.clear();
+  for (const Wedge& w : wedges_) seconds_.push_back(w.b);
+  std::sort(seconds_.begin(), seconds_.end());
+  for (std::size_t k = 1; k < n; ++k) {
+    if (wedges_[k].a == wedges_[k - 1].a || seconds_[k] == seconds_[k - 1]) return false;
+  }
+  const auto find = [&](uint32_t a) -> const Wedge* {
+    const auto it = std::lower_bound(wedges_.begin(), wedges_.end(), a,
+                                     [](const Wedge& w, uint32_t value) { return w.a < value; });
+    return it != wedges_.end() && it->a == a ? &*it : nullptr;
+  };
+  // An open fan starts at the one wedge whose a is no wedge's b.
+  const Wedge* start = nullptr;
+  for (const Wedge& w : wedges_) {
+    if (!std::binary_search(seconds_.begin(), seconds_.end(), w.a)) {
+      if (start != nullptr) return false;  // two open fans: u is pinched
+      start = &w;
+    }
+  }
+  out.closed = start == nullptr;
+  if (out.closed) start = &wedges_[0];  // the smallest neighbour first
+  const Wedge* w = start;
+  out.ring.push_back(w->a);
+  for (std::size_t k = 0; k < n; ++k) {
+    out.faces.push_back(w->face);
+    out.ring.push_back(w->b);
+    if (k + 1 == n) break;
+    w = find(w->b);
+    if (w == nullptr || w == start) return false;  // several fans
+  }
+  // All n wedges walked: a closed fan must come back to its start, an open one must not.
+  return out.closed == (out.ring.back() == out.ring.front());
+}
+
+bool SplitFans::arc(const Fan& fan, std::size_t i, std::size_t j, std::vector<uint32_t>& faces) {
+  faces.clear();
+  const std::size_t n = fan.faces.size();
+  if (fan.closed) {
+    if (i >= n || j >= n || i == j) return false;
+    for (std::size_t k = i; k != j; k = (k + 1) % n) faces.push_back(fan.faces[k]);
+  } else {
+    if (j > n || i > j) return false;
+    for (std::size_t k = i; k < j; ++k) faces.push_back(fan.faces[k]);
+  }
+  return true;
+}
+
+void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const uint32_t* moved,
+                      std::size_t moved_count) {
+  for (std::size_t m = 0; m < moved_count; ++m) {
+    const uint32_t f = moved[m];
+    uint32_t* corners = &corner_vertex_[3 * std::size_t{f}];
+    const uint32_t k = corners[0] == u ? 0 : corners[1] == u ? 1 : 2;
+    unlink(3 * f + k, u);
+    corners[k] = v;
+    link(3 * f + k, v);
+  }
+  if (v >= first_corner_.size()) first_corner_.resize(std::size_t{v} + 1, kNone);
+  if (vl != kNone) add_face(v, u, vl);
+  if (vr != kNone) add_face(u, v, vr);
+}
+
+std::size_t SplitFans::memory_bytes() const {
+  return 4 * (corner_vertex_.capacity() + next_corner_.capacity() + first_corner_.capacity() +
+              seconds_.capacity()) +
+         sizeof(Wedge) * wedges_.capacity();
+}
+
+}  // namespace pm::detail

@@ -1,0 +1,75 @@
+// The connectivity a 2.0 .pm stream is coded against: the faces of the current level and,
+// per vertex, the corners that use it, kept up to date split by split. It gives the fan of
+// faces around a vertex in counter-clockwise order, which is what lets a split name vl and
+// vr by their place in u's one-ring, and leave its moved faces implicit (Hoppe 1996, §3:
+// vsplit(s, l, r) takes the faces between l and r around s; Hoppe 1998, "Efficient
+// implementation of progressive meshes", §4 codes l and r the same way, as positions in
+// s's ring). Internal to the codec.
+//
+// The fan of u: the faces (u, r[k], r[k+1]), k = 0 .. n-1, for the ring r[0 .. n] around
+// u. A vertex in the interior of the surface has a closed fan (r[n] == r[0]; r[0] is then
+// the ring's smallest vertex id, so that the coding does not depend on the order in which
+// faces were stored); a vertex on a boundary has an open one (r[0] and r[n] are its
+// boundary neighbours). A vertex whose faces are not one fan (pinched, or faces with
+// inconsistent orientation) has none: such splits are stored explicitly.
+//
+// The split of the half-edge collapse v -> u moves the faces between vl and vr, counter-
+// clockwise around u: with i the place of vl in the ring (0 when vl is none: the open fan's
+// start) and j that of vr (n when vr is none), the faces k = i .. j-1 (modulo n when
+// closed). v's ring in the refined mesh is then u, r[i], ..., r[j].
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace pm::detail {
+
+class SplitFans {
+ public:
+  static constexpr uint32_t kNone = 0xFFFFFFFFu;
+
+  // Room for this many vertices and faces; keeps nothing. Faces are then added in order.
+  void reset(std::size_t vertex_count, std::size_t face_count);
+  void add_face(uint32_t a, uint32_t b, uint32_t c);
+  std::size_t face_count() const { return corner_vertex_.size() / 3; }
+  const uint32_t* face(uint32_t f) const { return &corner_vertex_[3 * std::size_t{f}]; }
+
+  struct Fan {
+    std::vector<uint32_t> ring;   // n + 1 vertices (ring[n] == ring[0] when closed)
+    std::vector<uint32_t> faces;  // n faces: faces[k] = (u, ring[k], ring[k + 1])
+    bool closed = false;
+  };
+  // u's fan, or false when u's faces do not form one (or u has none).
+  bool fan(uint32_t u, Fan& out);
+
+  // The arc of faces from place i to place j of `fan` (see the top of this file); false
+  // when the places do not define one: i or j out of range, or j <= i on an open fan, or
+  // i == j on a closed one.
+  static bool arc(const Fan& fan, std::size_t i, std::size_t j, std::vector<uint32_t>& faces);
+
+  // Applies a split: creates vertex v (the next id), turns corner u of each moved face into
+  // v, then appends fl = (v, u, vl) when vl exists and fr = (u, v, vr) when vr exists. The
+  // caller has checked that each moved face holds u (holds_once).
+  void split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const uint32_t* moved,
+             std::size_t moved_count);
+  // Whether face f exists and holds u exactly once.
+  bool holds_once(uint32_t f, uint32_t u) const;
+
+  std::size_t memory_bytes() const;
+
+ private:
+  void link(uint32_t corner, uint32_t vertex);
+  void unlink(uint32_t corner, uint32_t vertex);
+
+  std::vector<uint32_t> corner_vertex_;  // 3 per face: the current vertex of each corner
+  std::vector<uint32_t> next_corner_;    // per corner: the next corner of the same vertex
+  std::vector<uint32_t> first_corner_;   // per vertex: its first corner, or kNone
+  struct Wedge {                         // one face of a fan being assembled
+    uint32_t a, b, face;
+  };
+  std::vector<Wedge> wedges_;            // scratch for fan()
+  std::vector<uint32_t> seconds_;        // scratch for fan()
+};
+
+}  // namespace pm::detail
