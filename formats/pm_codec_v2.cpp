@@ -1018,10 +1018,30 @@ Status PmStreamReader::State::process(std::string_view bytes, std::size_t& used)
     }
     if (stage == kVersion1) return Status::ok();  // nothing used: finish() reads it all
     if (stage == kDone) {
-      if (!rest.empty() && !stopped) {
+      // Only optional sections of other tools may follow the last known one (§4.3).
+      if (rest.empty() || stopped || rest.size() < kSectionHeaderSize) return Status::ok();
+      ByteReader in(rest, "section header", ErrorCode::kTruncatedStream);
+      uint32_t tag = 0, flags = 0;
+      uint64_t stored = 0;
+      in.read_u32(tag);
+      in.read_u32(flags);
+      in.read_u64(stored);
+      bool tag_ok = true;
+      for (int k = 0; k < 4; ++k) tag_ok = tag_ok && std::isalnum(static_cast<unsigned char>(tag >> (8 * k)));
+      if (!tag_ok || is_v2_tag(tag) || (flags & kSectionRequired) != 0) {
         return corrupt(std::to_string(rest.size()) + " bytes follow the last section");
       }
-      return Status::ok();
+      if (rest.size() - kSectionHeaderSize < stored) return Status::ok();
+      used += kSectionHeaderSize + static_cast<std::size_t>(stored);
+      continue;
+    }
+    // A reader that has the splits it wants stops before the next chunk.
+    if (expected[next] == kTagChunk && pm.splits.size() >= options.max_splits) {
+      stage = kDone;
+      stopped = true;
+      raw = std::string();
+      fans = SplitFans();
+      continue;
     }
     // A section: its 24-byte header, then its frame.
     if (rest.size() < kSectionHeaderSize) return Status::ok();
@@ -1487,6 +1507,8 @@ Status PmStreamReader::finish(ReadResult* result) {
     s.stage = State::kDone;
     s.base_done = true;
     s.buffer = std::string();
+  } else if (s.stage == State::kDone && !s.stopped && !s.buffer.empty()) {
+    return s.fail(corrupt(std::to_string(s.buffer.size()) + " bytes follow the last section"));
   } else if (s.stage != State::kDone) {
     const std::string where = s.stage == State::kHeader
                                   ? "the header"

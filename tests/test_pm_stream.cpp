@@ -1,0 +1,427 @@
+// The 2.0 .pm stream (formats/pm-format.md): round trips of literal and encoded progressive
+// meshes, chunking, one-ring coding, quantization, decoding as bytes arrive, prefixes
+// (truncated streams and max_splits), golden files of every version, adversarial streams.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <numeric>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "../formats/byte_io.h"
+#include "../formats/pm_layout.h"
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/mesh_io.h"
+#include "pm/pm_codec.h"
+#include "pm/progressive_mesh.h"
+#include "pm_literals.h"
+#include "test_util.h"
+
+namespace pm {
+namespace {
+
+using namespace literals;  // NOLINT
+
+// A 2.0 reader stores each split's moved faces in the order of u's fan, which need not be
+// the encoder's order: sort each split's moved faces, with their corner ids, for comparing.
+ProgressiveMesh with_sorted_moves(ProgressiveMesh pm) {
+  for (const VertexSplit& split : pm.splits) {
+    std::vector<std::tuple<uint32_t, uint32_t, uint32_t>> moved;
+    for (uint32_t k = split.moved_begin; k < split.moved_begin + split.moved_count; ++k) {
+      moved.emplace_back(pm.moved_faces[k], pm.has_uvs() ? pm.moved_uvs[k] : 0,
+                         pm.has_normals() ? pm.moved_normals[k] : 0);
+    }
+    std::sort(moved.begin(), moved.end());
+    for (uint32_t k = 0; k < split.moved_count; ++k) {
+      pm.moved_faces[split.moved_begin + k] = std::get<0>(moved[k]);
+      if (pm.has_uvs()) pm.moved_uvs[split.moved_begin + k] = std::get<1>(moved[k]);
+      if (pm.has_normals()) pm.moved_normals[split.moved_begin + k] = std::get<2>(moved[k]);
+    }
+  }
+  return pm;
+}
+
+std::string write(const ProgressiveMesh& pm, WriteOptions options = {}) {
+  options.zstd_level = 3;
+  std::string bytes;
+  const Status status = write_pm(pm, options, bytes);
+  EXPECT_TRUE(status.is_ok()) << status.message();
+  return bytes;
+}
+
+ProgressiveMesh read(const std::string& bytes, ReadOptions options = {}, ReadResult* result = nullptr) {
+  ProgressiveMesh pm;
+  const Status status = read_pm(bytes, pm, options, result);
+  EXPECT_TRUE(status.is_ok()) << status.message();
+  return pm;
+}
+
+void expect_round_trip(const ProgressiveMesh& pm, const WriteOptions& options = {}) {
+  const std::string bytes = write(pm, options);
+  ASSERT_GE(bytes.size(), 12u);
+  EXPECT_EQ(static_cast<uint8_t>(bytes[8]), 2);  // major 2
+  expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(pm));
+}
+
+std::vector<ProgressiveMesh> literal_meshes() {
+  return {ProgressiveMesh{}, triangle_mesh(), small_mesh(), attributed_mesh(),
+          generated_mesh(300), with_attributes(generated_mesh(700)), with_attributes(small_mesh())};
+}
+
+ProgressiveMesh encoded(const std::string& path) {
+  Mesh mesh;
+  EXPECT_TRUE(read_mesh(path, mesh).is_ok()) << path;
+  ProgressiveMesh pm;
+  EncodeOptions options;
+  const Status status = encode(mesh, options, pm);
+  EXPECT_TRUE(status.is_ok()) << status.message();
+  return pm;
+}
+
+// Meshes the encoder made: every sample, and with ../shared/meshes, spot (UV seams) and
+// fandisk (sharp features).
+std::vector<ProgressiveMesh> encoded_meshes() {
+  std::vector<ProgressiveMesh> meshes;
+  for (const std::string& path : test::sample_mesh_paths()) meshes.push_back(encoded(path));
+  if (test::shared_meshes_available()) {
+    for (const char* name : {"spot.obj", "fandisk.obj"}) meshes.push_back(encoded(test::shared_mesh_path(name)));
+  } else {
+    test::warn_no_shared_meshes();
+  }
+  return meshes;
+}
+
+// ---------------------------------------------------------------------------------------
+
+TEST(PmStream, LiteralMeshesRoundTripWithEveryChunkSize) {
+  for (const ProgressiveMesh& pm : literal_meshes()) {
+    for (uint32_t chunk : {1u, 7u, 4096u}) {
+      SCOPED_TRACE("splits " + std::to_string(pm.splits.size()) + ", chunks of " + std::to_string(chunk));
+      WriteOptions options;
+      options.chunk_splits = chunk;
+      expect_round_trip(pm, options);
+    }
+  }
+}
+
+TEST(PmStream, EncodedMeshesRoundTripAndAreSmallerThanFormat1) {
+  for (const ProgressiveMesh& pm : encoded_meshes()) {
+    SCOPED_TRACE("splits " + std::to_string(pm.splits.size()));
+    expect_round_trip(pm);
+    // The one-ring coding leaves out the moved faces and the global ids of vl and vr, and
+    // the positions are residuals: a 2.0 stream is much smaller than a 1.1 stream.
+    std::string v1, v2;
+    ASSERT_TRUE(detail::write_pm_v1(pm, 19, v1).is_ok());
+    WriteOptions options;
+    ASSERT_TRUE(write_pm(pm, options, v2).is_ok());
+    // Attribute tables are stored as in 1.1, so the gain shows on the geometry.
+    const bool geometry_only = !pm.has_uvs() && !pm.has_normals();
+    if (pm.splits.size() > 1000) {
+      EXPECT_LT(v2.size(), geometry_only ? v1.size() * 6 / 10 : v1.size()) << v2.size() << " vs " << v1.size();
+    }
+  }
+}
+
+TEST(PmStream, ChunksFollowThePlanAndTheIndexDescribesThem) {
+  const ProgressiveMesh pm = generated_mesh(3000);
+  WriteOptions options;
+  options.chunk_splits = 1024;
+  const std::string bytes = write(pm, options);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+  EXPECT_EQ(info.major, 2);
+  // 256, 512, then 1024 until the end.
+  std::vector<uint32_t> sizes;
+  for (const PmInfo::Chunk& chunk : info.chunks) sizes.push_back(chunk.splits);
+  EXPECT_EQ(sizes, (std::vector<uint32_t>{256, 512, 1024, 1024, 184}));
+  uint32_t level = 0;
+  uint64_t previous_end = 0;
+  for (const PmInfo::Chunk& chunk : info.chunks) {
+    level += chunk.splits;
+    EXPECT_EQ(chunk.faces_after, faces_at_level(pm, level));
+    EXPECT_EQ(chunk.vertices_after, vertices_at_level(pm, level));
+    EXPECT_EQ(chunk.error_after, error_at_level(pm, level));
+    EXPECT_GT(chunk.stream_end, previous_end);
+    previous_end = chunk.stream_end;
+  }
+  // Nothing follows the last chunk here (no loose vertices).
+  EXPECT_EQ(info.chunks.back().stream_end, bytes.size());
+}
+
+TEST(PmStream, QuantizedPositionsLieOnTheGridWithinHalfAStep) {
+  for (const ProgressiveMesh& pm : encoded_meshes()) {
+    for (int bits : {4, 11, 14, 24}) {
+      SCOPED_TRACE(std::to_string(bits) + " bits");
+      WriteOptions options;
+      options.position_bits = bits;
+      options.uv_bits = bits;
+      options.normal_bits = bits;
+      const std::string bytes = write(pm, options);
+      ProgressiveMesh q = read(bytes);
+      // Connectivity and ids are untouched; values move by at most half a step.
+      ProgressiveMesh expected = pm;
+      const auto within = [&](const std::vector<float>& a, const std::vector<float>& b, std::size_t components) {
+        ASSERT_EQ(a.size(), b.size());
+        float extent = 0;  // the grid spans the bounding box's longest side
+        for (std::size_t c = 0; c < components; ++c) {
+          float lo = INFINITY, hi = -INFINITY;
+          for (std::size_t i = c; i < a.size(); i += components) lo = std::min(lo, a[i]), hi = std::max(hi, a[i]);
+          if (!a.empty()) extent = std::max(extent, hi - lo);
+        }
+        const double step = extent / double((1u << bits) - 1);
+        for (std::size_t i = 0; i < a.size(); ++i) {
+          ASSERT_LE(std::abs(double(a[i]) - double(b[i])), 0.5 * step * 1.0001 + 1e-7 * std::abs(a[i])) << i;
+        }
+      };
+      within(pm.positions, q.positions, 3);
+      within(pm.uvs, q.uvs, 2);
+      within(pm.normals, q.normals, 3);
+      expected.positions = q.positions;
+      expected.uvs = q.uvs;
+      expected.normals = q.normals;
+      expect_identical(with_sorted_moves(q), with_sorted_moves(expected));
+      // Quantizing again changes nothing: the values are grid points.
+      expect_identical(read(write(q, options)), q);
+      PmInfo info;
+      ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+      EXPECT_EQ(info.position_bits, uint32_t(bits));
+    }
+  }
+}
+
+TEST(PmStream, QuantizingNonFiniteValuesIsRefused) {
+  ProgressiveMesh pm = small_mesh();
+  pm.positions[7] = std::numeric_limits<float>::infinity();
+  WriteOptions options;
+  options.position_bits = 12;
+  std::string bytes;
+  EXPECT_EQ(write_pm(pm, options, bytes).code(), ErrorCode::kInvalidArgument);
+  options.position_bits = 0;
+  EXPECT_TRUE(write_pm(pm, options, bytes).is_ok());  // lossless keeps any bits
+  for (int bits : {-1, 1, 3, 25, 32}) {
+    options.position_bits = bits;
+    EXPECT_EQ(write_pm(pm, options, bytes).code(), ErrorCode::kInvalidArgument) << bits;
+  }
+}
+
+TEST(PmStream, PiecesOfAnySizeDecodeAsTheWhole) {
+  for (const ProgressiveMesh& pm : {with_attributes(generated_mesh(900)), attributed_mesh()}) {
+    WriteOptions options;
+    options.chunk_splits = 64;
+    const std::string bytes = write(pm, options);
+    const ProgressiveMesh whole = read(bytes);
+    uint64_t state = 12345;
+    for (int round = 0; round < 3; ++round) {
+      PmStreamReader reader;
+      std::size_t offset = 0;
+      uint64_t faces = 0;
+      std::size_t splits = 0;
+      while (offset < bytes.size()) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        const std::size_t piece = round == 0 ? 1 : 1 + (state >> 33) % (round == 1 ? 50 : 5000);
+        ASSERT_TRUE(reader.append(std::string_view(bytes).substr(offset, piece)).is_ok());
+        offset += piece;
+        // Every state is a valid progressive mesh, refined further than the last.
+        if (reader.has_base()) {
+          std::string message;
+          ASSERT_TRUE(validate(reader.mesh(), &message)) << message;
+          EXPECT_GE(reader.decoded_face_count(), faces);
+          EXPECT_GE(reader.mesh().splits.size(), splits);
+          EXPECT_EQ(reader.decoded_face_count(), faces_at_level(reader.mesh(), reader.mesh().splits.size()));
+          faces = reader.decoded_face_count();
+          splits = reader.mesh().splits.size();
+        }
+      }
+      ASSERT_TRUE(reader.finish().is_ok());
+      EXPECT_TRUE(reader.complete());
+      expect_identical(reader.mesh(), whole);
+    }
+  }
+}
+
+// A cut anywhere after the base mesh gives the finest level whose chunks arrived whole; a
+// cut before it is an error; without allow_truncated every cut is an error.
+TEST(PmStream, EveryCutGivesAValidCoarserMeshOrACleanError) {
+  std::vector<ProgressiveMesh> meshes = encoded_meshes();
+  meshes.push_back(with_attributes(generated_mesh(2000)));  // not a surface: no topology to keep
+  for (const ProgressiveMesh& pm : meshes) {
+    const bool surface = &pm != &meshes.back();
+    WriteOptions options;
+    options.chunk_splits = 300;
+    const std::string bytes = write(pm, options);
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+    const Mesh full = extract_level(pm, pm.splits.size());
+    const test::TopologySummary input_topology = test::summarize_topology(full);
+    int decoded = 0, refused = 0;
+    for (int k = 0; k < 100; ++k) {
+      const std::size_t cut = bytes.size() * k / 100 + (k * 7919) % 13;
+      if (cut >= bytes.size()) continue;
+      const std::string prefix = bytes.substr(0, cut);
+      ProgressiveMesh strict;
+      EXPECT_EQ(read_pm(prefix, strict).code(), ErrorCode::kTruncatedStream) << cut;
+      ReadOptions lenient;
+      lenient.allow_truncated = true;
+      ProgressiveMesh prefix_pm;
+      ReadResult result;
+      const Status status = read_pm(prefix, prefix_pm, lenient, &result);
+      if (!status) {
+        EXPECT_EQ(status.code(), ErrorCode::kTruncatedStream) << status.message();
+        // Only a cut before the first chunk is complete is refused.
+        EXPECT_LT(cut, info.chunks.front().stream_end);
+        EXPECT_NE(status.message().find("truncated in"), std::string::npos);
+        ++refused;
+        continue;
+      }
+      ++decoded;
+      EXPECT_TRUE(result.truncated);
+      EXPECT_FALSE(result.warning.empty());
+      // Whole chunks only: the splits are a prefix of the full sequence, at a chunk's end.
+      const std::size_t n = prefix_pm.splits.size();
+      uint64_t boundary = 0;
+      bool at_boundary = n == 0;
+      for (const PmInfo::Chunk& chunk : info.chunks) {
+        boundary += chunk.splits;
+        at_boundary = at_boundary || boundary == n;
+      }
+      EXPECT_TRUE(at_boundary) << n;
+      ASSERT_LE(n, pm.splits.size());
+      for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(prefix_pm.splits[i].u, pm.splits[i].u);
+      // Its finest level is the full sequence's level n, and keeps the input's topology.
+      const Mesh level = extract_level(prefix_pm, n);
+      EXPECT_EQ(test::canonical_faces(level), test::canonical_faces(extract_level(pm, n)));
+      if (surface) {
+        EXPECT_TRUE(test::keeps_topology(input_topology, test::summarize_topology(level)));
+      }
+    }
+    EXPECT_GT(decoded, 0);
+    EXPECT_GT(refused, 0);   // the header is cut at offset 0
+  }
+}
+
+TEST(PmStream, MaxSplitsDecodesOnlyTheChunksNeeded) {
+  const ProgressiveMesh pm = with_attributes(generated_mesh(3000));
+  WriteOptions options;
+  options.chunk_splits = 512;
+  const std::string bytes = write(pm, options);
+  const ProgressiveMesh whole = read(bytes);
+  for (uint64_t wanted : {0ull, 1ull, 256ull, 257ull, 2000ull, 3000ull}) {
+    ReadOptions read_options;
+    read_options.max_splits = wanted;
+    ReadResult result;
+    const ProgressiveMesh part = read(bytes, read_options, &result);
+    // The chunk ends: 256, 768, 1280, 1792, 2304, 2816, 3000.
+    const std::vector<uint64_t> ends = {0, 256, 768, 1280, 1792, 2304, 2816, 3000};
+    const uint64_t expected = *std::lower_bound(ends.begin(), ends.end(), wanted);
+    EXPECT_EQ(part.splits.size(), expected) << wanted;
+    EXPECT_EQ(result.partial, expected < 3000);
+    EXPECT_FALSE(result.truncated);
+    EXPECT_EQ(extract_level(part, part.splits.size()).face_count(),
+              extract_level(whole, part.splits.size()).face_count());
+    // A damaged chunk after the ones needed is not even decompressed.
+    if (expected < 3000) {
+      std::string damaged = bytes;
+      damaged[bytes.size() - 30] ^= 0x55;
+      ProgressiveMesh again;
+      EXPECT_TRUE(read_pm(damaged, again, read_options).is_ok());
+    }
+  }
+}
+
+TEST(PmStream, EveryByteFlipIsAnErrorOrHarmless) {
+  const std::string bytes = write(attributed_mesh());
+  const ProgressiveMesh original = read(bytes);
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    for (uint8_t mask : {0x01, 0x80, 0xFF}) {
+      std::string damaged = bytes;
+      damaged[i] = static_cast<char>(damaged[i] ^ mask);
+      ProgressiveMesh pm;
+      const Status status = read_pm(damaged, pm);
+      if (status.is_ok()) {
+        expect_identical(pm, original);  // a bit zstd does not use
+      } else {
+        EXPECT_FALSE(status.message().empty());
+      }
+    }
+  }
+}
+
+TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
+  const std::string bytes = write(small_mesh());
+  ProgressiveMesh pm;
+  EXPECT_EQ(read_pm(bytes + "x", pm).code(), ErrorCode::kCorruptStream);
+  // An optional section of another tool is skipped; a required one is refused.
+  for (uint32_t flags : {0u, 1u}) {
+    std::string extra;
+    ASSERT_TRUE(detail::append_section(detail::make_tag("XTRA"), flags, "hello", 5, 3, extra).is_ok());
+    const Status status = read_pm(bytes + extra, pm);
+    EXPECT_EQ(status.code(), flags == 0 ? ErrorCode::kOk : ErrorCode::kCorruptStream) << status.message();
+  }
+  // Header fields a 2.0 reader must refuse, each with its CRC made good again.
+  const auto with_header_byte = [&](std::size_t offset, uint8_t value) {
+    std::string damaged = bytes;
+    damaged[offset] = static_cast<char>(value);
+    const uint32_t crc = detail::crc32(std::string_view(damaged).substr(0, 92));
+    for (int k = 0; k < 4; ++k) damaged[92 + k] = static_cast<char>(crc >> (8 * k));
+    ProgressiveMesh out;
+    return read_pm(damaged, out).code();
+  };
+  EXPECT_EQ(with_header_byte(12, 1), ErrorCode::kCorruptStream);  // flags
+  EXPECT_EQ(with_header_byte(87, 1), ErrorCode::kCorruptStream);  // reserved byte
+  EXPECT_EQ(with_header_byte(88, 2), ErrorCode::kCorruptStream);  // an unknown option
+  EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
+  EXPECT_EQ(with_header_byte(10, 1), ErrorCode::kOk);             // minor 2.1: may-ignore fields only
+  EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
+}
+
+TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
+  const std::string bytes = write(generated_mesh(5000));
+  ReadOptions options;
+  options.max_memory = 10000;
+  ProgressiveMesh pm;
+  const Status status = read_pm(bytes, pm, options);
+  EXPECT_EQ(status.code(), ErrorCode::kResourceLimit);
+  EXPECT_NE(status.message().find("the limit is"), std::string::npos);
+  options.max_memory = 100 << 20;
+  EXPECT_TRUE(read_pm(bytes, pm, options).is_ok());
+}
+
+// Golden streams of every version, committed: a change that breaks old files fails here.
+// PM_REGENERATE_GOLDEN=1 rewrites the current version's files, on purpose.
+TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
+  const std::string dir = std::string(PM_TEST_DATA_DIR) + "/golden/";
+  struct Golden {
+    const char* name;
+    ProgressiveMesh pm;
+  };
+  const std::vector<Golden> goldens = {{"small", small_mesh()},
+                                       {"attributed", attributed_mesh()},
+                                       {"generated", with_attributes(generated_mesh(600))}};
+  if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
+    for (const Golden& g : goldens) {
+      std::string v1;
+      ASSERT_TRUE(detail::write_pm_v1(g.pm, 19, v1).is_ok());
+      test::write_file(dir + g.name + "-v1.1.pm", v1);
+      WriteOptions options;
+      options.chunk_splits = 128;
+      test::write_file(dir + g.name + "-v2.0.pm", write(g.pm, options));
+    }
+  }
+  for (const Golden& g : goldens) {
+    for (const char* version : {"v1.1", "v2.0"}) {
+      SCOPED_TRACE(std::string(g.name) + "-" + version);
+      const std::string path = dir + g.name + "-" + version + ".pm";
+      ASSERT_TRUE(test::file_exists(path)) << path;
+      const ProgressiveMesh pm = read(test::read_file(path));
+      expect_identical(with_sorted_moves(pm), with_sorted_moves(g.pm));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pm
