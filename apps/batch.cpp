@@ -415,6 +415,7 @@ class Board {
       print_locked(error_line(options_.tool, file, outcome.status.message()));
     } else {
       if (outcome.skipped) ++skipped_;
+      if (outcome.exit_code != kExitOk) ++warned_;  // done, with a warning (pmdec: truncated)
       // With the bar, per-file lines are for a single file only (the bar counts the others).
       const bool lines_wanted = !options_.progress_bar || task_count_ == 1;
       if (!options_.quiet && lines_wanted && !outcome.summary.empty())
@@ -448,6 +449,7 @@ class Board {
   }
 
   std::size_t failed() const { return failed_; }
+  std::size_t warned() const { return warned_; }
 
  private:
   void print_locked(const std::string& line) {
@@ -505,7 +507,7 @@ class Board {
             "\",\"error\":" + (outcome.status ? "null" : json_string(outcome.status.message())) +
             ",\"error_code\":" +
             (outcome.status ? "null" : json_string(error_code_name(outcome.status.code()))) +
-            ",\"exit_code\":" + std::to_string(outcome.status ? 0 : outcome.exit_code);
+            ",\"exit_code\":" + std::to_string(outcome.exit_code);
     char tail[64];
     std::snprintf(tail, sizeof tail, ",\"seconds\":%.3f}\n", seconds);
     line += tail;
@@ -519,7 +521,7 @@ class Board {
   uint64_t total_bytes_ = 0;
   const std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::mutex mutex_;
-  std::size_t done_ = 0, failed_ = 0, skipped_ = 0;
+  std::size_t done_ = 0, failed_ = 0, skipped_ = 0, warned_ = 0;
   uint64_t done_bytes_ = 0, done_faces_ = 0;
   bool bar_visible_ = false;  // the bar has been shown and is to be redrawn after lines
   bool bar_drawn_ = false;    // the bar is on the current line of the terminal now
@@ -584,7 +586,7 @@ int run_batch(const std::vector<Task>& tasks, const RunOptions& options, const J
       Outcome outcome = run_one(task, job, progress);
       state.busy = false;
       board.finish(task, outcome, seconds_since(task_start));
-      if (tasks.size() == 1) single_exit_code = outcome.status ? kExitOk : outcome.exit_code;
+      if (tasks.size() == 1) single_exit_code = outcome.exit_code;
     }
   };
 
@@ -619,7 +621,7 @@ int run_batch(const std::vector<Task>& tasks, const RunOptions& options, const J
   }
   board.close(seconds_since(start));
   if (tasks.size() == 1) return single_exit_code;
-  return board.failed() ? kExitSomeFailed : kExitOk;
+  return board.failed() || board.warned() ? kExitSomeFailed : kExitOk;
 }
 
 }  // namespace pm::cli

@@ -24,6 +24,7 @@ enum ExitCode : int {
   kExitUnsupported = 6,  // unknown file format or .pm version
   kExitTooLarge = 7,     // input exceeds what pm can hold, or pmdec --max-memory
   kExitSomeFailed = 8,   // several inputs: some failed (each reported), the others converted
+  kExitTruncated = 9,    // pmdec: the .pm ended early; the output is the finest level it holds
 };
 
 ExitCode exit_code_for(ErrorCode code);

@@ -217,10 +217,10 @@ std::string comparison_text(const pm::SurfaceDistance& d, const pm::Mesh& lod, s
 }
 
 // The level a request selects in this file.
+// `full_faces` is the stream's, which the mesh lacks when only a prefix of it was decoded.
 pm::Status select_level(const LevelRequest& request, const pm::ProgressiveMesh& progressive,
-                        const Settings& settings, const std::string& input,
+                        std::size_t full_faces, const Settings& settings, const std::string& input,
                         pm::cli::JobProgress& progress, std::size_t& level) {
-  const std::size_t full_faces = pm::faces_at_level(progressive, progressive.splits.size());
   level = progressive.splits.size();
   switch (request.kind) {
     case LevelRequest::Kind::kFull:
@@ -269,6 +269,36 @@ pm::Status select_level(const LevelRequest& request, const pm::ProgressiveMesh& 
   return pm::Status::ok();
 }
 
+// The splits a request needs, from a 2.0 stream's chunk index (Hoppe 1996, §3: a level
+// needs only the splits before it): the end of the first chunk whose level has the faces or
+// vertices asked for. Full detail and error bounds need every split (an error bound is a
+// share of the whole mesh's bounding box).
+uint64_t splits_needed(const LevelRequest& request, const pm::PmInfo& info) {
+  if (info.chunks.empty()) return UINT64_MAX;
+  uint64_t wanted = 0;
+  bool by_vertices = false;
+  switch (request.kind) {
+    case LevelRequest::Kind::kVertices:
+      wanted = request.count;
+      by_vertices = true;
+      break;
+    case LevelRequest::Kind::kFaces:
+      wanted = request.count;
+      break;
+    case LevelRequest::Kind::kRatio:
+      wanted = static_cast<uint64_t>(std::llround(request.ratio * double(info.full_face_count)));
+      break;
+    default:
+      return UINT64_MAX;
+  }
+  uint64_t splits = 0;
+  for (const pm::PmInfo::Chunk& chunk : info.chunks) {
+    splits += chunk.splits;
+    if ((by_vertices ? chunk.vertices_after : chunk.faces_after) >= wanted) return splits;
+  }
+  return UINT64_MAX;
+}
+
 // What one written level says in the JSON ("null" members until it is written).
 struct WrittenLevel {
   std::string output, label;
@@ -276,7 +306,12 @@ struct WrittenLevel {
   std::size_t level = 0, faces = 0, vertices = 0;
 };
 
-std::string json_members(const std::vector<WrittenLevel>& levels, const pm::ProgressiveMesh* pm) {
+// `stream` is the stream's full face count and split count, once it is read.
+struct StreamCounts {
+  std::size_t full_faces = 0, splits = 0;
+  bool truncated = false;
+};
+std::string json_members(const std::vector<WrittenLevel>& levels, const StreamCounts* stream) {
   auto number = [](bool known, std::size_t value) {
     return known ? std::to_string(value) : std::string("null");
   };
@@ -290,8 +325,9 @@ std::string json_members(const std::vector<WrittenLevel>& levels, const pm::Prog
             ",\"faces\":" + number(l.written, l.faces) +
             ",\"vertices\":" + number(l.written, l.vertices) + "}";
   }
-  json += "],\"full_faces\":" + number(pm, pm ? pm::faces_at_level(*pm, pm->splits.size()) : 0) +
-          ",\"splits\":" + number(pm, pm ? pm->splits.size() : 0);
+  json += "],\"full_faces\":" + number(stream, stream ? stream->full_faces : 0) +
+          ",\"splits\":" + number(stream, stream ? stream->splits : 0);
+  if (stream && stream->truncated) json += ",\"truncated\":true";
   return json;
 }
 
@@ -321,9 +357,32 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   std::string bytes;
   if (pm::Status s = pm::cli::read_whole_input(input, bytes, settings.read.max_memory); !s)
     return failed(s);
+  // A 2.0 stream's index says which chunks the requested levels need: only those are
+  // decompressed. A stream cut short decodes to the finest level it holds, with a warning.
+  pm::ReadOptions read_options = settings.read;
+  read_options.allow_truncated = true;
+  pm::PmInfo info;
+  const bool indexed = pm::read_pm_info(bytes, info).is_ok();
+  if (indexed && !settings.compare_with) {
+    read_options.max_splits = 0;
+    std::vector<LevelRequest> requests = settings.levels;
+    if (settings.morph) requests = {settings.morph->from, settings.morph->to};
+    for (const LevelRequest& request : requests)
+      read_options.max_splits = std::max(read_options.max_splits, splits_needed(request, info));
+  }
   pm::ProgressiveMesh progressive;
-  if (pm::Status s = pm::read_pm(bytes, progressive, settings.read); !s) return failed(s);
+  pm::ReadResult read_result;
+  if (pm::Status s = pm::read_pm(bytes, progressive, read_options, &read_result); !s)
+    return failed(s);
   std::string().swap(bytes);  // frees the buffer (assigning an empty string keeps it)
+  if (read_result.truncated) {
+    progress.note(input + ": warning: " + read_result.warning +
+                  "; writing the finest level it holds");
+    outcome.exit_code = pm::cli::kExitTruncated;
+  }
+  const std::size_t full_faces =
+      indexed ? static_cast<std::size_t>(info.full_face_count)
+              : pm::faces_at_level(progressive, progressive.splits.size());
   if (!task.conflict) return failed(task.conflict);
 
   // The meshes to write: each requested level, all from one walk over the splits
@@ -332,9 +391,9 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   std::vector<pm::Mesh> meshes(settings.levels.size());
   if (settings.morph) {
     std::size_t from = 0, to = 0;
-    if (pm::Status s = select_level(settings.morph->from, progressive, settings, input, progress, from); !s)
+    if (pm::Status s = select_level(settings.morph->from, progressive, full_faces, settings, input, progress, from); !s)
       return failed(s);
-    if (pm::Status s = select_level(settings.morph->to, progressive, settings, input, progress, to); !s)
+    if (pm::Status s = select_level(settings.morph->to, progressive, full_faces, settings, input, progress, to); !s)
       return failed(s);
     // A geomorph runs from the coarser level to the finer; FROM finer than TO runs it backwards.
     const bool backwards = from > to;
@@ -348,7 +407,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   } else {
     for (std::size_t i = 0; i < settings.levels.size(); ++i)
       if (pm::Status s =
-              select_level(settings.levels[i], progressive, settings, input, progress, levels[i]);
+              select_level(settings.levels[i], progressive, full_faces, settings, input, progress, levels[i]);
           !s)
         return failed(s);
     pm::extract_levels(progressive, levels, [&](std::size_t level, const pm::Mesh& mesh) {
@@ -399,14 +458,28 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
         comparison_text(distance, last, written.front().level,
                         pm::cli::seconds_since(compare_start), settings.json_comparison);
   }
-  outcome.json = json_members(written, &progressive);
+  // The error bound of a level; the last level of a prefix has the index's (it is not full
+  // detail, whose bound is 0).
+  const auto level_error = [&](std::size_t level) {
+    if (indexed && level == progressive.splits.size() && level < info.split_count) {
+      uint64_t splits = 0;
+      for (const pm::PmInfo::Chunk& chunk : info.chunks)
+        if ((splits += chunk.splits) == level) return chunk.error_after;
+    }
+    return pm::error_at_level(progressive, level);
+  };
+  StreamCounts counts;
+  counts.full_faces = full_faces;
+  counts.splits = indexed ? info.split_count : progressive.splits.size();
+  counts.truncated = read_result.truncated;
+  outcome.json = json_members(written, &counts);
   char summary[256];
   const std::string name = input == "-" ? "(stdin)" : input;
   if (written.size() == 1) {
     std::snprintf(summary, sizeof summary,
                   ": level %zu of %zu: %zu faces, %zu vertices, recorded error %.6g, %.2f s",
-                  written[0].level, progressive.splits.size(), written[0].faces,
-                  written[0].vertices, double(pm::error_at_level(progressive, written[0].level)),
+                  written[0].level, counts.splits, written[0].faces,
+                  written[0].vertices, double(level_error(written[0].level)),
                   pm::cli::seconds_since(start));
     outcome.summary = name + summary;
   } else {
@@ -415,6 +488,59 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
         name + ": " + std::to_string(written.size()) + " levels: " + faces_list + summary;
   }
   return outcome;
+}
+
+// pmdec --stdin [--every N]: the stream decoded as it arrives (Hoppe 1996, §3, progressive
+// transmission), a level written each time N more faces have arrived, and the finest level
+// at the end.
+int decode_progressively(const Settings& settings, uint64_t every, const std::string& output,
+                         bool quiet) {
+  const std::string input = "(stdin)";
+  pm::ReadOptions options = settings.read;
+  options.allow_truncated = true;
+  pm::PmStreamReader reader(options);
+  const auto write_level = [&](uint64_t name_faces, std::size_t level) {
+    const pm::Mesh mesh = pm::extract_level(reader.mesh(), level);
+    std::string path = output;
+    path.replace(path.find("{faces}"), 7, std::to_string(name_faces));
+    const pm::MeshFormat format = output_format_for(path, settings.output_format);
+    std::string encoded;
+    pm::Status s = pm::write_mesh_to_memory(mesh, format, encoded);
+    if (s && settings.create_directories) s = pm::cli::make_parent_directories(path);
+    if (s) {
+      s = pm::cli::write_output_atomically(
+          path, encoded, format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl);
+    }
+    if (!s) return pm::cli::fail(kTool, path, s);
+    if (!quiet)
+      std::cerr << kTool << ": " << path << ": level " << level << ", " << mesh.face_count()
+                << " faces\n";
+    return static_cast<int>(pm::cli::kExitOk);
+  };
+  uint64_t next = every;
+  std::vector<char> buffer(1 << 16);
+  for (;;) {
+    const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), stdin);
+    if (n == 0) break;
+    if (pm::Status s = reader.append(std::string_view(buffer.data(), n)); !s)
+      return pm::cli::fail(kTool, input, s);
+    while (every != 0 && reader.has_base() && reader.decoded_face_count() >= next) {
+      const pm::ProgressiveMesh& mesh = reader.mesh();
+      if (const int code = write_level(next, pm::level_for_faces(mesh, next)); code != 0) return code;
+      next += every;
+    }
+  }
+  if (std::ferror(stdin)) {
+    return pm::cli::fail(kTool, input, pm::Status(pm::ErrorCode::kIoError, "cannot read standard input"));
+  }
+  pm::ReadResult result;
+  if (pm::Status s = reader.finish(&result); !s) return pm::cli::fail(kTool, input, s);
+  if (result.truncated && !quiet)
+    std::cerr << kTool << ": " << input << ": warning: " << result.warning << "\n";
+  const pm::ProgressiveMesh& mesh = reader.mesh();
+  if (const int code = write_level(reader.decoded_face_count(), mesh.splits.size()); code != 0)
+    return code;
+  return result.truncated ? pm::cli::kExitTruncated : pm::cli::kExitOk;
 }
 
 int fail_usage(const std::string& message) {
@@ -490,11 +616,24 @@ int main(int argc, char** argv) {
                         ->needs(by_morph);
   by_morph->excludes(by_vertices)->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)
       ->excludes(by_lods)->excludes(compare);
+  bool from_stdin = false;
+  uint64_t every = 0;
+  auto* stdin_flag = app.add_flag(
+      "--stdin", from_stdin,
+      "Decode a stream from standard input as it arrives (a download in progress); with "
+      "--every N, write a level each time N more faces have arrived; at the end, the finest "
+      "level (-o with {faces}: the level's face target, or its face count at the end)");
+  app.add_option("--every", every, "With --stdin: write a level every N faces")
+      ->check(CLI::PositiveNumber)
+      ->needs(stdin_flag);
+  stdin_flag->excludes(by_vertices)->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)
+      ->excludes(by_lods)->excludes(by_morph)->excludes(compare);
   app.add_flag("--info", info, "Print the header, counts, attributes and error range, and exit");
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
       "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large\n"
-      "(or more than --max-memory), 8 several inputs and some failed (each is reported).");
+      "(or more than --max-memory), 8 several inputs and some failed (each is reported)\n"
+      "or ended early, 9 the .pm ended early: the output is the finest level it holds.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -526,6 +665,14 @@ int main(int argc, char** argv) {
     return failures ? pm::cli::kExitSomeFailed : pm::cli::kExitOk;
   }
 
+  if (from_stdin) {
+    if (!command.inputs.empty() || !command.lists.empty())
+      return fail_usage("--stdin reads standard input: give no input files");
+    if (command.output.empty() || command.output == "-" ||
+        command.output.find("{faces}") == std::string::npos)
+      return fail_usage("--stdin needs -o with {faces} in it, e.g. -o 'lod_{faces}.obj'");
+    return decode_progressively(settings, every, command.output, command.quiet);
+  }
   if (command.output.empty() && command.out_dir.empty() && compare_path.empty())
     return fail_usage(
         "no output given (use -o FILE, -o - for OBJ on standard output, or --out-dir DIR)");

@@ -20,6 +20,7 @@
 #include "pm/pm_codec.h"
 #include "pm/progressive_mesh.h"
 #include "pm_literals.h"
+#include "sorted_moves.h"
 #include "test_util.h"
 
 namespace pm {
@@ -27,24 +28,7 @@ namespace {
 
 using namespace literals;  // NOLINT
 
-// A 2.0 reader stores each split's moved faces in the order of u's fan, which need not be
-// the encoder's order: sort each split's moved faces, with their corner ids, for comparing.
-ProgressiveMesh with_sorted_moves(ProgressiveMesh pm) {
-  for (const VertexSplit& split : pm.splits) {
-    std::vector<std::tuple<uint32_t, uint32_t, uint32_t>> moved;
-    for (uint32_t k = split.moved_begin; k < split.moved_begin + split.moved_count; ++k) {
-      moved.emplace_back(pm.moved_faces[k], pm.has_uvs() ? pm.moved_uvs[k] : 0,
-                         pm.has_normals() ? pm.moved_normals[k] : 0);
-    }
-    std::sort(moved.begin(), moved.end());
-    for (uint32_t k = 0; k < split.moved_count; ++k) {
-      pm.moved_faces[split.moved_begin + k] = std::get<0>(moved[k]);
-      if (pm.has_uvs()) pm.moved_uvs[split.moved_begin + k] = std::get<1>(moved[k]);
-      if (pm.has_normals()) pm.moved_normals[split.moved_begin + k] = std::get<2>(moved[k]);
-    }
-  }
-  return pm;
-}
+using test::with_sorted_moves;
 
 std::string write(const ProgressiveMesh& pm, WriteOptions options = {}) {
   options.zstd_level = 3;
@@ -421,6 +405,93 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
       expect_identical(with_sorted_moves(pm), with_sorted_moves(g.pm));
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------
+// pmdec on 2.0 streams: cut streams, --stdin --every, chunks read on demand.
+
+struct Encoded {
+  test::TempDir dir;
+  std::string pm_path, bytes;
+  std::size_t input_faces = 0;
+};
+
+// sphere.obj (pm_make_samples writes it) through pmenc, in chunks of 64 splits.
+void encode_sample(Encoded& e) {
+  const std::string input = test::sample_mesh_path("sphere.obj");
+  e.input_faces = test::load_simple_obj(input).face_count();
+  e.pm_path = e.dir.file("sphere.pm");
+  const test::CommandResult r =
+      test::run_command({PMENC_PATH, input, "--chunk-splits", "64", "-q", "-o", e.pm_path});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  e.bytes = test::read_file(e.pm_path);
+}
+
+TEST(PmdecStream, ACutStreamGivesItsFinestLevelWithExitCode9) {
+  Encoded e;
+  encode_sample(e);
+  const std::string cut = e.dir.file("cut.pm"), out = e.dir.file("cut.obj");
+  test::write_file(cut, e.bytes.substr(0, e.bytes.size() * 6 / 10));
+  const test::CommandResult r = test::run_command({PMDEC_PATH, cut, "-o", out});
+  EXPECT_EQ(r.exit_code, 9) << r.err;
+  EXPECT_NE(r.err.find("warning: truncated in section CHNK"), std::string::npos) << r.err;
+  const Mesh level = test::load_simple_obj(out);
+  EXPECT_GT(level.face_count(), 0u);
+  EXPECT_LT(level.face_count(), e.input_faces);
+  // A cut in the header or the base mesh: an error, and no output.
+  test::write_file(cut, e.bytes.substr(0, 50));
+  const std::string none = e.dir.file("none.obj");
+  const test::CommandResult bad = test::run_command({PMDEC_PATH, cut, "-o", none});
+  EXPECT_EQ(bad.exit_code, 4) << bad.err;
+  EXPECT_NE(bad.err.find("truncated in"), std::string::npos) << bad.err;
+  EXPECT_FALSE(test::file_exists(none));
+}
+
+TEST(PmdecStream, StdinWritesALevelEveryNFacesAndTheFinestAtTheEnd) {
+  Encoded e;
+  encode_sample(e);
+  const std::string every = std::to_string(e.input_faces / 4);
+  const test::CommandResult r = test::run_command(
+      {PMDEC_PATH, "--stdin", "--every", every, "-o", e.dir.file("lod_{faces}.obj")}, e.bytes);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t n = e.input_faces / 4;
+  for (std::size_t k = 1; k * n <= e.input_faces; ++k) {
+    const std::string path = e.dir.file("lod_" + std::to_string(k * n) + ".obj");
+    ASSERT_TRUE(test::file_exists(path)) << path;
+    const std::size_t faces = test::load_simple_obj(path).face_count();
+    EXPECT_GE(faces, k * n);
+    EXPECT_LE(faces, k * n + 1);  // the coarsest level with that many (a split adds 1 or 2)
+  }
+  const Mesh full = test::load_simple_obj(e.dir.file("lod_" + std::to_string(e.input_faces) + ".obj"));
+  EXPECT_EQ(full.face_count(), e.input_faces);
+  // Cut short: levels up to the cut, the finest whole level, exit code 9.
+  const test::CommandResult cut = test::run_command(
+      {PMDEC_PATH, "--stdin", "-o", e.dir.file("cut_{faces}.obj")}, e.bytes.substr(0, e.bytes.size() / 2));
+  EXPECT_EQ(cut.exit_code, 9) << cut.err;
+  EXPECT_NE(cut.err.find("warning"), std::string::npos);
+  // Usage: no {faces}, or input files as well.
+  EXPECT_EQ(test::run_command({PMDEC_PATH, "--stdin", "-o", e.dir.file("x.obj")}, e.bytes).exit_code, 2);
+  EXPECT_EQ(test::run_command({PMDEC_PATH, e.pm_path, "--stdin", "-o", e.dir.file("x{faces}.obj")}).exit_code, 2);
+}
+
+TEST(PmdecStream, ACoarseLevelDecompressesOnlyTheChunksItNeeds) {
+  Encoded e;
+  encode_sample(e);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(e.bytes, info).is_ok());
+  ASSERT_GE(info.chunks.size(), 3u);
+  // Damage the last chunk's payload: the coarse level never reads it, full detail does.
+  std::string damaged = e.bytes;
+  damaged[info.chunks[info.chunks.size() - 2].stream_end + 40] ^= 0x5A;
+  const std::string path = e.dir.file("damaged.pm");
+  test::write_file(path, damaged);
+  const std::string faces = std::to_string(info.chunks.front().faces_after);
+  const test::CommandResult coarse =
+      test::run_command({PMDEC_PATH, path, "--faces", faces, "-o", e.dir.file("coarse.obj")});
+  EXPECT_EQ(coarse.exit_code, 0) << coarse.err;
+  EXPECT_EQ(test::load_simple_obj(e.dir.file("coarse.obj")).face_count(), info.chunks.front().faces_after);
+  const test::CommandResult full = test::run_command({PMDEC_PATH, path, "-o", e.dir.file("full.obj")});
+  EXPECT_EQ(full.exit_code, 4) << full.err;
 }
 
 }  // namespace

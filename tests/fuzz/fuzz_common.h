@@ -22,6 +22,7 @@
 #include "pm/pm_codec.h"
 #include "pm/progressive_mesh.h"
 #include "pm/status.h"
+#include "../sorted_moves.h"
 
 namespace pm::fuzz {
 
@@ -189,7 +190,9 @@ inline void check_pm_round_trip(const ProgressiveMesh& pm) {
   ProgressiveMesh decoded;
   const Status read = read_pm(bytes, decoded);
   if (!read) fail("read_pm of write_pm's output: " + read.message());
-  check(identical(pm, decoded), "read_pm(write_pm(pm)) differs from pm");
+  // Format 2.0 stores moved faces in fan order: compare them as sets.
+  check(identical(test::with_sorted_moves(pm), test::with_sorted_moves(decoded)),
+        "read_pm(write_pm(pm)) differs from pm");
 }
 
 // The bounding-box diagonal, in double as the encoder computes it.

@@ -184,7 +184,8 @@ void check_attributes(const ProgressiveMesh& pm) {
   ProgressiveMesh decoded;
   if (Status read = read_pm(bytes, decoded); !read)
     fail("read_pm of write_pm's output: " + read.message());
-  check(identical(pm, decoded) && same_attributes(pm, decoded),
+  const ProgressiveMesh a = test::with_sorted_moves(pm), b = test::with_sorted_moves(decoded);
+  check(identical(a, b) && same_attributes(a, b),
         "read_pm(write_pm(pm)) differs from pm in its attributes");
   const Mesh mesh = extract_level(pm, pm.split_count() / 2);
   check(validate_attributes(mesh, nullptr), "extract_level: invalid attributes");
@@ -216,8 +217,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const Status status = read_pm(bytes, progressive, options);
   if (!info_status) {
     check_error(info_status, "read_pm_info");
-    // read_pm reads the header the same way, so it fails the same way.
-    check(status.code() == info_status.code(), "read_pm and read_pm_info disagree");
+    // read_pm reads the header the same way, so it fails the same way; in a 2.0 stream
+    // read_pm_info reads the chunk index too, after sections read_pm may fail on first.
+    check(info_status.code() == status.code() || (size > 8 && data[8] == 2 && !status),
+          "read_pm and read_pm_info disagree");
     return 0;
   }
   if (!status) {
