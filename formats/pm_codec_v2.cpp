@@ -385,7 +385,11 @@ constexpr const char* kStreamNames[kChunkStreams] = {
 // each is present exactly when it has entries.
 std::vector<uint32_t> expected_sections(const Header2& h) {
   std::vector<uint32_t> tags;
-  if (h.vertices() > 0 || h.base_face_count > 0) tags.push_back(kTagBase);
+  // BASE also holds the position grid, which loose vertices need without a base mesh.
+  if (h.base_vertex_count > 0 || h.base_face_count > 0 ||
+      (h.position_bits != 0 && h.loose_vertex_count > 0)) {
+    tags.push_back(kTagBase);
+  }
   if (h.weld_count > 0) tags.push_back(kTagWelds);
   if (h.carried_face_count > 0) tags.push_back(kTagCarried);
   if (h.uv_count > 0 || h.normal_count > 0 || h.material_count > 0 || h.material_library_count > 0) {

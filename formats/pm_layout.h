@@ -1,6 +1,6 @@
 // The .pm byte layout in one place: magic, header offsets, section tags, limits, and the
 // header and section encoders the writer uses (tests use them too, to build hostile
-// streams). formats/pm-format.md is normative; these constants follow it. Internal.
+// streams). formats/pm-format-1.md and pm-format.md (2.0) are normative; these constants follow it. Internal.
 #pragma once
 
 #include <cstddef>
@@ -80,7 +80,7 @@ inline constexpr uint32_t kTagMaterials = make_tag("MATL");  // 1.1
 // "BASE"; bytes outside [0-9A-Za-z] are shown as \xNN.
 std::string tag_name(uint32_t tag);
 
-// The fixed header, field by field (pm-format.md, "Header").
+// The fixed 1.x header, field by field (pm-format-1.md, "Header").
 struct Header {
   uint16_t major = 0, minor = 0;
   uint32_t flags = 0;

@@ -123,7 +123,7 @@ inline ProgressiveMesh generated_mesh(uint32_t split_count) {
   return pm;
 }
 
-// small_mesh() with every attribute (pm-format.md §5.7-§5.10). Its faces in creation order:
+// small_mesh() with every attribute (pm-format-1.md §5.7-§5.10). Its faces in creation order:
 //   base 0 (0, 1, 2), 1 (0, 2, 3), 2 (0, 3, 1), 3 (1, 3, 2); split 0 moves face 1's corner 0
 //   to 5 and appends 4 (5, 0, 2), 5 (0, 5, 3); split 1 moves face 4's corner 5 to 6 and
 //   appends 6 (5, 6, 3); carried 7 (2, 2, 3).

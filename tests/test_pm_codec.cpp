@@ -47,7 +47,7 @@ std::string encode(const ProgressiveMesh& pm, int level = 3) {
 // Byte surgery
 // ---------------------------------------------------------------------------------------
 
-// Header offsets (pm-format.md §3.1).
+// Header offsets (pm-format-1.md §3.1).
 constexpr std::size_t kMajorOffset = 8, kMinorOffset = 10, kFlagsOffset = 12;
 constexpr std::size_t kSplitCountOffset = 24, kSectionCountOffset = 48, kMaxErrorOffset = 52;
 // The 1.1 fields.
@@ -122,7 +122,7 @@ Status decode(const std::string& bytes, ProgressiveMesh* out = nullptr) {
   } while (0)
 
 // ---------------------------------------------------------------------------------------
-// A reference encoder written from pm-format.md §5 (independent of pm_codec.cpp).
+// A reference encoder written from pm-format-1.md §5 (independent of pm_codec.cpp).
 // ---------------------------------------------------------------------------------------
 
 struct RawSection {
@@ -377,7 +377,7 @@ TEST(PmCodecRoundTrip, SpecialFloatBitPatternsSurvive) {
 }
 
 TEST(PmCodecRoundTrip, HeaderBytesAreExactlyAsSpecified) {
-  // pm-format.md §3.1 for small_mesh(): counts 5, 4, 2, 2, 1, 1, moved 2, split faces 3,
+  // pm-format-1.md §3.1 for small_mesh(): counts 5, 4, 2, 2, 1, 1, moved 2, split faces 3,
   // 5 sections, max error 0.5, 28 bytes of attribute fields (all zero: no attributes), 8
   // reserved zero bytes, then the CRC.
   const std::string bytes = encode(small_mesh());
@@ -1380,7 +1380,7 @@ TEST(PmCodecAttributesAdversarial, LaterMinorKeepsThe1_1Attributes) {
 // Issue 9: validate before allocating; the memory bound
 // ---------------------------------------------------------------------------------------
 
-// pm-format.md §7.1, written out from the spec for a decoded mesh and the largest raw size
+// pm-format-1.md §7.1, written out from the spec for a decoded mesh and the largest raw size
 // its stream declares.
 uint64_t spec_decode_memory(const ProgressiveMesh& pm, uint64_t largest_raw) {
   static_assert(sizeof(VertexSplit) == 24 && sizeof(Weld) == 8, "§7.1's sizes");

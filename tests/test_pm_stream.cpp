@@ -178,6 +178,21 @@ TEST(PmStream, QuantizedPositionsLieOnTheGridWithinHalfAStep) {
   }
 }
 
+TEST(PmStream, LooseVerticesWithoutABaseMesh) {
+  ProgressiveMesh pm;
+  pm.loose_vertex_count = 2;
+  pm.positions = {1, 2, 3, -4, 5.5f, 6};
+  for (int bits : {0, 8}) {
+    WriteOptions options;
+    options.position_bits = bits;
+    const ProgressiveMesh decoded = read(write(pm, options));
+    EXPECT_EQ(decoded.loose_vertex_count, 2u);
+    if (bits == 0) expect_identical(decoded, pm);
+    ASSERT_EQ(decoded.positions.size(), 6u);
+    EXPECT_NEAR(decoded.positions[4], 5.5f, 0.05f);
+  }
+}
+
 TEST(PmStream, QuantizingNonFiniteValuesIsRefused) {
   ProgressiveMesh pm = small_mesh();
   pm.positions[7] = std::numeric_limits<float>::infinity();
