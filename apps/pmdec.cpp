@@ -180,6 +180,21 @@ int print_info(const std::string& input, const pm::ReadOptions& read_options) {
       info.weld_count, info.carried_face_count, info.loose_vertex_count);
   std::printf("error range:      0 (full detail) to %.9g (base mesh), model units\n",
               info.max_error);
+  if (info.major >= 2) {
+    const auto bits = [](uint32_t b) { return b == 0 ? std::string("lossless") : std::to_string(b) + " bits"; };
+    std::printf("quantization:     positions %s, texture coordinates %s, normals %s\n",
+                bits(info.position_bits).c_str(), bits(info.uv_bits).c_str(),
+                bits(info.normal_bits).c_str());
+    // The index: what a reader decompresses for a level (pm-format.md §5.6).
+    std::printf("chunks:           %zu", info.chunks.size());
+    if (!info.chunks.empty()) {
+      const pm::PmInfo::Chunk& first = info.chunks.front();
+      std::printf(" (the first: %u splits, %llu faces after it, ending at byte %llu)", first.splits,
+                  static_cast<unsigned long long>(first.faces_after),
+                  static_cast<unsigned long long>(first.stream_end));
+    }
+    std::printf("\n");
+  }
   return pm::cli::kExitOk;
 }
 
