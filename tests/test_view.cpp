@@ -112,14 +112,19 @@ bool in_frustum(const ViewCamera& c, const CameraAxes& a, const Point3& p) {
   const double z = dot(d, a.forward);
   return z > 0 && std::fabs(dot(d, a.right)) <= z * a.tan_x && std::fabs(dot(d, a.up)) <= z * a.tan_y;
 }
-// Whether the sphere lies entirely outside one of the frustum's four side planes or behind the eye.
-bool sphere_outside_frustum(const ViewCamera& c, const CameraAxes& a, const Point3& center, double r) {
-  const Point3 d = sub(center, c.eye);
-  const double z = dot(d, a.forward), x = dot(d, a.right), y = dot(d, a.up);
-  // Distance to the plane x = z tan_x (normal (1, -tan_x) / norm, in the x-z plane), etc.
-  const double nx = std::sqrt(1 + a.tan_x * a.tan_x), ny = std::sqrt(1 + a.tan_y * a.tan_y);
-  return z < -r || (x - z * a.tan_x) / nx > r || (-x - z * a.tan_x) / nx > r ||
-         (y - z * a.tan_y) / ny > r || (-y - z * a.tan_y) / ny > r;
+// Whether the box lies entirely outside one of the frustum's four side planes or behind the eye:
+// all eight corners on the outer side of one plane.
+bool box_outside_frustum(const ViewCamera& c, const CameraAxes& a, const SplitBounds& b) {
+  bool outside[5] = {true, true, true, true, true};
+  for (int corner = 0; corner < 8; ++corner) {
+    const Point3 p{corner & 1 ? b.box_hi[0] : b.box_lo[0], corner & 2 ? b.box_hi[1] : b.box_lo[1],
+                   corner & 4 ? b.box_hi[2] : b.box_lo[2]};
+    const Point3 d = sub(p, c.eye);
+    const double z = dot(d, a.forward), x = dot(d, a.right), y = dot(d, a.up);
+    const bool out[5] = {z < 0, x > z * a.tan_x, -x > z * a.tan_x, y > z * a.tan_y, -y > z * a.tan_y};
+    for (int i = 0; i < 5; ++i) outside[i] = outside[i] && out[i];
+  }
+  return outside[0] || outside[1] || outside[2] || outside[3] || outside[4];
 }
 // Hoppe 1997 §3.2 with the sphere: every direction from the eye to it within 90 degrees minus
 // the cone's half-angle of the cone's axis.
@@ -185,12 +190,20 @@ void check_hierarchy(const ProgressiveMesh& pm, const SelectiveRefinement& r) {
     ASSERT_LE(distance(center_of(b), point(pm, v)), b.radius) << j;
     ASSERT_EQ(center_of(b), point(pm, u));
     ASSERT_GE(b.deviation, distance(point(pm, u), point(pm, v)));
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_LE(b.box_lo[i], std::min(point(pm, u)[i], point(pm, v)[i])) << j;
+      ASSERT_GE(b.box_hi[i], std::max(point(pm, u)[i], point(pm, v)[i])) << j;
+    }
     for (uint32_t c : {r.child_u(j), r.child_v(j)}) {
       if (c == kNoSplit) continue;
       ASSERT_EQ(r.parent(c), j);
       const SplitBounds& cb = r.bounds(c);
       ASSERT_LE(distance(center_of(b), center_of(cb)) + cb.radius, b.radius) << j << " " << c;
       ASSERT_GE(b.deviation, cb.deviation) << j;
+      for (int i = 0; i < 3; ++i) {
+        ASSERT_LE(b.box_lo[i], cb.box_lo[i]) << j;
+        ASSERT_GE(b.box_hi[i], cb.box_hi[i]) << j;
+      }
       const Point3 a{b.cone_axis[0], b.cone_axis[1], b.cone_axis[2]};
       const Point3 ca{cb.cone_axis[0], cb.cone_axis[1], cb.cone_axis[2]};
       const double between = std::acos(std::clamp(dot(a, ca) / std::sqrt(dot(a, a) * dot(ca, ca)), -1.0, 1.0));
@@ -288,7 +301,7 @@ TEST_P(SelectiveReal, HierarchyAndRandomClosedSetsKeepTheTopology) {
 
 // The acceptance checks of one view: topology; every active vertex inside the frustum has
 // projected error at most the tolerance (unless back-facing with culling on); every applied
-// split is needed by an applied split whose sphere meets the frustum (outside it, the mesh is
+// split is needed by an applied split whose box meets the frustum (outside it, the mesh is
 // refined only where a split inside needs a neighbour).
 void check_view(const Encoded& e, SelectiveRefinement& r, const ViewCamera& camera,
                 const ViewOptions& options) {
@@ -317,7 +330,7 @@ void check_view(const Encoded& e, SelectiveRefinement& r, const ViewCamera& came
     std::vector<uint8_t> needed(pm.split_count(), 0);
     std::vector<uint32_t> stack;
     for (uint32_t j : r.applied_splits())
-      if (!sphere_outside_frustum(camera, a, center_of(r.bounds(j)), r.bounds(j).radius)) {
+      if (!box_outside_frustum(camera, a, r.bounds(j))) {
         needed[j] = 1;
         stack.push_back(j);
       }

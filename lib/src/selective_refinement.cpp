@@ -216,6 +216,11 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
     for (const Vec& normal : normal_list)
       angle = std::max(angle, std::acos(std::clamp(dot(stored_axis, normal) / length(stored_axis), -1.0, 1.0)));
     b.cone_angle = round_up(angle * (1 + kNest) + kNest);
+    for (int i = 0; i < 3; ++i) {
+      const float pu = pm.positions[3 * std::size_t{u} + i], pv = pm.positions[3 * std::size_t{v} + i];
+      b.box_lo[i] = std::min(pu, pv);
+      b.box_hi[i] = std::max(pu, pv);
+    }
     b.radius = round_up(radius * (1 + kNest));
     own_deviation[j] = length(cv - cu);
   }
@@ -239,6 +244,10 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
                      -1.0, 1.0));
       angle = std::max(angle, (between + cb.cone_angle) * (1 + kNest) + kNest);
       deviation = std::max(deviation, double(cb.deviation));
+      for (int i = 0; i < 3; ++i) {
+        b.box_lo[i] = std::min(b.box_lo[i], cb.box_lo[i]);
+        b.box_hi[i] = std::max(b.box_hi[i], cb.box_hi[i]);
+      }
     }
     b.radius = round_up(radius);
     b.cone_angle = round_up(std::min(angle, kPi));
@@ -259,6 +268,8 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
   for (uint32_t j : roots_)
     model_radius_ =
         std::max(model_radius_, length(view::vec(bounds_[j].center) - center) + bounds_[j].radius);
+  box_lo_ = {lo.x, lo.y, lo.z};
+  box_hi_ = {hi.x, hi.y, hi.z};
 
   applied_.assign(n, 0);
   refcount_.assign(n, 0);
@@ -368,19 +379,18 @@ std::size_t SelectiveRefinement::apply(uint32_t split) {
   // Depth first through the unapplied dependencies (forced splits, Hoppe 1997 §4.3), each
   // applied once all of its own are.
   std::size_t count = 0;
-  struct Item {
-    uint32_t split, next;  // next: the dependency to look at
-  };
-  std::vector<Item> stack{{split, deps_begin_[split]}};
+  // Pairs (split, the next of its dependencies to look at), kept between calls.
+  std::vector<std::pair<uint32_t, uint32_t>>& stack = apply_stack_;
+  stack.assign(1, {split, deps_begin_[split]});
   while (!stack.empty()) {
-    Item& top = stack.back();
-    if (top.next < deps_begin_[top.split + 1]) {
-      const uint32_t d = deps_[top.next++];
+    auto& [top, next] = stack.back();
+    if (next < deps_begin_[top + 1]) {
+      const uint32_t d = deps_[next++];
       if (!applied_[d]) stack.push_back({d, deps_begin_[d]});
       continue;
     }
-    if (!applied_[top.split]) {  // a dependency reached twice is applied once
-      apply_one(top.split);
+    if (!applied_[top]) {  // a dependency reached twice is applied once
+      apply_one(top);
       ++count;
     }
     stack.pop_back();

@@ -20,6 +20,40 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 Vec normalized(const Vec& a) { return (1.0 / length(a)) * a; }
 
+// §3.2, surface orientation: the region is back-facing when every direction from the eye to
+// the sphere (a cone of half-angle asin(r / distance) around d) makes less than 90 degrees
+// minus the normal cone's half-angle with the cone's axis: theta + beta + alpha < pi/2.
+// Moving the eye by m turns each of those directions by at most asin(m / (distance - r)) <=
+// (pi/2) m / (distance - r), hence the margin (written to `margin` when asked for).
+bool back_facing(const SplitBounds& b, const Vec& d, double distance, bool with_margin,
+                 double& margin) {
+  const double r = b.radius;
+  if (b.cone_angle >= kHalfPi) return false;  // normals all around: never back-facing
+  if (distance <= r) {
+    margin = r - distance;  // the eye in the sphere: never back-facing
+    return false;
+  }
+  const Vec axis = vec(b.cone_axis);
+  const double cos_theta = std::clamp(dot(axis, d) / distance, -1.0, 1.0);
+  const double sin_beta = r / distance;
+  if (cos_theta <= 0) {
+    // Facing the eye (theta >= 90 degrees), the common case, without trigonometry: the slack
+    // theta + beta + alpha - pi/2 is at least asin(-cos theta) + asin(sin beta) + alpha >=
+    // -cos theta + sin beta + alpha.
+    if (with_margin)
+      margin = std::min((-cos_theta + sin_beta + b.cone_angle) / kHalfPi, 1.0) * (distance - r);
+    return false;
+  }
+  // theta + beta + alpha < pi/2 <=> cos(theta) > sin(alpha + beta), when alpha + beta < pi/2.
+  const double beta = std::asin(sin_beta), alpha = b.cone_angle;
+  const bool back = alpha + beta < kHalfPi && cos_theta > std::sin(alpha + beta);
+  if (back || with_margin) {
+    const double slack = std::fabs(std::acos(cos_theta) + beta + alpha - kHalfPi);
+    margin = std::min(slack / kHalfPi, 1.0) * (distance - r);
+  }
+  return back;
+}
+
 }  // namespace
 
 Frame make_frame(const ViewCamera& camera, const ViewOptions& options) {
@@ -54,57 +88,49 @@ Decision evaluate(const SplitBounds& b, const Frame& f, bool with_margin) {
   const Vec d = vec(b.center) - f.eye;
   const double distance = length(d);
   const double r = b.radius;
-  // Each test: a value whose sign decides, and the margin it gives (|value| over its
-  // Lipschitz constant in camera motion). Wanted only when all three pass.
-  bool want = true;
-  double pass_margin = kInfinity, fail_margin = 0;
-  auto record = [&](bool pass, double margin) {
-    if (pass) {
-      pass_margin = std::min(pass_margin, margin);
-    } else {
-      want = false;
-      fail_margin = std::max(fail_margin, margin);
-    }
-  };
+  // Each test gives a value whose sign decides, and a margin: |value| over its Lipschitz
+  // constant in camera motion. Wanted only when all three pass.
 
   // §3.3, screen-space error: deviation * k / (distance - r) > tau, i.e. the eye is nearer than
-  // deviation * k / tau + r. The value moves with the eye's distance: 1-Lipschitz.
+  // deviation * k / tau + r. The value moves with the eye's distance: 1-Lipschitz in the eye.
   const double near = double(b.deviation) * f.k_over_tau + r - distance;
-  record(near > 0, std::fabs(near));
+  if (!(near > 0)) return {false, with_margin ? std::fabs(near) : 0, kInfinity};
 
-  // §3.1, view frustum: the sphere is not entirely outside any plane through the eye.
+  double facing_margin = kInfinity;
+  if (f.backface && back_facing(b, d, distance, with_margin, facing_margin))
+    return {false, facing_margin, kInfinity};
+
+  // §3.1, view frustum: the split's box is not entirely outside any plane through the eye (its
+  // farthest point along the plane's normal is on the inner side). The planes turn with the
+  // camera: each value is 1-Lipschitz in motion().
+  double outside = kInfinity;
   if (f.frustum) {
-    double outside = kInfinity;
-    for (const Vec& n : f.planes) outside = std::min(outside, dot(n, d) + r);
-    record(outside >= 0, std::fabs(outside));
+    const Vec lo = vec(b.box_lo), hi = vec(b.box_hi);
+    const Vec middle = 0.5 * (lo + hi) - f.eye, half = 0.5 * (hi - lo);
+    for (const Vec& n : f.planes)
+      outside = std::min(outside, dot(n, middle) + std::fabs(n.x) * half.x +
+                                      std::fabs(n.y) * half.y + std::fabs(n.z) * half.z);
+    if (outside < 0) return {false, kInfinity, with_margin ? -outside : 0};
   }
-  // One failed test is enough: its margin bounds the decision's.
-  if (!want) return {false, with_margin ? fail_margin : 0};
+  if (!with_margin) return {true, 0, 0};
+  return {true, std::min(near, facing_margin), outside};
+}
 
-  // §3.2, surface orientation: the region is back-facing when every direction from the eye to
-  // the sphere (a cone of half-angle asin(r / distance) around d) makes less than 90 degrees
-  // minus the normal cone's half-angle with the cone's axis: theta + beta + alpha < pi/2.
-  // Moving the eye by m turns each of those directions by at most asin(m / (distance - r)) <=
-  // (pi/2) m / (distance - r), hence the margin.
-  if (f.backface && b.cone_angle < kHalfPi) {
-    if (distance <= r) {
-      record(true, r - distance);  // the eye in the sphere: never back-facing
-    } else {
-      const Vec axis = vec(b.cone_axis);
-      const double cos_theta = std::clamp(dot(axis, d) / distance, -1.0, 1.0);
-      const double angle = std::acos(cos_theta) + std::asin(r / distance) + b.cone_angle;
-      const double slack = angle - kHalfPi;  // > 0: some of it faces the eye
-      const double margin = std::min(std::fabs(slack) / kHalfPi, 1.0) * (distance - r);
-      record(slack >= 0, margin);
-    }
-  }
-  if (!with_margin) return {want, 0};
-  return {want, want ? pass_margin : fail_margin};
+bool box_inside_frustum(const Frame& f, const Point3& lo, const Point3& hi) {
+  const Vec middle = 0.5 * (vec(lo) + vec(hi)) - f.eye, half = 0.5 * (vec(hi) - vec(lo));
+  const double slack = 1e-9 * (length(middle) + length(half));
+  for (const Vec& n : f.planes)
+    if (!(dot(n, middle) - std::fabs(n.x) * half.x - std::fabs(n.y) * half.y -
+              std::fabs(n.z) * half.z >= slack))
+      return false;
+  return true;
 }
 
 double motion(const Frame& from, const Frame& to, const Vec& model_center, double model_radius) {
   const double moved = length(to.eye - from.eye);
-  // |n_to - n_from| <= ||R_to - R_from||_2 <= ||R_to - R_from||_F for each plane normal n = R s.
+  // Each plane normal turns with the camera's frame R: |n_to - n_from| <= 2 sin(angle / 2) for
+  // the angle of the rotation R_to R_from^T, and ||R_to - R_from||_F = 2 sqrt(2) sin(angle / 2)
+  // for any rotation, so |n_to - n_from| <= ||R_to - R_from||_F / sqrt(2).
   double turned2 = 0;
   for (int i = 0; i < 3; ++i) {
     const Vec delta = to.basis[i] - from.basis[i];
@@ -112,9 +138,15 @@ double motion(const Frame& from, const Frame& to, const Vec& model_center, doubl
   }
   const double reach = std::max(length(model_center - from.eye), length(model_center - to.eye)) +
                        model_radius;
-  const double m = moved + std::sqrt(turned2) * reach;
+  const double m = moved + std::sqrt(0.5 * turned2) * reach;
   // Rounding in the tests' values: a little more motion than measured.
   return m * (1 + 1e-9) + 1e-12 * (reach + 1);
+}
+
+double eye_motion(const Frame& from, const Frame& to, const Vec& model_center, double model_radius) {
+  const double reach = std::max(length(model_center - from.eye), length(model_center - to.eye)) +
+                       model_radius;
+  return length(to.eye - from.eye) * (1 + 1e-9) + 1e-12 * (reach + 1);
 }
 
 }  // namespace pm::view

@@ -39,8 +39,12 @@ Frame make_frame(const ViewCamera& camera, const ViewOptions& options);
 
 struct Decision {
   bool want = false;
-  // Camera motion (see motion()) within which `want` cannot change; 0 when unknown (not asked).
-  double margin = 0;
+  // How far the camera may move before `want` can change (0 when not asked for): the eye
+  // alone (eye_motion(), for the screen-space and orientation tests, which do not depend on
+  // where the camera looks), and the camera as a whole (motion(), for the frustum). A wanted
+  // split stays wanted within both; an unwanted one within the one given (the other is
+  // infinite).
+  double eye_margin = 0, margin = 0;
 };
 
 // Whether the split is wanted: its sphere meets the frustum, its region is not entirely
@@ -48,10 +52,16 @@ struct Decision {
 // margin is not computed (the from-scratch refinement does not need it).
 Decision evaluate(const SplitBounds& bounds, const Frame& frame, bool with_margin);
 
+// Whether the box is inside the frustum (frame.frustum not consulted), by a margin that absorbs
+// rounding: then so is every box nested in it, and the frustum test passes for them.
+bool box_inside_frustum(const Frame& frame, const Point3& lo, const Point3& hi);
+
 // A bound on how much the camera moved between two frames, in model units, such that no
 // test value of evaluate() (all 1-Lipschitz in it) changes by more: the eye's displacement
-// plus the rotation of the frame (the spectral norm of the change of basis) times the
-// largest distance from either eye to the model's bounding sphere.
+// plus the rotation of the frame times the largest distance from either eye to the model's
+// bounding sphere (which must hold every split's box).
 double motion(const Frame& from, const Frame& to, const Vec& model_center, double model_radius);
+// How far the eye moved (with the same allowance for rounding).
+double eye_motion(const Frame& from, const Frame& to, const Vec& model_center, double model_radius);
 
 }  // namespace pm::view

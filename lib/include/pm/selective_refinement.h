@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "pm/mesh.h"
@@ -55,7 +56,7 @@ struct ViewCamera {
 Status check_camera(const ViewCamera& camera);
 
 // The criteria of view-dependent refinement (Hoppe 1997, §3.1-3.3). A split is wanted when its
-// bounding sphere meets the view frustum, its region is not entirely back-facing (normal cone)
+// box (SplitBounds) meets the view frustum, its region is not entirely back-facing (normal cone)
 // and its deviation projected on the screen exceeds pixel_error:
 //   deviation * K / (distance(eye, centre) - radius) > pixel_error,  K = viewport_height /
 //   (2 tan(fov / 2)), infinite when the eye is inside the sphere.
@@ -78,6 +79,10 @@ struct SplitBounds {
   float deviation;
   float cone_axis[3];  // unit
   float cone_angle;    // half-angle, radians; >= pi/2: never back-facing
+  // The box of u and of every vertex the split and its descendants create (exact: float
+  // minima and maxima): what the frustum test looks at, since a vertex inside the frustum
+  // is in the box of its next split.
+  float box_lo[3], box_hi[3];
 };
 
 // A limit on the work of one incremental update. 0 means no limit.
@@ -214,9 +219,11 @@ class SelectiveRefinement {
   std::size_t applied_count_ = 0;
   std::vector<uint32_t> active_faces_;  // split faces that are active (base faces always are)
   std::vector<uint32_t> active_slot_;   // per split face: its index in active_faces_
-  // The model's bounding sphere (holds every split's sphere).
+  std::vector<std::pair<uint32_t, uint32_t>> apply_stack_, collapse_stack_;  // scratch
+  // The model's bounding sphere (holds every split's sphere), and its box (every split's box).
   Point3 model_center_{0, 0, 0};
   double model_radius_ = 0;
+  Point3 box_lo_{0, 0, 0}, box_hi_{0, 0, 0};
   struct ViewStateDeleter {
     void operator()(ViewState* state) const;
   };
