@@ -375,6 +375,11 @@ void SelectiveRefinement::collapse_one(uint32_t j) {
 }
 
 std::size_t SelectiveRefinement::apply(uint32_t split) {
+  view_.reset();  // a change from outside: the next update_view() looks at everything again
+  return apply_with_dependencies(split);
+}
+
+std::size_t SelectiveRefinement::apply_with_dependencies(uint32_t split) {
   if (applied_[split]) return 0;
   // Depth first through the unapplied dependencies (forced splits, Hoppe 1997 §4.3), each
   // applied once all of its own are.
@@ -408,7 +413,7 @@ bool SelectiveRefinement::collapse(uint32_t split) {
 void SelectiveRefinement::set_applied(const std::vector<bool>& wanted) {
   reset();
   for (uint32_t j = 0; j < wanted.size() && j < applied_.size(); ++j)
-    if (wanted[j]) apply(j);
+    if (wanted[j]) apply_with_dependencies(j);
 }
 
 // From the base mesh, every split the predicate wants, looked at top-down through the
@@ -427,7 +432,7 @@ void SelectiveRefinement::refine_top_down(const Wanted& wanted) {
     if (child_u_[j] != kNoSplit) stack.push_back(child_u_[j]);
   }
   std::sort(chosen.begin(), chosen.end());
-  for (uint32_t j : chosen) apply(j);
+  for (uint32_t j : chosen) apply_with_dependencies(j);
 }
 
 void SelectiveRefinement::refine_sphere(const Point3& center, double radius) {

@@ -269,7 +269,7 @@ Status SelectiveRefinement::update_view(const ViewCamera& camera, const ViewOpti
     state.queued[j] = 0;
     const bool needed = state.wanted[j] || refcount_[j] > 0;
     if (needed && !applied_[j]) {
-      const std::size_t count = apply(j);
+      const std::size_t count = apply_with_dependencies(j);
       operations += count;
       local.splits += count;
     } else if (!needed && applied_[j]) {

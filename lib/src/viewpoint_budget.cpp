@@ -85,7 +85,7 @@ Status SelectiveRefinement::refine_toward(const Point3& viewpoint, std::size_t m
         (max_vertices && vertices + added_vertices > max_vertices)) {
       continue;  // passed over (its children are offered if another split forces it)
     }
-    apply(j);
+    apply_with_dependencies(j);
     faces += added_faces;
     vertices += added_vertices;
     for (uint32_t x : closure) {

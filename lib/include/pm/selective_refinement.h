@@ -138,7 +138,8 @@ class SelectiveRefinement {
   // how many splits were applied (0 when it already was).
   std::size_t apply(uint32_t split);
   // Collapses an applied split on which no applied split depends. Returns false (and changes
-  // nothing) when it is not applied or another applied split depends on it.
+  // nothing) when it is not applied or another applied split depends on it. After apply() or
+  // collapse(), the next update_view() evaluates the whole boundary again.
   bool collapse(uint32_t split);
   // Applies exactly the splits of `wanted` (one flag per split) and their dependencies,
   // collapsing every other split.
@@ -190,6 +191,7 @@ class SelectiveRefinement {
   };
   struct ViewState;  // the incremental update's boundary and schedule (view_update.cpp)
 
+  std::size_t apply_with_dependencies(uint32_t split);
   void apply_one(uint32_t split);
   void collapse_one(uint32_t split);
   std::size_t view_memory_bytes() const;  // view_update.cpp
