@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <optional>
 
@@ -14,6 +15,7 @@
 #include "pm/measured_level.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
+#include "pm/selective_refinement.h"
 #include "pm/surface_distance.h"
 
 namespace {
@@ -123,6 +125,105 @@ bool parse_morph(const std::string& text, int frames, MorphRequest& morph) {
   return true;
 }
 
+// --view, --region, --viewpoint: one selectively refined mesh instead of a level (Hoppe 1997,
+// "View-dependent refinement of progressive meshes"; pm/selective_refinement.h).
+struct SelectiveRequest {
+  enum class Kind { kNone, kView, kSphere, kBox, kViewpoint };
+  Kind kind = Kind::kNone;
+  pm::ViewCamera camera;
+  pm::ViewOptions options;
+  pm::Point3 a{}, b{};  // sphere centre (radius in radius), box corners, or the viewpoint
+  double radius = 0;
+};
+
+// Comma-separated finite numbers, exactly `count` of them.
+bool parse_numbers(const std::string& text, std::size_t count, std::vector<double>& values) {
+  values.clear();
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    const std::string item = text.substr(begin, comma - begin);
+    try {
+      std::size_t used = 0;
+      const double value = std::stod(item, &used);
+      if (used != item.size() || !std::isfinite(value)) return false;
+      values.push_back(value);
+    } catch (const std::exception&) {
+      return false;
+    }
+    if (comma == text.size()) break;
+    begin = comma + 1;
+  }
+  return values.size() == count;
+}
+
+// eye=X,Y,Z,target=X,Y,Z[,up=X,Y,Z],fov=DEG,height=PX[,width=PX]: keys in any order.
+bool parse_view(const std::string& text, pm::ViewCamera& camera, std::string& problem) {
+  const char* keys[] = {"eye=", "target=", "up=", "fov=", "height=", "width="};
+  // The positions of the keys split the text; each key's value runs to the next key.
+  std::vector<std::pair<std::size_t, int>> found;
+  for (int k = 0; k < 6; ++k)
+    for (std::size_t at = text.find(keys[k]); at != std::string::npos; at = text.find(keys[k], at + 1))
+      if (at == 0 || text[at - 1] == ',') found.push_back({at, k});
+  std::sort(found.begin(), found.end());
+  if (found.empty() || found[0].first != 0) {
+    problem = "expected eye=X,Y,Z,target=X,Y,Z[,up=X,Y,Z],fov=DEG,height=PX[,width=PX]";
+    return false;
+  }
+  bool seen[6] = {};
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    const int k = found[i].second;
+    const std::size_t begin = found[i].first + std::strlen(keys[k]);
+    const std::size_t end = i + 1 < found.size() ? found[i + 1].first - 1 : text.size();
+    const std::string value = begin <= end ? text.substr(begin, end - begin) : "";
+    const std::string name(keys[k], std::strlen(keys[k]) - 1);
+    if (seen[k]) {
+      problem = name + " given twice";
+      return false;
+    }
+    seen[k] = true;
+    std::vector<double> numbers;
+    if (!parse_numbers(value, k < 3 ? 3 : 1, numbers)) {
+      problem = name + "=" + value + ": expected " + (k < 3 ? "three numbers X,Y,Z" : "a number");
+      return false;
+    }
+    pm::Point3* points[] = {&camera.eye, &camera.target, &camera.up};
+    if (k < 3) *points[k] = {numbers[0], numbers[1], numbers[2]};
+    if (k == 3) camera.fov_degrees = numbers[0];
+    if (k == 4) camera.viewport_height = numbers[0];
+    if (k == 5) camera.viewport_width = numbers[0];
+  }
+  for (int k : {0, 1, 3, 4})
+    if (!seen[k]) {
+      problem = std::string("missing ") + std::string(keys[k], std::strlen(keys[k]) - 1);
+      return false;
+    }
+  if (pm::Status s = pm::check_camera(camera); !s) {
+    problem = s.message();
+    return false;
+  }
+  return true;
+}
+
+// sphere:X,Y,Z,R or box:X0,Y0,Z0,X1,Y1,Z1.
+bool parse_region(const std::string& text, SelectiveRequest& request) {
+  std::vector<double> v;
+  if (text.rfind("sphere:", 0) == 0 && parse_numbers(text.substr(7), 4, v) && v[3] >= 0) {
+    request.kind = SelectiveRequest::Kind::kSphere;
+    request.a = {v[0], v[1], v[2]};
+    request.radius = v[3];
+    return true;
+  }
+  if (text.rfind("box:", 0) == 0 && parse_numbers(text.substr(4), 6, v) && v[0] <= v[3] &&
+      v[1] <= v[4] && v[2] <= v[5]) {
+    request.kind = SelectiveRequest::Kind::kBox;
+    request.a = {v[0], v[1], v[2]};
+    request.b = {v[3], v[4], v[5]};
+    return true;
+  }
+  return false;
+}
+
 struct Settings {
   std::vector<LevelRequest> levels;
   std::optional<MorphRequest> morph;  // the levels are then its frames
@@ -133,6 +234,7 @@ struct Settings {
   bool create_directories = false;
   const pm::Mesh* compare_with = nullptr;  // --compare ORIGINAL
   bool json_comparison = false;
+  SelectiveRequest selective;  // --view, --region, --viewpoint (with the level's --faces/--vertices)
 };
 
 pm::MeshFormat output_format_for(const std::string& output, const std::string& format_option) {
@@ -378,7 +480,8 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   read_options.allow_truncated = true;
   pm::PmInfo info;
   const bool indexed = pm::read_pm_info(bytes, info).is_ok();
-  if (indexed && !settings.compare_with) {
+  // Selective refinement may need any split: the whole stream.
+  if (indexed && !settings.compare_with && settings.selective.kind == SelectiveRequest::Kind::kNone) {
     read_options.max_splits = 0;
     std::vector<LevelRequest> requests = settings.levels;
     if (settings.morph) requests = {settings.morph->from, settings.morph->to};
@@ -404,7 +507,34 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   // (pm::extract_levels), or the frames of a geomorph.
   std::vector<std::size_t> levels(settings.levels.size());
   std::vector<pm::Mesh> meshes(settings.levels.size());
-  if (settings.morph) {
+  const bool selective = settings.selective.kind != SelectiveRequest::Kind::kNone;
+  if (selective) {
+    // One selectively refined mesh; its "level" is the number of splits applied.
+    const SelectiveRequest& request = settings.selective;
+    pm::SelectiveRefinement refinement(progressive);
+    switch (request.kind) {
+      case SelectiveRequest::Kind::kView:
+        if (pm::Status s = refinement.set_view(request.camera, request.options); !s) return failed(s);
+        break;
+      case SelectiveRequest::Kind::kSphere:
+        refinement.refine_sphere(request.a, request.radius);
+        break;
+      case SelectiveRequest::Kind::kBox:
+        refinement.refine_box(request.a, request.b);
+        break;
+      case SelectiveRequest::Kind::kViewpoint: {
+        const LevelRequest& budget = settings.levels.front();
+        const std::size_t faces = budget.kind == LevelRequest::Kind::kFaces ? budget.count : 0;
+        const std::size_t vertices = budget.kind == LevelRequest::Kind::kVertices ? budget.count : 0;
+        if (pm::Status s = refinement.refine_toward(request.a, faces, vertices); !s) return failed(s);
+        break;
+      }
+      case SelectiveRequest::Kind::kNone:
+        break;
+    }
+    meshes[0] = refinement.to_mesh();
+    levels[0] = refinement.applied_count();
+  } else if (settings.morph) {
     std::size_t from = 0, to = 0;
     if (pm::Status s = select_level(settings.morph->from, progressive, full_faces, settings, input, progress, from); !s)
       return failed(s);
@@ -490,7 +620,13 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   outcome.json = json_members(written, &counts);
   char summary[256];
   const std::string name = input == "-" ? "(stdin)" : input;
-  if (written.size() == 1) {
+  if (selective) {
+    std::snprintf(summary, sizeof summary,
+                  ": selective: %zu of %zu splits applied: %zu faces, %zu vertices, %.2f s",
+                  written[0].level, progressive.splits.size(), written[0].faces,
+                  written[0].vertices, pm::cli::seconds_since(start));
+    outcome.summary = name + summary;
+  } else if (written.size() == 1) {
     std::snprintf(summary, sizeof summary,
                   ": level %zu of %zu: %zu faces, %zu vertices, recorded error %.6g, %.2f s",
                   written[0].level, counts.splits, written[0].faces,
@@ -631,6 +767,30 @@ int main(int argc, char** argv) {
                         ->needs(by_morph);
   by_morph->excludes(by_vertices)->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)
       ->excludes(by_lods)->excludes(compare);
+  std::string view_text, pixel_error_text, region_text, viewpoint_text;
+  auto* by_view = app.add_option(
+      "--view", view_text,
+      "eye=X,Y,Z,target=X,Y,Z[,up=X,Y,Z],fov=DEG,height=PX[,width=PX]: a view-dependent mesh, "
+      "refined where its projected error exceeds --pixel-error, coarse outside the view "
+      "frustum and where it faces away (up defaults to 0,1,0, width to the height)");
+  app.add_option("--pixel-error", pixel_error_text,
+                 "With --view: the screen-space tolerance in pixels (default 1)")
+      ->needs(by_view);
+  auto* by_region = app.add_option(
+      "--region", region_text,
+      "sphere:X,Y,Z,R or box:X0,Y0,Z0,X1,Y1,Z1: full detail inside the region, the base mesh "
+      "elsewhere (and what the detail inside needs around it)");
+  auto* by_viewpoint = app.add_option(
+      "--viewpoint", viewpoint_text,
+      "X,Y,Z: with --faces N or --vertices N, a mesh within that budget that keeps the "
+      "vertices nearest the viewpoint first");
+  for (auto* other : {by_region, by_viewpoint, by_vertices, by_faces, by_ratio, by_error, by_lods,
+                      by_morph, compare})
+    by_view->excludes(other);
+  for (auto* other : {by_viewpoint, by_vertices, by_faces, by_ratio, by_error, by_lods, by_morph,
+                      compare})
+    by_region->excludes(other);
+  for (auto* other : {by_ratio, by_error, by_lods, by_morph, compare}) by_viewpoint->excludes(other);
   bool from_stdin = false;
   uint64_t every = 0;
   auto* stdin_flag = app.add_flag(
@@ -642,7 +802,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->needs(stdin_flag);
   stdin_flag->excludes(by_vertices)->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)
-      ->excludes(by_lods)->excludes(by_morph)->excludes(compare);
+      ->excludes(by_lods)->excludes(by_morph)->excludes(compare)->excludes(by_view)
+      ->excludes(by_region)->excludes(by_viewpoint);
   app.add_flag("--info", info, "Print the header, counts, attributes and error range, and exit");
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
@@ -693,6 +854,33 @@ int main(int argc, char** argv) {
         "no output given (use -o FILE, -o - for OBJ on standard output, or --out-dir DIR)");
   if (command.output == "-" && !compare_path.empty())
     return fail_usage("--compare prints on standard output: write the mesh to a file");
+
+  SelectiveRequest& selective = settings.selective;
+  if (*by_view) {
+    std::string problem;
+    if (!parse_view(view_text, selective.camera, problem))
+      return fail_usage("--view " + view_text + ": " + problem);
+    selective.kind = SelectiveRequest::Kind::kView;
+    std::vector<double> p;
+    if (!pixel_error_text.empty()) {
+      if (!parse_numbers(pixel_error_text, 1, p) || !(p[0] > 0))
+        return fail_usage("--pixel-error " + pixel_error_text + ": expected a positive number of pixels");
+      selective.options.pixel_error = p[0];
+    }
+  } else if (*by_region) {
+    if (!parse_region(region_text, selective))
+      return fail_usage("--region " + region_text +
+                        ": expected sphere:X,Y,Z,R (R >= 0) or box:X0,Y0,Z0,X1,Y1,Z1 (X0 <= X1, "
+                        "Y0 <= Y1, Z0 <= Z1)");
+  } else if (*by_viewpoint) {
+    std::vector<double> p;
+    if (!parse_numbers(viewpoint_text, 3, p))
+      return fail_usage("--viewpoint " + viewpoint_text + ": expected three numbers X,Y,Z");
+    if (!*by_faces && !*by_vertices)
+      return fail_usage("--viewpoint needs a budget: --faces N or --vertices N");
+    selective.kind = SelectiveRequest::Kind::kViewpoint;
+    selective.a = {p[0], p[1], p[2]};
+  }
 
   LevelRequest single;
   if (*by_morph) {

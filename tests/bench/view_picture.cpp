@@ -1,0 +1,132 @@
+// pm_view_picture: a picture of a view-dependent level of detail (issue 7; Hoppe 1997,
+// "View-dependent refinement of progressive meshes"), coloured by level, so that a person can
+// see the detail fall off away from the camera and outside its view.
+//
+//   pm_view_picture FILE.pm --eye X,Y,Z --target X,Y,Z [--fov DEG] [--height PX]
+//                   [--pixel-error P] [--up x|y|z] [--wire] -o OUT.png [--size PX]
+//
+// The mesh pm::SelectiveRefinement::set_view() gives for that camera is rendered (render.h)
+// from three overview cameras around the model (not through the LOD's own camera, which would
+// hide the falloff), each face coloured by its level: blue for base-mesh faces, through green,
+// to red for faces the finest splits made (1 + the index of the last split that made or changed
+// the face, over the split count, on a square-root scale), with the edges drawn under --wire.
+// The counts on stderr.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "pm/pm_codec.h"
+#include "pm/selective_refinement.h"
+#include "render.h"
+
+namespace {
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: pm_view_picture FILE.pm --eye X,Y,Z --target X,Y,Z [--fov DEG] [--height PX]\n"
+               "                       [--pixel-error P] [--up x|y|z] [--wire] -o OUT.png [--size PX]\n");
+  return 2;
+}
+
+bool parse_point(const std::string& text, pm::Point3& p) {
+  return std::sscanf(text.c_str(), "%lf,%lf,%lf", &p[0], &p[1], &p[2]) == 3;
+}
+
+// Blue (coarse) to green to red (fine).
+pm::bench::Rgb level_color(double t) {
+  t = std::fmin(1, std::fmax(0, t));
+  if (t < 0.5) return {0.15f, float(0.3 + 1.2 * t), float(1 - 1.4 * t)};
+  return {float(2 * (t - 0.5) * 0.85 + 0.15), float(0.9 - 1.4 * (t - 0.5)), 0.3f};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string input, output;
+  pm::ViewCamera camera;
+  pm::ViewOptions options;
+  int up_axis = 1, size = 512;
+  bool has_eye = false, has_target = false, wire = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool more = i + 1 < argc;
+    if (arg == "--eye" && more) {
+      has_eye = parse_point(argv[++i], camera.eye);
+      if (!has_eye) return usage();
+    } else if (arg == "--target" && more) {
+      has_target = parse_point(argv[++i], camera.target);
+      if (!has_target) return usage();
+    } else if (arg == "--fov" && more) {
+      camera.fov_degrees = std::atof(argv[++i]);
+    } else if (arg == "--height" && more) {
+      camera.viewport_height = std::atof(argv[++i]);
+    } else if (arg == "--pixel-error" && more) {
+      options.pixel_error = std::atof(argv[++i]);
+    } else if (arg == "--up" && more) {
+      const std::string axis = argv[++i];
+      if (axis != "x" && axis != "y" && axis != "z") return usage();
+      up_axis = axis[0] - 'x';
+    } else if (arg == "--size" && more) {
+      size = std::atoi(argv[++i]);
+    } else if (arg == "--wire") {
+      wire = true;
+    } else if (arg == "-o" && more) {
+      output = argv[++i];
+    } else if (!arg.empty() && arg[0] != '-' && input.empty()) {
+      input = arg;
+    } else {
+      return usage();
+    }
+  }
+  if (input.empty() || output.empty() || !has_eye || !has_target || size < 16) return usage();
+  camera.up = {0, 0, 0};
+  camera.up[up_axis] = 1;
+
+  std::ifstream file(input, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  pm::ProgressiveMesh pm;
+  if (pm::Status s = pm::read_pm(bytes, pm); !s) {
+    std::fprintf(stderr, "pm_view_picture: %s: %s\n", input.c_str(), s.message().c_str());
+    return 3;
+  }
+  pm::SelectiveRefinement refinement(pm);
+  if (pm::Status s = refinement.set_view(camera, options); !s) {
+    std::fprintf(stderr, "pm_view_picture: %s\n", s.message().c_str());
+    return 2;
+  }
+  std::vector<uint32_t> levels;
+  const pm::Mesh mesh = refinement.to_mesh(&levels);
+  std::fprintf(stderr, "%s: %zu of %zu splits applied, %zu faces (full detail %zu)\n", input.c_str(),
+               refinement.applied_count(), refinement.split_count(), mesh.face_count(),
+               pm.total_face_count());
+
+  pm::bench::RenderOptions render;
+  render.width = render.height = size;
+  render.coloring = pm::bench::Coloring::kFaceColors;
+  render.wireframe = wire;
+  render.wire_width = 0.4;
+  render.wire_color = {0.1f, 0.1f, 0.1f};
+  const double n = std::max<std::size_t>(1, pm.split_count());
+  render.face_color = [&](std::size_t face) { return level_color(std::sqrt(levels[face] / n)); };
+  // The overviews: the model framed by its own box from three sides.
+  const pm::bench::Box frame = pm::bench::bounding_box(mesh);
+  std::vector<pm::bench::Image> panels;
+  for (double azimuth : {0.0, 90.0, 200.0}) {
+    pm::bench::View view;
+    view.azimuth_deg = azimuth;
+    view.elevation_deg = 20;
+    view.up_axis = up_axis;
+    panels.push_back(pm::bench::render_mesh(mesh, frame, view, render));
+  }
+  const pm::bench::Image image = pm::bench::tile(panels, 3, 8, render.background);
+  std::string message;
+  if (!pm::bench::write_png(output, image, &message)) {
+    std::fprintf(stderr, "pm_view_picture: %s\n", message.c_str());
+    return 5;
+  }
+  return 0;
+}
