@@ -249,6 +249,47 @@ bool read_varint64(ByteReader& in, uint64_t& value) {
   return false;
 }
 
+// Residual codes as byte planes (§5.7): a u8 plane count P, then the codes' lowest bytes,
+// then their second bytes, ... P planes of count bytes each. Residuals of scanned or
+// subdivided surfaces have random low bytes and skewed high ones: apart, zstd codes each
+// plane with its own statistics, which varints would interleave. P is the fewest bytes
+// that hold the largest code (at least 1), so that every list has one encoding.
+void put_planes(std::string& out, const std::vector<uint64_t>& codes) {
+  if (codes.empty()) return;
+  uint64_t largest = 0;
+  for (uint64_t code : codes) largest = std::max(largest, code);
+  int planes = 1;
+  while (planes < 8 && (largest >> (8 * planes)) != 0) ++planes;
+  out.push_back(static_cast<char>(planes));
+  for (int b = 0; b < planes; ++b) {
+    for (uint64_t code : codes) out.push_back(static_cast<char>((code >> (8 * b)) & 0xFF));
+  }
+}
+bool read_planes(ByteReader& in, std::size_t count, std::vector<uint64_t>& codes) {
+  codes.assign(count, 0);
+  if (count == 0) return true;
+  uint8_t planes;
+  if (!in.read_u8(planes)) return false;
+  if (planes < 1 || planes > 8 || in.remaining() != planes * count) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": " + std::to_string(planes) +
+                                                  " byte planes of " + std::to_string(count) +
+                                                  " codes do not fill its " +
+                                                  std::to_string(in.remaining()) + " bytes");
+  }
+  bool top_used = planes == 1;
+  for (int b = 0; b < planes; ++b) {
+    std::string_view plane;
+    in.read_bytes(count, plane);
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto byte = static_cast<uint8_t>(plane[i]);
+      codes[i] |= uint64_t{byte} << (8 * b);
+      if (b == planes - 1 && byte != 0) top_used = true;
+    }
+  }
+  if (!top_used) return in.fail(ErrorCode::kCorruptStream, in.where() + ": a byte plane more than the codes need");
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Quantization grids (§5.3): origin + q * step, q in [0, 2^bits).
 
@@ -600,8 +641,11 @@ struct Writer {
     float previous_error = h.max_error;
     uint32_t next_face = static_cast<uint32_t>(pm.base_face_count());
     std::size_t i = 0;
+    std::vector<uint64_t> position_codes, color_codes;
     for (uint32_t size : plan_chunks(h.split_count, options.chunk_splits)) {
       std::string streams[kChunkStreams];
+      position_codes.clear();
+      color_codes.clear();
       ChunkEntry entry;
       entry.splits = size;
       ByteWriter u_out(streams[kStreamU]), vl_out(streams[kStreamVl]), vr_out(streams[kStreamVr]),
@@ -658,14 +702,12 @@ struct Writer {
         // The new vertex's position and colour, against the mean of its neighbours.
         positions.predict(neighbours.data(), neighbours.size(), predicted.data());
         for (std::size_t c = 0; c < 3; ++c) {
-          put_varint64(streams[kStreamPositions],
-                       zigzag(int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c]));
+          position_codes.push_back(zigzag(int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c]));
         }
         if (colors.components != 0) {
           colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
           for (std::size_t c = 0; c < colors.components; ++c) {
-            put_varint64(streams[kStreamColors],
-                         zigzag(int64_t{colors.units[colors.components * v + c]} - color_predicted[c]));
+            color_codes.push_back(zigzag(int64_t{colors.units[colors.components * v + c]} - color_predicted[c]));
           }
         }
         // Attributes: the moved corners in the order stored (the arc's), then fl and fr.
@@ -692,6 +734,8 @@ struct Writer {
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
       index_out.put_f32(entry.error_after);
+      put_planes(streams[kStreamPositions], position_codes);
+      put_planes(streams[kStreamColors], color_codes);
       std::string raw;
       for (const std::string& stream : streams) put_varint64(raw, stream.size());
       for (const std::string& stream : streams) raw += stream;
@@ -1309,6 +1353,12 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   uint32_t predicted[3];
   std::vector<uint32_t> color_predicted(h.color_components);
   uint32_t new_faces = 0, moved_total = 0;
+  std::vector<uint64_t> position_codes, color_codes;
+  if (!read_planes(position_in, 3 * std::size_t{entry.splits}, position_codes)) return failed(position_in);
+  if (!read_planes(color_in, std::size_t{h.color_components} * entry.splits, color_codes)) {
+    return failed(color_in);
+  }
+  std::size_t next_position = 0, next_color = 0;
   for (uint32_t j = 0; j < entry.splits; ++j) {
     const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size());
     VertexSplit split;
@@ -1384,9 +1434,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     // The position and colour: the neighbours' mean plus the residual.
     positions.predict(neighbours.data(), neighbours.size(), predicted);
     for (std::size_t c = 0; c < 3; ++c) {
-      uint64_t code;
-      if (!read_varint64(position_in, code)) return failed(position_in);
-      const int64_t unit = int64_t{predicted[c]} + unzigzag(code);
+      const int64_t unit = int64_t{predicted[c]} + unzigzag(position_codes[next_position++]);
       const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
       if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
       positions.units.push_back(static_cast<uint32_t>(unit));
@@ -1395,9 +1443,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     if (h.color_components != 0) {
       colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
       for (std::size_t c = 0; c < h.color_components; ++c) {
-        uint64_t code;
-        if (!read_varint64(color_in, code)) return failed(color_in);
-        const int64_t unit = int64_t{color_predicted[c]} + unzigzag(code);
+        const int64_t unit = int64_t{color_predicted[c]} + unzigzag(color_codes[next_color++]);
         if (unit < 0 || unit > 0xFFFFFFFFll) return bad(v, "has an impossible colour");
         colors.units.push_back(static_cast<uint32_t>(unit));
         pm.colors.push_back(float_from_ordered(static_cast<uint32_t>(unit)));
