@@ -162,6 +162,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 180.0));
   app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
+  app.add_flag("--keep-order", settings.encode.keep_order,
+               "Store the input's vertex and face order: full detail lists them as the input did");
   app.add_flag("--drop-attributes", settings.encode.drop_attributes,
                "Encode geometry only: no colours, texture coordinates, normals or materials");
   app.add_option("--min-faces", settings.encode.min_faces, "Stop simplifying at this many faces");

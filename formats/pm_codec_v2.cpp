@@ -467,7 +467,7 @@ uint64_t raw_bound(const Header2& h, uint32_t tag) {
   }
   if (tag == kTagIndex) return 19 * uint64_t{h.chunk_count};
   if (tag == kTagLoose) return (12 + 4 * Q) * uint64_t{h.loose_vertex_count};
-  if (tag == kTagOrder) return 10 * (h.vertices() + h.faces()) + 10;
+  if (tag == kTagOrder) return 5 * (h.vertices() + h.faces());  // varints of ids below 3 * 2^30
   return kMaxZstdRatio * std::numeric_limits<uint32_t>::max();  // chunks: see chunk_raw_bound
 }
 
@@ -506,7 +506,9 @@ MemoryPlan plan_memory(const Header2& h) {
                   (h.uv_ids() ? 4 * h.split_vertices() : 0) +
                   (h.normal_ids() ? 4 * h.split_vertices() : 0) +
                   sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536;
-  plan.validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64);
+  if ((h.options & kOptionKeepsOrder) != 0) plan.mesh += 4 * (V + T);
+  plan.validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64) +
+                    ((h.options & kOptionKeepsOrder) != 0 ? (V + T) / 8 + 16 : 0);
   return plan;
 }
 
@@ -616,6 +618,16 @@ struct Writer {
     put_table(out, pm.normals, 3, normal_grid.bits != 0 ? &normal_grid : nullptr);
     for (const std::string& library : pm.material_libraries) put_string(out, library);
     for (const std::string& name : pm.material_names) put_string(out, name);
+    return raw;
+  }
+
+  // The input's order (§5.9): the vertex id of each input vertex, the face id of each input
+  // triangle.
+  std::string order() {
+    std::string raw;
+    ByteWriter out(raw);
+    for (uint32_t v : pm.input_vertices) out.put_varint(v);
+    for (uint32_t f : pm.input_faces) out.put_varint(f);
     return raw;
   }
 
@@ -800,6 +812,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
   h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
                  (pm.has_materials() ? kAttributeMaterialIds : 0);
+  h.options = pm.keeps_order() ? kOptionKeepsOrder : 0;
   h.color_components = pm.color_components;
   h.uv_count = static_cast<uint32_t>(pm.uv_count());
   h.normal_count = static_cast<uint32_t>(pm.normal_count());
@@ -850,6 +863,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
       for (std::string& chunk : chunks) sections.emplace_back(kTagChunk, std::move(chunk));
     }
     if (tag == kTagLoose) sections.emplace_back(tag, w.loose());
+    if (tag == kTagOrder) sections.emplace_back(tag, w.order());
   }
   std::string out;
   append_header2(h, out);
@@ -975,6 +989,7 @@ struct PmStreamReader::State {
   bool decode_index(ByteReader& in);
   bool decode_chunk(ByteReader& in);
   bool decode_loose(ByteReader& in);
+  bool decode_order(ByteReader& in);
   bool read_vertex_values(ByteReader& in, uint32_t count);
   bool read_corner(ByteReader& in, int kind, uint32_t vertex, uint32_t& id);
   bool read_corners(ByteReader& in, const std::vector<uint32_t>& vertices,
@@ -1153,7 +1168,7 @@ Status PmStreamReader::State::decode(uint32_t tag, ByteReader& in) {
   if (tag == kTagIndex) ok = decode_index(in);
   if (tag == kTagChunk) ok = decode_chunk(in);
   if (tag == kTagLoose) ok = decode_loose(in);
-  if (tag == kTagOrder) ok = in.fail(ErrorCode::kInternal, "ORDR: not implemented");
+  if (tag == kTagOrder) ok = decode_order(in);
   return ok ? Status::ok() : in.status();
 }
 
@@ -1510,6 +1525,26 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
 bool PmStreamReader::State::decode_loose(ByteReader& in) {
   if (!read_vertex_values(in, h.loose_vertex_count)) return false;
   pm.loose_vertex_count = h.loose_vertex_count;
+  return true;
+}
+
+// Ranges here; that each is a bijection is validate()'s (at finish()).
+bool PmStreamReader::State::decode_order(ByteReader& in) {
+  const uint64_t vertices = h.vertices(), faces = h.faces();
+  pm.input_vertices.reserve(vertices - h.weld_count);
+  pm.input_faces.reserve(faces);
+  for (uint64_t i = 0; i < vertices - h.weld_count + faces; ++i) {
+    uint32_t id;
+    if (!in.read_varint(id)) return false;
+    const bool vertex = i < vertices - h.weld_count;
+    const uint64_t limit = vertex ? vertices : 3 * faces;  // faces: 3 * face id + rotation
+    if (id >= limit) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": input " + (vertex ? "vertex" : "face") +
+                                                    " code " + std::to_string(id) + " of " +
+                                                    std::to_string(limit));
+    }
+    (vertex ? pm.input_vertices : pm.input_faces).push_back(id);
+  }
   return true;
 }
 

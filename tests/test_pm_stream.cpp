@@ -422,6 +422,65 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
   }
 }
 
+// pmenc --keep-order: full detail is the input array for array, in the input's order.
+void expect_same_arrays(const Mesh& a, const Mesh& b) {
+  EXPECT_EQ(bits_of(a.positions), bits_of(b.positions));
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.color_components, b.color_components);
+  EXPECT_EQ(bits_of(a.colors), bits_of(b.colors));
+  EXPECT_EQ(bits_of(a.uvs), bits_of(b.uvs));
+  EXPECT_EQ(a.uv_indices, b.uv_indices);
+  EXPECT_EQ(bits_of(a.normals), bits_of(b.normals));
+  EXPECT_EQ(a.normal_indices, b.normal_indices);
+  EXPECT_EQ(a.face_materials, b.face_materials);
+  EXPECT_EQ(a.material_names, b.material_names);
+}
+
+TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
+  std::vector<std::string> paths = test::sample_mesh_paths();
+  if (test::shared_meshes_available()) {
+    for (const char* name : {"spot.obj", "cow.obj", "fandisk.obj"}) paths.push_back(test::shared_mesh_path(name));
+  }
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    Mesh input;
+    ASSERT_TRUE(read_mesh(path, input).is_ok());
+    EncodeOptions options;
+    options.keep_order = true;
+    ProgressiveMesh pm;
+    ASSERT_TRUE(encode(input, options, pm).is_ok());
+    EXPECT_EQ(pm.input_vertices.size(), input.vertex_count());
+    EXPECT_EQ(pm.input_faces.size(), input.face_count());
+    const ProgressiveMesh decoded = read(write(pm));
+    expect_same_arrays(extract_level(decoded, decoded.splits.size()), input);
+    // Coarser levels are as without the order; a prefix does not read it.
+    ProgressiveMesh plain;
+    ASSERT_TRUE(encode(input, EncodeOptions{}, plain).is_ok());
+    const std::size_t half = plain.splits.size() / 2;
+    EXPECT_EQ(test::canonical_faces(extract_level(decoded, half)),
+              test::canonical_faces(extract_level(plain, half)));
+    ReadOptions prefix;
+    prefix.max_splits = half;
+    EXPECT_FALSE(read(write(pm), prefix).keeps_order() && half < pm.splits.size());
+  }
+}
+
+TEST(PmStream, AnOrderThatIsNoBijectionIsInvalid) {
+  ProgressiveMesh pm = small_mesh();  // 9 vertices, 1 weld; 8 faces
+  pm.input_vertices = {0, 1, 2, 3, 5, 6, 7, 8};
+  pm.input_faces = {21, 19, 17, 12, 9, 6, 3, 2};  // 3 * face + rotation
+  std::string message;
+  EXPECT_TRUE(validate(pm, &message)) << message;
+  expect_round_trip(pm);
+  pm.input_vertices[2] = 4;  // the welded copy
+  EXPECT_FALSE(validate(pm, &message));
+  pm.input_vertices[2] = 1;  // twice
+  EXPECT_FALSE(validate(pm, &message));
+  pm.input_vertices[2] = 2;
+  pm.input_faces.pop_back();
+  EXPECT_FALSE(validate(pm, &message));
+}
+
 // ---------------------------------------------------------------------------------------
 // pmdec on 2.0 streams: cut streams, --stdin --every, chunks read on demand.
 
@@ -487,6 +546,22 @@ TEST(PmdecStream, StdinWritesALevelEveryNFacesAndTheFinestAtTheEnd) {
   // Usage: no {faces}, or input files as well.
   EXPECT_EQ(test::run_command({PMDEC_PATH, "--stdin", "-o", e.dir.file("x.obj")}, e.bytes).exit_code, 2);
   EXPECT_EQ(test::run_command({PMDEC_PATH, e.pm_path, "--stdin", "-o", e.dir.file("x{faces}.obj")}).exit_code, 2);
+}
+
+TEST(PmdecStream, KeepOrderWritesTheInputsOrder) {
+  test::TempDir dir;
+  const std::string input = test::sample_mesh_path("textured.obj");
+  const std::string pm_path = dir.file("t.pm"), out = dir.file("t.obj");
+  ASSERT_EQ(test::run_command({PMENC_PATH, input, "--keep-order", "-q", "-o", pm_path}).exit_code, 0);
+  const test::CommandResult r = test::run_command({PMDEC_PATH, pm_path, "-q", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Mesh a, b;
+  ASSERT_TRUE(read_mesh(input, a).is_ok());
+  ASSERT_TRUE(read_mesh(out, b).is_ok());
+  expect_same_arrays(b, a);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(test::read_file(pm_path), info).is_ok());
+  EXPECT_TRUE(info.keeps_order);
 }
 
 TEST(PmdecStream, ACoarseLevelDecompressesOnlyTheChunksItNeeds) {

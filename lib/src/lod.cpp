@@ -178,7 +178,41 @@ class LevelWalker {
     mesh.face_materials = std::move(face_materials);
     mesh.material_names = pm.material_names;
     mesh.material_libraries = pm.material_libraries;
+    if (full && pm.keeps_order()) return in_input_order(std::move(mesh), output_id);
     return mesh;
+  }
+
+  // Full detail with the input's vertex and face order (pmenc --keep-order). Faces are in
+  // creation order here, carried last: face id = index.
+  Mesh in_input_order(Mesh mesh, const std::vector<uint32_t>& output_id) const {
+    const ProgressiveMesh& pm = pm_;
+    Mesh out;
+    out.color_components = mesh.color_components;
+    const std::size_t cc = mesh.color_components;
+    std::vector<uint32_t> new_index(mesh.vertex_count());
+    for (std::size_t i = 0; i < pm.input_vertices.size(); ++i) {
+      const uint32_t from = output_id[pm.input_vertices[i]];
+      new_index[from] = static_cast<uint32_t>(i);
+      out.positions.insert(out.positions.end(), mesh.positions.begin() + 3 * from,
+                           mesh.positions.begin() + 3 * from + 3);
+      out.colors.insert(out.colors.end(), mesh.colors.begin() + cc * from,
+                        mesh.colors.begin() + cc * (from + 1));
+    }
+    for (uint32_t code : pm.input_faces) {
+      const std::size_t face = code / 3, rotation = code % 3;  // the input's first corner
+      for (std::size_t c = 0; c < 3; ++c) {
+        const std::size_t from = 3 * face + (rotation + c) % 3;
+        out.triangles.push_back(new_index[mesh.triangles[from]]);
+        if (mesh.has_uvs()) out.uv_indices.push_back(mesh.uv_indices[from]);
+        if (mesh.has_normals()) out.normal_indices.push_back(mesh.normal_indices[from]);
+      }
+      if (mesh.has_materials()) out.face_materials.push_back(mesh.face_materials[face]);
+    }
+    out.uvs = std::move(mesh.uvs);
+    out.normals = std::move(mesh.normals);
+    out.material_names = std::move(mesh.material_names);
+    out.material_libraries = std::move(mesh.material_libraries);
+    return out;
   }
 
  private:

@@ -264,6 +264,40 @@ bool check_attributes(const ProgressiveMesh& pm, std::string* message) {
                              "moved_normals", message);
 }
 
+// The input's order (keep_order): a bijection of the input's vertices onto the vertices
+// full detail outputs (every vertex id but the welded copies), and of its faces onto all
+// faces.
+bool check_order(const ProgressiveMesh& pm, std::string* message) {
+  if (!pm.keeps_order()) return true;
+  const std::size_t vertices = pm.vertex_count(), faces = pm.total_face_count();
+  if (pm.input_vertices.size() != vertices - pm.welds.size() || pm.input_faces.size() != faces) {
+    return fail(message, "the input order has " + std::to_string(pm.input_vertices.size()) +
+                             " vertices and " + std::to_string(pm.input_faces.size()) +
+                             " faces, full detail " + std::to_string(vertices - pm.welds.size()) +
+                             " and " + std::to_string(faces));
+  }
+  std::vector<bool> seen(vertices, false);
+  for (const Weld& weld : pm.welds) seen[weld.copy] = true;  // copies are not output
+  for (std::size_t i = 0; i < pm.input_vertices.size(); ++i) {
+    const uint32_t v = pm.input_vertices[i];
+    if (v >= vertices || seen[v]) {
+      return fail(message, "input vertex " + std::to_string(i) + " is vertex " + std::to_string(v) +
+                               ", out of range, a welded copy or named twice");
+    }
+    seen[v] = true;
+  }
+  seen.assign(faces, false);
+  for (std::size_t t = 0; t < pm.input_faces.size(); ++t) {
+    const uint32_t f = pm.input_faces[t] / 3;  // and its rotation, pm.input_faces[t] % 3
+    if (f >= faces || seen[f]) {
+      return fail(message, "input face " + std::to_string(t) + " is face " + std::to_string(f) +
+                               ", out of range or named twice");
+    }
+    seen[f] = true;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::size_t ProgressiveMesh::total_face_count() const {
@@ -275,7 +309,7 @@ std::size_t ProgressiveMesh::total_face_count() const {
 bool validate(const ProgressiveMesh& pm, std::string* message) {
   return check_counts(pm, message) && check_base_faces(pm, message) && check_splits(pm, message) &&
          check_welds(pm, message) && check_carried_faces(pm, message) &&
-         check_attributes(pm, message);
+         check_attributes(pm, message) && check_order(pm, message);
 }
 
 }  // namespace pm

@@ -425,8 +425,44 @@ void copy_corners(const std::vector<uint32_t>& ids, uint32_t face, std::vector<u
   to.insert(to.end(), ids.begin() + 3 * std::size_t{face}, ids.begin() + 3 * std::size_t{face} + 3);
 }
 
+// pmenc --keep-order: out.input_faces holds each input triangle's face id; make it
+// 3 * face id + r, r the rotation that gives the input's first corner first. The faces'
+// corners at full detail come from replaying the splits (Hoppe 1996, §3).
+void record_face_rotations(const Mesh& input, ProgressiveMesh& out) {
+  std::vector<uint32_t> corners = out.base_faces;
+  for (std::size_t i = 0; i < out.splits.size(); ++i) {
+    const VertexSplit& s = out.splits[i];
+    const uint32_t v = out.base_vertex_count + static_cast<uint32_t>(i);
+    for (uint32_t k = s.moved_begin; k < s.moved_begin + s.moved_count; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (corners[3 * std::size_t{out.moved_faces[k]} + c] == s.u) corners[3 * std::size_t{out.moved_faces[k]} + c] = v;
+    if (s.vl != kNoVertex) corners.insert(corners.end(), {v, s.u, s.vl});
+    if (s.vr != kNoVertex) corners.insert(corners.end(), {s.u, v, s.vr});
+  }
+  corners.insert(corners.end(), out.carried_faces.begin(), out.carried_faces.end());
+  // Each vertex id's input vertex: a welded copy stands for its canonical vertex's.
+  std::vector<uint32_t> input_of(out.vertex_count(), kNoVertex);
+  for (std::size_t i = 0; i < out.input_vertices.size(); ++i)
+    input_of[out.input_vertices[i]] = static_cast<uint32_t>(i);
+  for (const Weld& w : out.welds) input_of[w.copy] = input_of[w.canonical];
+  for (std::size_t t = 0; t < out.input_faces.size(); ++t) {
+    const uint32_t f = out.input_faces[t];
+    const uint32_t* want = &input.triangles[3 * t];
+    const uint32_t* have = &corners[3 * std::size_t{f}];
+    uint32_t rotation = 0;
+    for (uint32_t r = 0; r < 3; ++r) {
+      if (input_of[have[r]] == want[0] && input_of[have[(r + 1) % 3]] == want[1] &&
+          input_of[have[(r + 2) % 3]] == want[2]) {
+        rotation = r;
+        break;
+      }
+    }
+    out.input_faces[t] = 3 * f + rotation;
+  }
+}
+
 void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSimplifier& run,
-              bool keep_attributes, ProgressiveMesh& out) {
+              bool keep_attributes, bool keep_order, ProgressiveMesh& out) {
   const HalfEdgeMesh& mesh = repaired.mesh;
   std::vector<uint32_t> vertex_id(mesh.n_vertices(), kNoVertex);
   std::vector<uint32_t> face_id(mesh.n_faces(), kNoVertex);
@@ -521,6 +557,26 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
     if (normals) copy_corners(input.normal_indices, f, out.face_normals);
     if (materials) out.face_materials.push_back(input.face_materials[f]);
   }
+  if (keep_order) {
+    // Each input vertex is one canonical half-edge-mesh vertex, or a loose vertex; each input
+    // triangle one half-edge-mesh face, or a carried face (last in creation order).
+    out.input_vertices.assign(input.vertex_count(), kNoVertex);
+    for (uint32_t x = 0; x < mesh.n_vertices(); ++x) {
+      if (repaired.canonical[x] == x) out.input_vertices[repaired.input_vertex[x]] = vertex_id[x];
+    }
+    const uint32_t first_loose = next_vertex;
+    for (std::size_t k = 0; k < repaired.loose_vertices.size(); ++k) {
+      out.input_vertices[repaired.loose_vertices[k]] = first_loose + static_cast<uint32_t>(k);
+    }
+    out.input_faces.assign(input.face_count(), kNoVertex);
+    for (uint32_t f = 0; f < mesh.n_faces(); ++f) {
+      if (face_id[f] != kNoVertex) out.input_faces[repaired.input_face[f]] = face_id[f];
+    }
+    for (std::size_t k = 0; k < repaired.carried_input_faces.size(); ++k) {
+      out.input_faces[repaired.carried_input_faces[k]] = next_face + static_cast<uint32_t>(k);
+    }
+  }
+  if (keep_order) record_face_rotations(input, out);
   if (uvs) out.uvs = input.uvs;
   if (normals) out.normals = input.normals;
   if (keep_attributes) {
@@ -575,7 +631,7 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   simplifier.run();
 
   // Stage 3: the progressive mesh, checked as a decoder would check it.
-  assemble(input, repaired, simplifier, !options.drop_attributes, out);
+  assemble(input, repaired, simplifier, !options.drop_attributes, options.keep_order, out);
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
 

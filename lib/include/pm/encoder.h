@@ -31,6 +31,10 @@ struct EncodeOptions {
   // Geometry only: colours, texture coordinates, normals and materials are not encoded
   // (pmenc --drop-attributes). By default every attribute of the input is kept.
   bool drop_attributes = false;
+  // Record the input's vertex and face order, so that full detail lists them in that order
+  // (pmenc --keep-order; ProgressiveMesh::input_vertices, input_faces). It costs about
+  // log2(n) bits per vertex and per face in the .pm.
+  bool keep_order = false;
   // Stop when the mesh would go below either count (0: no limit).
   std::size_t min_faces = 0;
   std::size_t min_vertices = 0;

@@ -91,6 +91,13 @@ struct ProgressiveMesh {
   std::vector<uint32_t> moved_uvs;
   std::vector<uint32_t> moved_normals;
 
+  // The input's order, for full detail (optional: pmenc --keep-order). input_vertices[i] is
+  // the vertex id of input vertex i (never a welded copy); input_faces[t] is 3 * f + r for
+  // input triangle t: f its face id (creation order), r the corner of f that is t's first.
+  // Empty: full detail lists vertices by id and faces in creation order, carried last.
+  std::vector<uint32_t> input_vertices;
+  std::vector<uint32_t> input_faces;
+
   std::size_t vertex_count() const { return positions.size() / 3; }  // all levels, all kinds
   std::size_t base_face_count() const { return base_faces.size() / 3; }
   std::size_t split_count() const { return splits.size(); }
@@ -101,6 +108,7 @@ struct ProgressiveMesh {
   bool has_uvs() const { return !face_uvs.empty(); }
   bool has_normals() const { return !face_normals.empty(); }
   bool has_materials() const { return !face_materials.empty(); }
+  bool keeps_order() const { return !input_vertices.empty() || !input_faces.empty(); }
 };
 
 // Validates every invariant a decoder relies on (ids in range, faces that hold u,
