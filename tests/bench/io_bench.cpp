@@ -155,6 +155,9 @@ std::string report_mesh(const std::string& obj, const Settings& settings) {
   read_ours(ply, scratch);
   if (scratch.positions != mesh.positions || scratch.triangles != mesh.triangles)
     die(ply + " does not read back as " + obj);
+  read_openmesh(ply, om_scratch);
+  if (om_scratch.n_faces() != mesh.face_count() || om_scratch.n_vertices() != mesh.vertex_count())
+    die("OpenMesh read " + ply + " as " + std::to_string(om_scratch.n_faces()) + " faces");
 
   const std::size_t obj_bytes = file_size(obj), ply_bytes = file_size(ply);
   const Row rows[] = {
