@@ -963,6 +963,26 @@ TEST(MeshWriter, WritesObjExactly) {
             "f 3 2 1\n");
 }
 
+// The OBJ text is allocated at an estimate (12 characters a number); numbers of the
+// longest form (15 characters) overrun it, and the buffer must grow without losing a byte.
+TEST(MeshWriter, WritesObjLongerThanItsEstimate) {
+  Mesh mesh;
+  std::string expected;
+  const int vertices = 3000;
+  for (int v = 0; v < vertices; ++v) {
+    mesh.positions.insert(mesh.positions.end(), {-FLT_MIN, 1.17549435e-37f, -3.40282347e+38f});
+    expected += "v -1.1754944e-38 1.1754944e-37 -3.4028235e+38\n";
+  }
+  for (int f = 0; f + 2 < vertices; ++f) {
+    mesh.triangles.insert(mesh.triangles.end(), {uint32_t(f), uint32_t(f + 1), uint32_t(f + 2)});
+    expected += "f " + std::to_string(f + 1) + " " + std::to_string(f + 2) + " " +
+                std::to_string(f + 3) + "\n";
+  }
+  std::string text;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kObj, text).is_ok());
+  EXPECT_EQ(text, expected);
+}
+
 TEST(MeshWriter, WritesOffExactly) {
   Mesh mesh;
   mesh.positions = {0.1f, 1e-30f, -3.4028235e38f, 1.0f, 2.0f, 3.0f, 0.0f, 0.0f, 0.25f};
