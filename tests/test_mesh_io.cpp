@@ -697,6 +697,23 @@ TEST(PlyReader, BinaryItemErrorsNameTheItem) {
   EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}}), MeshFormat::kPly)
                 .message(),
             "face 1 uses vertex -1 of 3");
+  // Indices are kept in 32 bits; a negative one is kept aside, and reported as it was.
+  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, -7, 2}, {0, 1, 5}}), MeshFormat::kPly)
+                .message(),
+            "face 0 uses vertex -7 of 3");
+  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, 1, 5}, {0, -7, -8}}), MeshFormat::kPly)
+                .message(),
+            "face 0 uses vertex 5 of 3");
+  std::string unsigned_indices = little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}});
+  unsigned_indices.replace(unsigned_indices.find("uchar int"), 9, "uchar uint");
+  EXPECT_EQ(read_error(unsigned_indices, MeshFormat::kPly).message(),
+            "face 1 uses vertex 4294967295 of 3");
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
+  EXPECT_EQ(read_error(ascii + "3 0 1 2\n3 0 -2147483648 -5\n", MeshFormat::kPly).message(),
+            "face 1 uses vertex -2147483648 of 3");
   // A list longer than the bytes left.
   std::string long_list = little_endian_ply(vertices, {{0, 1, 2}, {0, 1, 2}});
   long_list[long_list.size() - 13] = static_cast<char>(200);

@@ -1103,7 +1103,22 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
   uint32_t color_components = 0;
   // Faces as read: corners, and per corner the texture coordinate and normal (NaN: none).
   std::vector<uint32_t> corner_counts;
-  std::vector<int64_t> corners;
+  // Corner vertex indices as 32 bits (half the memory of the values as read); a value that
+  // does not fit, which is an error once the vertex count is known, is kept aside (the
+  // first one: no later one can be the one reported).
+  std::vector<uint32_t> corners;
+  std::size_t wide_corner = std::numeric_limits<std::size_t>::max();  // its position
+  int64_t wide_corner_value = 0;
+  auto add_corner = [&corners, &wide_corner, &wide_corner_value](int64_t value) {
+    if (value < 0 || value > int64_t{std::numeric_limits<uint32_t>::max()}) {
+      if (wide_corner == std::numeric_limits<std::size_t>::max()) {
+        wide_corner = corners.size();
+        wide_corner_value = value;
+      }
+      value = std::numeric_limits<uint32_t>::max();  // never a vertex: see the check below
+    }
+    corners.push_back(static_cast<uint32_t>(value));
+  };
   std::vector<float> corner_uvs, corner_normals;
   std::vector<int64_t> face_materials;
   bool has_corner_uvs = false, has_corner_normals = false, has_materials = false;
@@ -1279,7 +1294,7 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
         if (left - count_size < corner_count * index_size) break;
         at += count_size;
         for (std::size_t i = 0; i < corner_count; ++i, at += index_size)
-          corners.push_back(static_cast<int64_t>(reader.decode(index_type, at)));
+          add_corner(static_cast<int64_t>(reader.decode(index_type, at)));
         left -= count_size + corner_count * index_size;
         if (Status status = store_face(item, static_cast<uint32_t>(corner_count), 0, 0); !status)
           return status;
@@ -1306,7 +1321,7 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
             if (!reader.read(property.type, value)) return truncated(element, item);
             switch (property.role) {
               case PlyRole::kVertexIndices:
-                corners.push_back(static_cast<int64_t>(value));
+                add_corner(static_cast<int64_t>(value));
                 break;
               case PlyRole::kCornerUvs:
               case PlyRole::kCornerNormals:
@@ -1381,11 +1396,14 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
   std::size_t first_corner = 0;
   for (std::size_t face = 0; face < corner_counts.size(); ++face) {
     const uint32_t count = corner_counts[face];
-    const int64_t* face_corners = corners.data() + first_corner;
+    const uint32_t* face_corners = corners.data() + first_corner;
     for (uint32_t i = 0; i < count; ++i) {
-      if (face_corners[i] < 0 || static_cast<uint64_t>(face_corners[i]) >= vertices) {
+      // A value set aside reads as 2^32 - 1 here, which is no vertex: there are fewer.
+      if (face_corners[i] >= vertices) {
+        const int64_t value =
+            first_corner + i == wide_corner ? wide_corner_value : int64_t{face_corners[i]};
         return parse_error("face " + std::to_string(face) + " uses vertex " +
-                           std::to_string(face_corners[i]) + " of " + std::to_string(vertices));
+                           std::to_string(value) + " of " + std::to_string(vertices));
       }
     }
     uint32_t material = kNoAttribute;
@@ -1401,7 +1419,7 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
     if (count > 3) ++report.polygons_triangulated;
     for (uint32_t i = 1; i + 1 < count; ++i) {
       for (uint32_t k : {uint32_t{0}, i, i + 1}) {
-        *triangle_out++ = static_cast<uint32_t>(face_corners[k]);
+        *triangle_out++ = face_corners[k];
         if (has_corner_uvs) *uv_out++ = corner_uv_ids[first_corner + k];
         if (has_corner_normals) *normal_out++ = corner_normal_ids[first_corner + k];
       }
