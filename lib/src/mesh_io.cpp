@@ -1031,6 +1031,27 @@ class PlyValueReader {
     }
     return 0;
   }
+  // The same for an integer type (not a float one), without going through a double.
+  int64_t decode_integer(PlyType type, const char* at) const {
+    switch (type) {
+      case PlyType::kInt8:
+        return static_cast<int8_t>(at[0]);
+      case PlyType::kUint8:
+        return static_cast<uint8_t>(at[0]);
+      case PlyType::kInt16:
+        return static_cast<int16_t>(load<uint16_t>(at));
+      case PlyType::kUint16:
+        return load<uint16_t>(at);
+      case PlyType::kInt32:
+        return static_cast<int32_t>(load<uint32_t>(at));
+      case PlyType::kUint32:
+        return load<uint32_t>(at);
+      case PlyType::kFloat32:
+      case PlyType::kFloat64:
+        break;
+    }
+    return 0;
+  }
   const char* cursor() const { return p_; }
   void skip(std::size_t bytes) { p_ += bytes; }
 
@@ -1276,8 +1297,8 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
       }
       reader.skip(static_cast<std::size_t>(whole * item_size));
     } else if (reader.is_binary() && is_face && element.properties.size() == 1 &&
+               element.properties[0].role == PlyRole::kVertexIndices &&
                is_ply_integer(element.properties[0].type)) {
-      // The one property is the vertex_indices list (a face element must have it).
       const PlyType count_type = element.properties[0].count_type;
       const PlyType index_type = element.properties[0].type;
       const std::size_t count_size = ply_type_size(count_type);
@@ -1287,14 +1308,14 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
       std::size_t left = reader.remaining();
       for (; item < element.count; ++item) {
         if (left < count_size) break;
-        const double length = reader.decode(count_type, at);
+        const int64_t length = reader.decode_integer(count_type, at);
         // As the loop below checks it: each value takes at least a byte.
-        if (length < 0 || length > static_cast<double>(left - count_size)) break;
+        if (length < 0 || static_cast<uint64_t>(length) > left - count_size) break;
         const std::size_t corner_count = static_cast<std::size_t>(length);
         if (left - count_size < corner_count * index_size) break;
         at += count_size;
         for (std::size_t i = 0; i < corner_count; ++i, at += index_size)
-          add_corner(static_cast<int64_t>(reader.decode(index_type, at)));
+          add_corner(reader.decode_integer(index_type, at));
         left -= count_size + corner_count * index_size;
         if (Status status = store_face(item, static_cast<uint32_t>(corner_count), 0, 0); !status)
           return status;
@@ -1715,18 +1736,23 @@ Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
   // grow): read until end of file, the first read sized to hit it at once.
   std::error_code size_error;
   const uintmax_t size_hint = std::filesystem::file_size(path, size_error);
-  std::size_t chunk = size_error ? (std::size_t{1} << 20) : static_cast<std::size_t>(size_hint) + 1;
-  std::string bytes;
+  // A buffer that is not zero-filled first, as std::string::resize would (a pass over the
+  // whole file's worth of memory before fread writes it).
+  std::size_t capacity =
+      size_error ? (std::size_t{1} << 20) : static_cast<std::size_t>(size_hint) + 1;
+  std::unique_ptr<char[]> bytes(new char[capacity]);
+  std::size_t size = 0;
   for (;;) {
-    const std::size_t old_size = bytes.size();
-    bytes.resize(old_size + chunk);
-    const std::size_t got = std::fread(bytes.data() + old_size, 1, chunk, file.get());
-    bytes.resize(old_size + got);
-    if (got < chunk) break;
-    chunk = std::max(chunk, std::size_t{1} << 20);
+    const std::size_t got = std::fread(bytes.get() + size, 1, capacity - size, file.get());
+    size += got;
+    if (size < capacity) break;
+    std::unique_ptr<char[]> larger(new char[2 * capacity]);
+    std::memcpy(larger.get(), bytes.get(), size);
+    bytes = std::move(larger);
+    capacity *= 2;
   }
   if (std::ferror(file.get())) return describe_errno("cannot read file", errno);
-  return read_mesh_from_memory(bytes, format, mesh, report);
+  return read_mesh_from_memory(std::string_view(bytes.get(), size), format, mesh, report);
 }
 
 }  // namespace pm

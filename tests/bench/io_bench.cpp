@@ -21,6 +21,7 @@
 // stderr. run_io.sh writes the page's header. See README.md here, "Reading and writing".
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -213,6 +214,9 @@ int main(int argc, char** argv) {
     }
   }
   if (settings.meshes.empty()) die("no mesh given (usage: pm_bench_io MESH.obj ...)");
+  // OpenMesh's writers log each file to stderr, between our progress lines.
+  omlog().disable();
+  omout().disable();
   for (const std::string& mesh : settings.meshes) {
     const std::string text = report_mesh(mesh, settings);
     std::fputs(text.c_str(), stdout);
