@@ -317,6 +317,42 @@ TEST(ObjReader, ParsesIndexFormsExactly) {
   EXPECT_EQ(status.message(), "line 5: malformed face corner '3-'");
 }
 
+// Plain triangles ("f a b c") take a fast path; around faces with attributes and
+// materials they must get what any other face gets.
+TEST(ObjReader, PlainTrianglesAmongAttributedFaces) {
+  const uint32_t none = kNoAttribute;
+  Mesh mesh = read_ok(kTriangleObj +
+                      "vt 0 0\nvn 0 0 1\n"
+                      "usemtl a\n"
+                      "f 1 2 3 # plain\n"
+                      "f 1/1 2/1 3/1\n"
+                      "f 3 2 1\n"
+                      "usemtl\n"
+                      "f 1//1 2//1 3//1\n"
+                      "f\t0000000003  2 1\t\n");
+  // kTriangleObj's own face first.
+  EXPECT_EQ(mesh.triangles,
+            (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0}));
+  EXPECT_EQ(mesh.uv_indices,
+            (std::vector<uint32_t>{none, none, none, none, none, none, 0, 0, 0, none, none, none,
+                                   none, none, none, none, none, none}));
+  EXPECT_EQ(mesh.normal_indices,
+            (std::vector<uint32_t>{none, none, none, none, none, none, none, none, none, none,
+                                   none, none, 0, 0, 0, none, none, none}));
+  EXPECT_EQ(mesh.face_materials, (std::vector<uint32_t>{none, 0, 0, 0, none, none}));
+  // Indices a plain triangle cannot hold go the long way, to the same errors.
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 4294967296\n").message(),
+            "line 5: face index 4294967296 out of range (3 vertices)");
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 44444444444444\n").message(),
+            "line 5: face index 44444444444444 out of range (3 vertices)");
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 0\n").message(),
+            "line 5: face index 0 is invalid (obj indices start at 1)");
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 3 x\n").message(),
+            "line 5: malformed face corner 'x'");
+  EXPECT_EQ(read_error("f 1 2 3\nf 1 2 4\nv 0 0 0\nv 0 0 0\nv 0 0 0\n").message(),
+            "line 2: face index 4 out of range (3 vertices)");
+}
+
 // "v" and "f" lines are dispatched before their keyword is measured, and counted before
 // parsing to reserve memory: lines that the count misses (the first, tab-separated,
 // indented) and lines it may mistake must read as any others.

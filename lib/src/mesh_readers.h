@@ -96,12 +96,10 @@ inline bool parse_plain_decimal(const char*& p, const char* end, float& value) {
 #endif
 }
 
-// Parses one float token at `p` (advanced past it) with std::from_chars: locale-independent
-// and correctly rounded to float32. Accepts a leading '+', which from_chars does not. Values
-// too small for float32 become (signed) zero or a subnormal, like a C library would; values
-// too large are kOutOfRange. "nan" and "inf" are parsed: callers check std::isfinite.
-inline NumberResult parse_float(const char*& p, const char* end, float& value) {
-  if (parse_plain_decimal(p, end, value)) return NumberResult::kOk;
+// parse_float for what its fast path declines: std::from_chars. Kept out of line so that
+// parse_float, nearly always its fast path, inlines into the readers' loops.
+[[gnu::noinline]] inline NumberResult parse_float_with_from_chars(const char*& p, const char* end,
+                                                                 float& value) {
   const char* start = p;
   if (p != end && *p == '+' && p + 1 != end && *(p + 1) != '-' && *(p + 1) != '+') ++start;
   auto [ptr, ec] = std::from_chars(start, end, value);
@@ -123,6 +121,15 @@ inline NumberResult parse_float(const char*& p, const char* end, float& value) {
   }
   p = ptr;
   return NumberResult::kOk;
+}
+
+// Parses one float token at `p` (advanced past it) as std::from_chars does: locale-independent
+// and correctly rounded to float32. Accepts a leading '+', which from_chars does not. Values
+// too small for float32 become (signed) zero or a subnormal, like a C library would; values
+// too large are kOutOfRange. "nan" and "inf" are parsed: callers check std::isfinite.
+inline NumberResult parse_float(const char*& p, const char* end, float& value) {
+  if (parse_plain_decimal(p, end, value)) return NumberResult::kOk;
+  return parse_float_with_from_chars(p, end, value);
 }
 
 // The message a text reader gives for a coordinate that did not parse, or nullptr.

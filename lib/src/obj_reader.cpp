@@ -396,10 +396,45 @@ class ObjParser {
     return out_of_range(line_, index, space);
   }
 
+  // The fast path of parse_face, for what most faces are: "f a b c", three plain positive
+  // vertex indices (at most 10 digits, no sign, no slash) and nothing else but blanks and a
+  // comment. Returns false, having changed nothing, for any other line, which parse_face
+  // then reads in full; what it does for a line it takes is what parse_face does.
+  bool parse_plain_triangle(const char* p, const char* eol) {
+    uint32_t corner[3];
+    for (uint32_t& vertex : corner) {
+      p = skip_blanks(p, eol);
+      const char* const digits_begin = p;
+      uint64_t index = 0;
+      while (p != eol && static_cast<unsigned char>(*p - '0') < 10 && p - digits_begin < 11)
+        index = index * 10 + static_cast<unsigned char>(*p++ - '0');
+      // kNoAttribute (2^32 - 1) is the largest index resolve() takes.
+      if (p == digits_begin || index == 0 || index > kNoAttribute || !is_token_end(p, eol))
+        return false;
+      vertex = static_cast<uint32_t>(index - 1);
+    }
+    p = skip_blanks(p, eol);
+    if (p != eol && *p != '#') return false;
+    for (uint32_t vertex : corner) {
+      if (int64_t{vertex} + 1 > vertices_.max_index) {
+        vertices_.max_index = int64_t{vertex} + 1;
+        vertices_.max_index_line = line_;
+      }
+    }
+    for (uint32_t vertex : corner) {
+      mesh_.triangles.push_back(vertex);
+      if (uvs_started_) mesh_.uv_indices.push_back(kNoAttribute);
+      if (normals_started_) mesh_.normal_indices.push_back(kNoAttribute);
+    }
+    if (materials_started_) mesh_.face_materials.push_back(current_material_);
+    return true;
+  }
+
   // f c1 c2 c3 ... where each corner is v, v/t, v//n or v/t/n (an empty t or n, as in
   // "v/" or "v/t/", is none).
   Status parse_face(const char* p, const char* eol) {
     saw_vertex_or_face_ = true;
+    if (parse_plain_triangle(p, eol)) return Status::ok();
     corners_.clear();
     bool face_has_uv = false;
     bool face_has_normal = false;
