@@ -1016,9 +1016,10 @@ TEST(MeshWriter, WritesObjExactly) {
             "f 3 2 1\n");
 }
 
-// The OBJ text is allocated at an estimate (12 characters a number); numbers of the
-// longest form (15 characters) overrun it, and the buffer must grow without losing a byte.
-TEST(MeshWriter, WritesObjLongerThanItsEstimate) {
+// The OBJ and OFF text is allocated at an estimate (12 characters a number); numbers of
+// the longest form (15 characters) overrun it, and the buffer must grow without losing a
+// byte.
+TEST(MeshWriter, WritesTextLongerThanItsEstimate) {
   Mesh mesh;
   std::string expected;
   const int vertices = 3000;
@@ -1033,6 +1034,16 @@ TEST(MeshWriter, WritesObjLongerThanItsEstimate) {
   }
   std::string text;
   ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kObj, text).is_ok());
+  EXPECT_EQ(text, expected);
+
+  // OFF's estimate is made the same way.
+  expected = "OFF\n3000 2998 0\n";
+  for (int v = 0; v < vertices; ++v) expected += "-1.1754944e-38 1.1754944e-37 -3.4028235e+38\n";
+  for (int f = 0; f + 2 < vertices; ++f) {
+    expected += "3 " + std::to_string(f) + " " + std::to_string(f + 1) + " " +
+                std::to_string(f + 2) + "\n";
+  }
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kOff, text).is_ok());
   EXPECT_EQ(text, expected);
 }
 

@@ -439,9 +439,11 @@ Status write_off(const Mesh& mesh, std::string& bytes) {
   const bool byte_colors = with_colors && colors_are_bytes(mesh.colors);
   const std::size_t components = mesh.color_components;
   TextBuilder out(bytes);
-  out.begin(vertices.source.size() *
-                (30 + (with_colors ? 40 : 0) + (with_uvs ? 24 : 0) + (with_normals ? 36 : 0)) +
-            mesh.face_count() * 24 + 64);
+  // As obj_size_estimate: 13 characters a value, face lines bounded by their digits.
+  const std::size_t values_per_vertex =
+      3 + (with_normals ? 3 : 0) + (with_colors ? components : 0) + (with_uvs ? 2 : 0);
+  out.begin(vertices.source.size() * (1 + values_per_vertex * 13) +
+            mesh.face_count() * (3 + 3 * (1 + decimal_digits(vertices.source.size()))) + 64);
   // Geomview's keyword: [ST][C][N]OFF, the vertex fields in the order N, C, ST.
   if (with_uvs) out.put("ST");
   if (with_colors) out.put('C');
