@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <string>
 #include <system_error>
 #include <unordered_map>
@@ -154,9 +155,15 @@ class ObjParser {
     // takes at least 8 bytes ("v 1 2 3\n"): the reservation is capped by that, so a file of
     // bare "v " lines (which fails on its first) cannot make it reserve more than 1.5 times
     // its size per array.
+    // Refused memory is no error here: the arrays then grow as the lines come, as they did
+    // before there was a count.
     const std::size_t most_lines = bytes_.size() / 8 + 1;
-    mesh_.positions.reserve(3 * std::min(found.vertex_lines + 1, most_lines));
-    mesh_.triangles.reserve(3 * std::min(found.face_lines + 1, most_lines));
+    try {
+      mesh_.positions.reserve(3 * std::min(found.vertex_lines + 1, most_lines));
+      mesh_.triangles.reserve(3 * std::min(found.face_lines + 1, most_lines));
+    } catch (const std::bad_alloc&) {
+      mesh_.positions.shrink_to_fit();
+    }
     const char* p = bytes_.data();
     const char* const end = p + bytes_.size();
     // A UTF-8 byte order mark, as some Windows tools write, is not part of the first line.
