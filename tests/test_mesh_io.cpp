@@ -6,8 +6,8 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <algorithm>
-#include <charconv>
 #include <cfloat>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -18,9 +18,9 @@
 #include <thread>
 #include <vector>
 
+#include "mesh_readers.h"
 #include "pm/mesh.h"
 #include "pm/mesh_io.h"
-#include "mesh_readers.h"
 #include "pm/status.h"
 #include "test_util.h"
 
@@ -337,8 +337,8 @@ TEST(ObjReader, PlainTrianglesAmongAttributedFaces) {
             (std::vector<uint32_t>{none, none, none, none, none, none, 0, 0, 0, none, none, none,
                                    none, none, none, none, none, none}));
   EXPECT_EQ(mesh.normal_indices,
-            (std::vector<uint32_t>{none, none, none, none, none, none, none, none, none, none,
-                                   none, none, 0, 0, 0, none, none, none}));
+            (std::vector<uint32_t>{none, none, none, none, none, none, none, none, none, none, none,
+                                   none, 0, 0, 0, none, none, none}));
   EXPECT_EQ(mesh.face_materials, (std::vector<uint32_t>{none, 0, 0, 0, none, none}));
   // Indices a plain triangle cannot hold go the long way, to the same errors.
   EXPECT_EQ(read_error(kTriangleObj + "f 1 2 4294967296\n").message(),
@@ -655,11 +655,10 @@ TEST(PlyReader, RejectsEveryTruncationOfPly) {
 // A binary PLY as our writer makes it: float x y z, faces as uchar count and int indices.
 std::string little_endian_ply(const std::vector<std::vector<float>>& vertices,
                               const std::vector<std::vector<int32_t>>& faces) {
-  std::string bytes = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                      std::to_string(vertices.size()) +
-                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
-                      std::to_string(faces.size()) +
-                      "\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string bytes =
+      "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+      std::to_string(faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   auto put = [&bytes](const void* value, std::size_t size) {
     for (std::size_t i = 0; i < size; ++i) bytes += static_cast<const char*>(value)[i];
   };
@@ -686,7 +685,11 @@ TEST(PlyReader, BinaryTruncationNamesTheItem) {
   };
   const Layout layouts[] = {
       {little_endian_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2, 0}}),
-       12, 4, 1, 4, {3, 4}},
+       12,
+       4,
+       1,
+       4,
+       {3, 4}},
       {big_endian_ply(), 25, 4, 4, 4, {3, 4}}};
   for (const Layout& layout : layouts) {
     const std::size_t body = layout.bytes.find("end_header\n") + 11;
@@ -709,8 +712,8 @@ TEST(PlyReader, BinaryTruncationNamesTheItem) {
         if (offset >= layout.count_size && layout.corners[item] > offset - layout.count_size)
           expected = "element face item " + std::to_string(item) + ": bad list length";
         else
-          expected = "truncated or malformed data in element face (item " +
-                     std::to_string(item) + " of 2)";
+          expected = "truncated or malformed data in element face (item " + std::to_string(item) +
+                     " of 2)";
       }
       EXPECT_EQ(read_error(layout.bytes.substr(0, length), MeshFormat::kPly).message(),
                 "invalid ply file: " + expected);
@@ -725,21 +728,22 @@ TEST(PlyReader, BinaryItemErrorsNameTheItem) {
                        MeshFormat::kPly)
                 .message(),
             "vertex 1 has a non-finite coordinate");
-  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, 1}}), MeshFormat::kPly).message(),
-            "invalid ply file: face 1 has fewer than 3 corners");
-  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, 1, 3}}), MeshFormat::kPly)
-                .message(),
-            "face 1 uses vertex 3 of 3");
-  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}}), MeshFormat::kPly)
-                .message(),
-            "face 1 uses vertex -1 of 3");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, 1}}), MeshFormat::kPly).message(),
+      "invalid ply file: face 1 has fewer than 3 corners");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, 1, 3}}), MeshFormat::kPly).message(),
+      "face 1 uses vertex 3 of 3");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}}), MeshFormat::kPly).message(),
+      "face 1 uses vertex -1 of 3");
   // Indices are kept in 32 bits; a negative one is kept aside, and reported as it was.
-  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, -7, 2}, {0, 1, 5}}), MeshFormat::kPly)
-                .message(),
-            "face 0 uses vertex -7 of 3");
-  EXPECT_EQ(read_error(little_endian_ply(vertices, {{0, 1, 5}, {0, -7, -8}}), MeshFormat::kPly)
-                .message(),
-            "face 0 uses vertex 5 of 3");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, -7, 2}, {0, 1, 5}}), MeshFormat::kPly).message(),
+      "face 0 uses vertex -7 of 3");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 5}, {0, -7, -8}}), MeshFormat::kPly).message(),
+      "face 0 uses vertex 5 of 3");
   std::string unsigned_indices = little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}});
   unsigned_indices.replace(unsigned_indices.find("uchar int"), 9, "uchar uint");
   EXPECT_EQ(read_error(unsigned_indices, MeshFormat::kPly).message(),
@@ -756,8 +760,8 @@ TEST(PlyReader, BinaryItemErrorsNameTheItem) {
   EXPECT_EQ(read_error(long_list, MeshFormat::kPly).message(),
             "invalid ply file: element face item 1: bad list length");
   // Bytes after the last face are not read.
-  Mesh mesh = read_ok(little_endian_ply(vertices, {{0, 1, 2}, {2, 1, 0}}) + "trailing",
-                      MeshFormat::kPly);
+  Mesh mesh =
+      read_ok(little_endian_ply(vertices, {{0, 1, 2}, {2, 1, 0}}) + "trailing", MeshFormat::kPly);
   EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0}));
 }
 
@@ -1040,8 +1044,8 @@ TEST(MeshWriter, WritesTextLongerThanItsEstimate) {
   expected = "OFF\n3000 2998 0\n";
   for (int v = 0; v < vertices; ++v) expected += "-1.1754944e-38 1.1754944e-37 -3.4028235e+38\n";
   for (int f = 0; f + 2 < vertices; ++f) {
-    expected += "3 " + std::to_string(f) + " " + std::to_string(f + 1) + " " +
-                std::to_string(f + 2) + "\n";
+    expected +=
+        "3 " + std::to_string(f) + " " + std::to_string(f + 1) + " " + std::to_string(f + 2) + "\n";
   }
   ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kOff, text).is_ok());
   EXPECT_EQ(text, expected);

@@ -99,7 +99,7 @@ inline bool parse_plain_decimal(const char*& p, const char* end, float& value) {
 // parse_float for what its fast path declines: std::from_chars. Kept out of line so that
 // parse_float, nearly always its fast path, inlines into the readers' loops.
 [[gnu::noinline]] inline NumberResult parse_float_with_from_chars(const char*& p, const char* end,
-                                                                 float& value) {
+                                                                  float& value) {
   const char* start = p;
   if (p != end && *p == '+' && p + 1 != end && *(p + 1) != '-' && *(p + 1) != '+') ++start;
   auto [ptr, ec] = std::from_chars(start, end, value);
