@@ -927,7 +927,8 @@ void assign_ply_roles(PlyHeader& header, ReadReport& report) {
 }
 
 // Reads the values of a PLY body one at a time, bounds-checked: numbers separated by white
-// space (ASCII), or packed in either byte order (binary).
+// space (ASCII), or packed in either byte order (binary). For read_ply's fixed-layout loops
+// it also decodes binary values at a given place, which those loops have bounds-checked.
 class PlyValueReader {
  public:
   PlyValueReader(std::string_view body, PlyEncoding encoding)
@@ -968,38 +969,6 @@ class PlyValueReader {
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
   bool is_binary() const { return encoding_ != PlyEncoding::kAscii; }
 
- private:
-  static bool is_ascii_space(char c) { return c == '\n' || is_space(c); }
-
-  static bool integer_fits(PlyType type, int64_t value) {
-    switch (type) {
-      case PlyType::kInt8:
-        return value >= -128 && value <= 127;
-      case PlyType::kUint8:
-        return value >= 0 && value <= 255;
-      case PlyType::kInt16:
-        return value >= -32768 && value <= 32767;
-      case PlyType::kUint16:
-        return value >= 0 && value <= 65535;
-      case PlyType::kInt32:
-        return value >= std::numeric_limits<int32_t>::min() &&
-               value <= std::numeric_limits<int32_t>::max();
-      case PlyType::kUint32:
-        return value >= 0 && value <= std::numeric_limits<uint32_t>::max();
-      default:
-        return true;
-    }
-  }
-
-  bool read_binary(PlyType type, double& value) {
-    const std::size_t size = ply_type_size(type);
-    if (remaining() < size) return false;
-    value = decode(type, p_);
-    p_ += size;
-    return true;
-  }
-
- public:
   // For the fixed-layout loops of read_ply, which check the bounds of a whole item at once:
   // the binary value of `type` at `at`, without a bounds check.
   double decode(PlyType type, const char* at) const {
@@ -1056,6 +1025,36 @@ class PlyValueReader {
   void skip(std::size_t bytes) { p_ += bytes; }
 
  private:
+  static bool is_ascii_space(char c) { return c == '\n' || is_space(c); }
+
+  static bool integer_fits(PlyType type, int64_t value) {
+    switch (type) {
+      case PlyType::kInt8:
+        return value >= -128 && value <= 127;
+      case PlyType::kUint8:
+        return value >= 0 && value <= 255;
+      case PlyType::kInt16:
+        return value >= -32768 && value <= 32767;
+      case PlyType::kUint16:
+        return value >= 0 && value <= 65535;
+      case PlyType::kInt32:
+        return value >= std::numeric_limits<int32_t>::min() &&
+               value <= std::numeric_limits<int32_t>::max();
+      case PlyType::kUint32:
+        return value >= 0 && value <= std::numeric_limits<uint32_t>::max();
+      default:
+        return true;
+    }
+  }
+
+  bool read_binary(PlyType type, double& value) {
+    const std::size_t size = ply_type_size(type);
+    if (remaining() < size) return false;
+    value = decode(type, p_);
+    p_ += size;
+    return true;
+  }
+
   static bool host_is_little_endian() {
     const uint16_t probe = 1;
     unsigned char first;
