@@ -5,9 +5,12 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <algorithm>
 #include <cfloat>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -15,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "mesh_readers.h"
 #include "pm/mesh.h"
 #include "pm/mesh_io.h"
 #include "pm/status.h"
@@ -32,6 +36,10 @@ Mesh read_ok(const std::string& text, MeshFormat format = MeshFormat::kObj,
   Status status = read_mesh_from_memory(text, format, mesh, report);
   EXPECT_TRUE(status.is_ok()) << error_code_name(status.code()) << ": " << status.message();
   return mesh;
+}
+
+bool same_bits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
 // Reads `text` as `format`, expecting failure.
@@ -213,6 +221,157 @@ TEST(ObjReader, ParsesNumberFormsExactly) {
       same_positions({1.0f, 2.0f, 0.5f, 100.0f, -0.25f, 310.0f, -0.0f, 0.1f, 1e-30f, -3.4028235e38f,
                       123456.789f, 3.4028235e38f, 1e-45f, FLT_MIN, 12.0f, 0.0f, -0.0f, 0.3f},
                      mesh.positions));
+}
+
+// The readers' fast path for plain decimals (detail::parse_plain_decimal) must give what
+// std::from_chars gives, bit for bit: random decimals of 1 to 19 digits with the point
+// anywhere, many of them beyond what the fast path takes (it then declines).
+TEST(TextNumbers, PlainDecimalsRoundAsFromChars) {
+  std::mt19937_64 random(10);
+  int fast = 0;
+  for (int i = 0; i < 200000; ++i) {
+    std::string text = random() % 2 ? "-" : "";
+    const int digits = 1 + static_cast<int>(random() % 19);
+    const int point = static_cast<int>(random() % static_cast<uint64_t>(digits + 1));
+    for (int d = 0; d < digits; ++d) {
+      if (d == point && d != 0) text += '.';
+      text += static_cast<char>('0' + random() % 10);
+    }
+    SCOPED_TRACE(text);
+    float expected = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), expected);
+    ASSERT_EQ(error, std::errc());
+    ASSERT_EQ(end, text.data() + text.size());
+    const char* p = text.data();
+    float value = -1;
+    if (detail::parse_plain_decimal(p, text.data() + text.size(), value)) {
+      ++fast;
+      EXPECT_EQ(p, text.data() + text.size());
+      EXPECT_TRUE(same_bits(value, expected)) << value << " != " << expected;
+    }
+    p = text.data();
+    ASSERT_EQ(detail::parse_float(p, text.data() + text.size(), value), detail::NumberResult::kOk);
+    EXPECT_TRUE(same_bits(value, expected)) << value << " != " << expected;
+  }
+  EXPECT_GT(fast, 100000);  // the fast path is what the test exercises
+}
+
+// Decimals whose nearest double lies exactly halfway between two floats, while they do not:
+// rounding that double to float gives the wrong neighbour, so the fast path must decline
+// them (found by searching midpoints of random floats).
+TEST(TextNumbers, DecimalsNearlyHalfwayBetweenFloatsAreRoundedOnce) {
+  const std::pair<std::string, float> cases[] = {{"0.596070796251297", 0x1.313032p-1f},
+                                                 {"5.126182794570923", 0x1.481362p+2f},
+                                                 {"30.99760341644287", 0x1.eff62ep+4f},
+                                                 {"-30.99760341644287", -0x1.eff62ep+4f}};
+  for (const auto& [text, expected] : cases) {
+    SCOPED_TRACE(text);
+    const double nearest = std::stod(text);
+    EXPECT_NE(static_cast<float>(nearest), expected);  // what rounding twice would give
+    const char* p = text.data();
+    float value = 0;
+    EXPECT_FALSE(detail::parse_plain_decimal(p, text.data() + text.size(), value));
+    EXPECT_EQ(p, text.data());
+    ASSERT_EQ(detail::parse_float(p, text.data() + text.size(), value), detail::NumberResult::kOk);
+    EXPECT_TRUE(same_bits(value, expected));
+  }
+  Mesh mesh = read_ok("v 0.596070796251297 5.126182794570923 -30.99760341644287\n");
+  EXPECT_TRUE(same_positions({0x1.313032p-1f, 0x1.481362p+2f, -0x1.eff62ep+4f}, mesh.positions));
+}
+
+// The search that found them, as a sweep: decimals of up to 16 digits near the midpoints of
+// random floats.
+TEST(TextNumbers, DecimalsNearFloatMidpointsRoundAsFromChars) {
+  std::mt19937 random(10);
+  std::uniform_real_distribution<float> significand(0.5f, 1.0f);
+  for (int i = 0; i < 20000; ++i) {
+    const float a = std::ldexp(significand(random), static_cast<int>(random() % 40) - 20);
+    const double midpoint = (double{a} + double{std::nextafter(a, 2 * a)}) / 2;
+    for (int decimals = 1; decimals <= 22; ++decimals) {
+      char text[64];
+      const int length = std::snprintf(text, sizeof text, "%.*f", decimals, midpoint);
+      if (std::count_if(text, text + length, [](char c) { return c >= '0' && c <= '9'; }) > 16)
+        break;
+      float expected = 0, value = 0;
+      std::from_chars(text, text + length, expected);
+      const char* p = text;
+      ASSERT_EQ(detail::parse_float(p, text + length, value), detail::NumberResult::kOk);
+      ASSERT_TRUE(same_bits(value, expected)) << text;
+    }
+  }
+}
+
+// Face indices take a fast path for plain digits (up to 18 of them); signs, leading zeros
+// and longer digit strings read as before.
+TEST(ObjReader, ParsesIndexFormsExactly) {
+  Mesh mesh = read_ok(kTriangleObj +
+                      "f +1 000000000000000002 0000000000000000003\n"  // 18 and 19 digits
+                      "f -3 -2/ -1//\n"
+                      "f 3\t2 1 # 4\n");
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 1, 2, 2, 1, 0}));
+  Status status = read_error(kTriangleObj + "f 1 2 000000000000000000004\n");
+  EXPECT_EQ(status.message(), "line 5: face index 4 out of range (3 vertices)");
+  status = read_error(kTriangleObj + "f 1 2 4294967296\n");
+  EXPECT_EQ(status.message(), "line 5: face index 4294967296 out of range (3 vertices)");
+  status = read_error(kTriangleObj + "f 1 2 3-\n");
+  EXPECT_EQ(status.message(), "line 5: malformed face corner '3-'");
+}
+
+// Plain triangles ("f a b c") take a fast path; around faces with attributes and
+// materials they must get what any other face gets.
+TEST(ObjReader, PlainTrianglesAmongAttributedFaces) {
+  const uint32_t none = kNoAttribute;
+  Mesh mesh = read_ok(kTriangleObj +
+                      "vt 0 0\nvn 0 0 1\n"
+                      "usemtl a\n"
+                      "f 1 2 3 # plain\n"
+                      "f 1/1 2/1 3/1\n"
+                      "f 3 2 1\n"
+                      "usemtl\n"
+                      "f 1//1 2//1 3//1\n"
+                      "f\t0000000003  2 1\t\n");
+  // kTriangleObj's own face first.
+  EXPECT_EQ(mesh.triangles,
+            (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0}));
+  EXPECT_EQ(mesh.uv_indices,
+            (std::vector<uint32_t>{none, none, none, none, none, none, 0, 0, 0, none, none, none,
+                                   none, none, none, none, none, none}));
+  EXPECT_EQ(mesh.normal_indices,
+            (std::vector<uint32_t>{none, none, none, none, none, none, none, none, none, none, none,
+                                   none, 0, 0, 0, none, none, none}));
+  EXPECT_EQ(mesh.face_materials, (std::vector<uint32_t>{none, 0, 0, 0, none, none}));
+  // Indices a plain triangle cannot hold go the long way, to the same errors.
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 4294967296\n").message(),
+            "line 5: face index 4294967296 out of range (3 vertices)");
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 44444444444444\n").message(),
+            "line 5: face index 44444444444444 out of range (3 vertices)");
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 0\n").message(),
+            "line 5: face index 0 is invalid (obj indices start at 1)");
+  EXPECT_EQ(read_error(kTriangleObj + "f 1 2 3 x\n").message(),
+            "line 5: malformed face corner 'x'");
+  EXPECT_EQ(read_error("f 1 2 3\nf 1 2 4\nv 0 0 0\nv 0 0 0\nv 0 0 0\n").message(),
+            "line 2: face index 4 out of range (3 vertices)");
+}
+
+// "v" and "f" lines are dispatched before their keyword is measured, and counted before
+// parsing to reserve memory: lines that the count misses (the first, tab-separated,
+// indented) and lines it may mistake must read as any others.
+TEST(ObjReader, ReadsVertexAndFaceLinesInEveryLayout) {
+  Mesh mesh = read_ok(
+      "v\t0 0 0\n"
+      "  v 1 0 0\r\n"
+      "vt 0 0\n"
+      "v 0 1 0\n"
+      "# v 9 9 9\n"
+      "\tf 1 2 3\n"
+      "f\t1 3 2\r\n"
+      "fo 1 2 3\n"
+      "vx 1\n");
+  EXPECT_TRUE(same_positions({0, 0, 0, 1, 0, 0, 0, 1, 0}, mesh.positions));
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 1}));
+  EXPECT_EQ(mesh.uvs, (std::vector<float>{0, 0}));
+  EXPECT_EQ(read_error("v 0 0 0\nv\n").message(), "line 2: malformed vertex");
+  EXPECT_EQ(read_error("v 0 0 0\nf \n").message(), "line 2: face with fewer than 3 corners");
 }
 
 TEST(ObjReader, KeepsFacesWithRepeatedVertices) {
@@ -493,6 +652,119 @@ TEST(PlyReader, RejectsEveryTruncationOfPly) {
   }
 }
 
+// A binary PLY as our writer makes it: float x y z, faces as uchar count and int indices.
+std::string little_endian_ply(const std::vector<std::vector<float>>& vertices,
+                              const std::vector<std::vector<int32_t>>& faces) {
+  std::string bytes =
+      "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+      std::to_string(faces.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&bytes](const void* value, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) bytes += static_cast<const char*>(value)[i];
+  };
+  for (const std::vector<float>& vertex : vertices) {
+    for (float c : vertex) put(&c, 4);  // the tests run on little-endian hosts
+  }
+  for (const std::vector<int32_t>& face : faces) {
+    bytes += static_cast<char>(face.size());
+    for (int32_t index : face) put(&index, 4);
+  }
+  return bytes;
+}
+
+// Binary vertex and face elements in the common layouts are read item by item, not value
+// by value; the errors must name the same item the value-by-value loop names. Every cut of
+// the data falls in some item: a truncation of it, or, once a face's count is whole, a list
+// longer than the bytes left (each value takes at least one).
+TEST(PlyReader, BinaryTruncationNamesTheItem) {
+  struct Layout {
+    std::string bytes;
+    std::size_t vertex_size, vertices;
+    std::size_t count_size, index_size;
+    std::vector<std::size_t> corners;  // per face
+  };
+  const Layout layouts[] = {
+      {little_endian_ply({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}, {{0, 1, 2}, {1, 3, 2, 0}}),
+       12,
+       4,
+       1,
+       4,
+       {3, 4}},
+      {big_endian_ply(), 25, 4, 4, 4, {3, 4}}};
+  for (const Layout& layout : layouts) {
+    const std::size_t body = layout.bytes.find("end_header\n") + 11;
+    ASSERT_EQ(layout.bytes.size(), body + layout.vertex_size * layout.vertices +
+                                       2 * layout.count_size + 7 * layout.index_size);
+    for (std::size_t length = body; length < layout.bytes.size(); ++length) {
+      SCOPED_TRACE(length);
+      std::size_t offset = length - body;
+      std::string expected;
+      if (offset < layout.vertex_size * layout.vertices) {
+        expected = "truncated or malformed data in element vertex (item " +
+                   std::to_string(offset / layout.vertex_size) + " of 4)";
+      } else {
+        offset -= layout.vertex_size * layout.vertices;
+        std::size_t item = 0;
+        while (offset >= layout.count_size + layout.corners[item] * layout.index_size) {
+          offset -= layout.count_size + layout.corners[item] * layout.index_size;
+          ++item;
+        }
+        if (offset >= layout.count_size && layout.corners[item] > offset - layout.count_size)
+          expected = "element face item " + std::to_string(item) + ": bad list length";
+        else
+          expected = "truncated or malformed data in element face (item " + std::to_string(item) +
+                     " of 2)";
+      }
+      EXPECT_EQ(read_error(layout.bytes.substr(0, length), MeshFormat::kPly).message(),
+                "invalid ply file: " + expected);
+    }
+  }
+}
+
+TEST(PlyReader, BinaryItemErrorsNameTheItem) {
+  const std::vector<std::vector<float>> vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(read_error(little_endian_ply({{0, 0, 0}, {1, nan, 0}, {0, 1, 0}}, {{0, 1, 2}}),
+                       MeshFormat::kPly)
+                .message(),
+            "vertex 1 has a non-finite coordinate");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, 1}}), MeshFormat::kPly).message(),
+      "invalid ply file: face 1 has fewer than 3 corners");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, 1, 3}}), MeshFormat::kPly).message(),
+      "face 1 uses vertex 3 of 3");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}}), MeshFormat::kPly).message(),
+      "face 1 uses vertex -1 of 3");
+  // Indices are kept in 32 bits; a negative one is kept aside, and reported as it was.
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, -7, 2}, {0, 1, 5}}), MeshFormat::kPly).message(),
+      "face 0 uses vertex -7 of 3");
+  EXPECT_EQ(
+      read_error(little_endian_ply(vertices, {{0, 1, 5}, {0, -7, -8}}), MeshFormat::kPly).message(),
+      "face 0 uses vertex 5 of 3");
+  std::string unsigned_indices = little_endian_ply(vertices, {{0, 1, 2}, {0, -1, 2}});
+  unsigned_indices.replace(unsigned_indices.find("uchar int"), 9, "uchar uint");
+  EXPECT_EQ(read_error(unsigned_indices, MeshFormat::kPly).message(),
+            "face 1 uses vertex 4294967295 of 3");
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
+  EXPECT_EQ(read_error(ascii + "3 0 1 2\n3 0 -2147483648 -5\n", MeshFormat::kPly).message(),
+            "face 1 uses vertex -2147483648 of 3");
+  // A list longer than the bytes left.
+  std::string long_list = little_endian_ply(vertices, {{0, 1, 2}, {0, 1, 2}});
+  long_list[long_list.size() - 13] = static_cast<char>(200);
+  EXPECT_EQ(read_error(long_list, MeshFormat::kPly).message(),
+            "invalid ply file: element face item 1: bad list length");
+  // Bytes after the last face are not read.
+  Mesh mesh =
+      read_ok(little_endian_ply(vertices, {{0, 1, 2}, {2, 1, 0}}) + "trailing", MeshFormat::kPly);
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0}));
+}
+
 const std::string kOff =
     "OFF\n"
     "5 3 0\n"
@@ -746,6 +1018,37 @@ TEST(MeshWriter, WritesObjExactly) {
             "v 2 0.5 100\n"
             "f 1 2 3\n"
             "f 3 2 1\n");
+}
+
+// The OBJ and OFF text is allocated at an estimate (12 characters a number); numbers of
+// the longest form (15 characters) overrun it, and the buffer must grow without losing a
+// byte.
+TEST(MeshWriter, WritesTextLongerThanItsEstimate) {
+  Mesh mesh;
+  std::string expected;
+  const int vertices = 3000;
+  for (int v = 0; v < vertices; ++v) {
+    mesh.positions.insert(mesh.positions.end(), {-FLT_MIN, 1.17549435e-37f, -3.40282347e+38f});
+    expected += "v -1.1754944e-38 1.1754944e-37 -3.4028235e+38\n";
+  }
+  for (int f = 0; f + 2 < vertices; ++f) {
+    mesh.triangles.insert(mesh.triangles.end(), {uint32_t(f), uint32_t(f + 1), uint32_t(f + 2)});
+    expected += "f " + std::to_string(f + 1) + " " + std::to_string(f + 2) + " " +
+                std::to_string(f + 3) + "\n";
+  }
+  std::string text;
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kObj, text).is_ok());
+  EXPECT_EQ(text, expected);
+
+  // OFF's estimate is made the same way.
+  expected = "OFF\n3000 2998 0\n";
+  for (int v = 0; v < vertices; ++v) expected += "-1.1754944e-38 1.1754944e-37 -3.4028235e+38\n";
+  for (int f = 0; f + 2 < vertices; ++f) {
+    expected +=
+        "3 " + std::to_string(f) + " " + std::to_string(f + 1) + " " + std::to_string(f + 2) + "\n";
+  }
+  ASSERT_TRUE(write_mesh_to_memory(mesh, MeshFormat::kOff, text).is_ok());
+  EXPECT_EQ(text, expected);
 }
 
 TEST(MeshWriter, WritesOffExactly) {

@@ -927,7 +927,8 @@ void assign_ply_roles(PlyHeader& header, ReadReport& report) {
 }
 
 // Reads the values of a PLY body one at a time, bounds-checked: numbers separated by white
-// space (ASCII), or packed in either byte order (binary).
+// space (ASCII), or packed in either byte order (binary). For read_ply's fixed-layout loops
+// it also decodes binary values at a given place, which those loops have bounds-checked.
 class PlyValueReader {
  public:
   PlyValueReader(std::string_view body, PlyEncoding encoding)
@@ -968,6 +969,61 @@ class PlyValueReader {
   std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
   bool is_binary() const { return encoding_ != PlyEncoding::kAscii; }
 
+  // For the fixed-layout loops of read_ply, which check the bounds of a whole item at once:
+  // the binary value of `type` at `at`, without a bounds check.
+  double decode(PlyType type, const char* at) const {
+    switch (type) {
+      case PlyType::kInt8:
+        return static_cast<int8_t>(at[0]);
+      case PlyType::kUint8:
+        return static_cast<uint8_t>(at[0]);
+      case PlyType::kInt16:
+        return static_cast<int16_t>(load<uint16_t>(at));
+      case PlyType::kUint16:
+        return load<uint16_t>(at);
+      case PlyType::kInt32:
+        return static_cast<int32_t>(load<uint32_t>(at));
+      case PlyType::kUint32:
+        return load<uint32_t>(at);
+      case PlyType::kFloat32: {
+        const uint32_t bits = load<uint32_t>(at);
+        float single;
+        std::memcpy(&single, &bits, sizeof single);
+        return single;
+      }
+      case PlyType::kFloat64: {
+        const uint64_t bits = load<uint64_t>(at);
+        double wide;
+        std::memcpy(&wide, &bits, sizeof wide);
+        return wide;
+      }
+    }
+    return 0;
+  }
+  // The same for an integer type (not a float one), without going through a double.
+  int64_t decode_integer(PlyType type, const char* at) const {
+    switch (type) {
+      case PlyType::kInt8:
+        return static_cast<int8_t>(at[0]);
+      case PlyType::kUint8:
+        return static_cast<uint8_t>(at[0]);
+      case PlyType::kInt16:
+        return static_cast<int16_t>(load<uint16_t>(at));
+      case PlyType::kUint16:
+        return load<uint16_t>(at);
+      case PlyType::kInt32:
+        return static_cast<int32_t>(load<uint32_t>(at));
+      case PlyType::kUint32:
+        return load<uint32_t>(at);
+      case PlyType::kFloat32:
+      case PlyType::kFloat64:
+        break;
+    }
+    return 0;
+  }
+  const char* cursor() const { return p_; }
+  void skip(std::size_t bytes) { p_ += bytes; }
+
  private:
   static bool is_ascii_space(char c) { return c == '\n' || is_space(c); }
 
@@ -994,49 +1050,38 @@ class PlyValueReader {
   bool read_binary(PlyType type, double& value) {
     const std::size_t size = ply_type_size(type);
     if (remaining() < size) return false;
-    uint64_t bits = 0;
-    const auto* bytes = reinterpret_cast<const unsigned char*>(p_);
-    for (std::size_t i = 0; i < size; ++i) {
-      const std::size_t shift = encoding_ == PlyEncoding::kLittleEndian ? i : size - 1 - i;
-      bits |= uint64_t{bytes[i]} << (8 * shift);
-    }
+    value = decode(type, p_);
     p_ += size;
-    switch (type) {
-      case PlyType::kInt8:
-        value = static_cast<int8_t>(bits);
-        break;
-      case PlyType::kUint8:
-        value = static_cast<uint8_t>(bits);
-        break;
-      case PlyType::kInt16:
-        value = static_cast<int16_t>(bits);
-        break;
-      case PlyType::kUint16:
-        value = static_cast<uint16_t>(bits);
-        break;
-      case PlyType::kInt32:
-        value = static_cast<int32_t>(bits);
-        break;
-      case PlyType::kUint32:
-        value = static_cast<uint32_t>(bits);
-        break;
-      case PlyType::kFloat32: {
-        const uint32_t narrow = static_cast<uint32_t>(bits);
-        float single;
-        std::memcpy(&single, &narrow, sizeof single);
-        value = single;
-        break;
-      }
-      case PlyType::kFloat64:
-        std::memcpy(&value, &bits, sizeof value);
-        break;
-    }
     return true;
+  }
+
+  static bool host_is_little_endian() {
+    const uint16_t probe = 1;
+    unsigned char first;
+    std::memcpy(&first, &probe, 1);
+    return first == 1;
+  }
+
+  // An unsigned integer of the file's byte order: one load, and a byte swap when the host's
+  // order differs.
+  template <typename Unsigned>
+  Unsigned load(const char* at) const {
+    Unsigned bits;
+    std::memcpy(&bits, at, sizeof bits);
+    if (swap_) {
+      unsigned char bytes[sizeof bits];
+      std::memcpy(bytes, &bits, sizeof bits);
+      std::reverse(bytes, bytes + sizeof bits);
+      std::memcpy(&bits, bytes, sizeof bits);
+    }
+    return bits;
   }
 
   const char* p_;
   const char* end_;
   PlyEncoding encoding_;
+  bool swap_ = encoding_ != PlyEncoding::kAscii &&
+               (encoding_ == PlyEncoding::kLittleEndian) != host_is_little_endian();
 };
 
 // A PLY value as float32, rounded to nearest; beyond float's range it is infinite (which the
@@ -1078,7 +1123,22 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
   uint32_t color_components = 0;
   // Faces as read: corners, and per corner the texture coordinate and normal (NaN: none).
   std::vector<uint32_t> corner_counts;
-  std::vector<int64_t> corners;
+  // Corner vertex indices as 32 bits (half the memory of the values as read); a value that
+  // does not fit, which is an error once the vertex count is known, is kept aside (the
+  // first one: no later one can be the one reported).
+  std::vector<uint32_t> corners;
+  std::size_t wide_corner = std::numeric_limits<std::size_t>::max();  // its position
+  int64_t wide_corner_value = 0;
+  auto add_corner = [&corners, &wide_corner, &wide_corner_value](int64_t value) {
+    if (value < 0 || value > int64_t{std::numeric_limits<uint32_t>::max()}) {
+      if (wide_corner == std::numeric_limits<std::size_t>::max()) {
+        wide_corner = corners.size();
+        wide_corner_value = value;
+      }
+      value = std::numeric_limits<uint32_t>::max();  // never a vertex: see the check below
+    }
+    corners.push_back(static_cast<uint32_t>(value));
+  };
   std::vector<float> corner_uvs, corner_normals;
   std::vector<int64_t> face_materials;
   bool has_corner_uvs = false, has_corner_normals = false, has_materials = false;
@@ -1119,9 +1179,151 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
       corner_counts.reserve(reservable);
       corners.reserve(3 * reservable);
     }
-    for (uint64_t item = 0; item < element.count; ++item) {
+    // One item's scalar values by role, and what finishes a vertex or a face: shared by the
+    // value-by-value loop and the fixed-layout ones below.
+    struct Item {
       float position[3] = {0, 0, 0}, normal[3] = {0, 0, 0}, uv[2] = {0, 0};
       float color[4] = {0, 0, 0, 1};
+    };
+    auto take_scalar = [&face_materials](const PlyProperty& property, double value, Item& it) {
+      switch (property.role) {
+        case PlyRole::kX:
+        case PlyRole::kY:
+        case PlyRole::kZ:
+          it.position[static_cast<int>(property.role) - static_cast<int>(PlyRole::kX)] =
+              narrow_to_float(value);
+          break;
+        case PlyRole::kNormalX:
+        case PlyRole::kNormalY:
+        case PlyRole::kNormalZ:
+          it.normal[static_cast<int>(property.role) - static_cast<int>(PlyRole::kNormalX)] =
+              narrow_to_float(value);
+          break;
+        case PlyRole::kU:
+        case PlyRole::kV:
+          it.uv[static_cast<int>(property.role) - static_cast<int>(PlyRole::kU)] =
+              narrow_to_float(value);
+          break;
+        case PlyRole::kRed:
+        case PlyRole::kGreen:
+        case PlyRole::kBlue:
+        case PlyRole::kAlpha:
+          it.color[static_cast<int>(property.role) - static_cast<int>(PlyRole::kRed)] =
+              ply_color(property.type, value);
+          break;
+        case PlyRole::kMaterial:
+          face_materials.push_back(static_cast<int64_t>(value));
+          break;
+        default:
+          break;
+      }
+    };
+    auto store_vertex = [&](uint64_t item, const Item& it) {
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!std::isfinite(it.position[axis])) {
+          return parse_error("vertex " + std::to_string(item) + " has a non-finite coordinate");
+        }
+      }
+      // One push_back per value: a three-value insert is an out-of-line call costing more
+      // than the rest of the vertex.
+      for (float value : it.position) mesh.positions.push_back(value);
+      if (color_components != 0) {
+        for (uint32_t k = 0; k < color_components; ++k) {
+          if (!std::isfinite(it.color[k]))
+            return parse_error("vertex " + std::to_string(item) + " has a non-finite colour");
+        }
+        mesh.colors.insert(mesh.colors.end(), it.color, it.color + color_components);
+      }
+      if (with_normals) vertex_normals.insert(vertex_normals.end(), it.normal, it.normal + 3);
+      if (with_uvs) vertex_uvs.insert(vertex_uvs.end(), it.uv, it.uv + 2);
+      return Status::ok();
+    };
+    auto store_face = [&](uint64_t item, uint32_t corner_count, std::size_t uv_values,
+                          std::size_t normal_values) {
+      if (corner_count < 3) {
+        return parse_error("invalid ply file: face " + std::to_string(item) +
+                           " has fewer than 3 corners");
+      }
+      if (has_corner_uvs && uv_values != 0 && uv_values != 2 * std::size_t{corner_count}) {
+        return parse_error("face " + std::to_string(item) + ": texcoord has " +
+                           std::to_string(uv_values) + " values for " +
+                           std::to_string(corner_count) + " corners");
+      }
+      if (has_corner_normals && normal_values != 0 &&
+          normal_values != 3 * std::size_t{corner_count}) {
+        return parse_error("face " + std::to_string(item) + ": corner_normals has " +
+                           std::to_string(normal_values) + " values for " +
+                           std::to_string(corner_count) + " corners");
+      }
+      // An empty list: no corner of the face has one.
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      if (has_corner_uvs && uv_values == 0)
+        corner_uvs.insert(corner_uvs.end(), 2 * corner_count, nan);
+      if (has_corner_normals && normal_values == 0)
+        corner_normals.insert(corner_normals.end(), 3 * corner_count, nan);
+      corner_counts.push_back(corner_count);
+      return Status::ok();
+    };
+
+    // Binary data in the layouts nearly every file has is read without the value-by-value
+    // loop's call, bounds check and dispatch per value (it took most of the time of reading
+    // a binary file): an element of scalars only, whose items all have one size, and a face
+    // element with no property besides its vertex_indices list. Each stops before an item
+    // that does not fit whole or has a bad list length, and the loop below reads that item
+    // again and reports it, so that errors are the same on both paths.
+    uint64_t item = 0;
+    if (reader.is_binary() &&
+        std::none_of(element.properties.begin(), element.properties.end(),
+                     [](const PlyProperty& property) { return property.is_list; })) {
+      std::vector<std::size_t> offsets;
+      std::size_t item_size = 0;
+      for (const PlyProperty& property : element.properties) {
+        offsets.push_back(item_size);
+        item_size += ply_type_size(property.type);
+      }
+      const uint64_t whole =
+          item_size == 0 ? 0 : std::min<uint64_t>(element.count, reader.remaining() / item_size);
+      const char* at = reader.cursor();
+      for (; item < whole; ++item, at += item_size) {
+        Item it;
+        for (std::size_t k = 0; k < offsets.size(); ++k) {
+          const PlyProperty& property = element.properties[k];
+          take_scalar(property, reader.decode(property.type, at + offsets[k]), it);
+        }
+        if (is_vertex) {
+          if (Status status = store_vertex(item, it); !status) return status;
+        }
+      }
+      reader.skip(static_cast<std::size_t>(whole * item_size));
+    } else if (reader.is_binary() && is_face && element.properties.size() == 1 &&
+               element.properties[0].role == PlyRole::kVertexIndices &&
+               is_ply_integer(element.properties[0].type)) {
+      const PlyType count_type = element.properties[0].count_type;
+      const PlyType index_type = element.properties[0].type;
+      const std::size_t count_size = ply_type_size(count_type);
+      const std::size_t index_size = ply_type_size(index_type);
+      const char* at = reader.cursor();
+      const char* const start = at;
+      std::size_t left = reader.remaining();
+      for (; item < element.count; ++item) {
+        if (left < count_size) break;
+        const int64_t length = reader.decode_integer(count_type, at);
+        // As the loop below checks it: each value takes at least a byte.
+        if (length < 0 || static_cast<uint64_t>(length) > left - count_size) break;
+        const std::size_t corner_count = static_cast<std::size_t>(length);
+        if (left - count_size < corner_count * index_size) break;
+        at += count_size;
+        for (std::size_t i = 0; i < corner_count; ++i, at += index_size)
+          add_corner(reader.decode_integer(index_type, at));
+        left -= count_size + corner_count * index_size;
+        if (Status status = store_face(item, static_cast<uint32_t>(corner_count), 0, 0); !status)
+          return status;
+      }
+      reader.skip(static_cast<std::size_t>(at - start));
+    }
+
+    for (; item < element.count; ++item) {
+      Item it;
       uint32_t corner_count = 0;
       std::size_t uv_values = 0, normal_values = 0;
       for (const PlyProperty& property : element.properties) {
@@ -1139,7 +1341,7 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
             if (!reader.read(property.type, value)) return truncated(element, item);
             switch (property.role) {
               case PlyRole::kVertexIndices:
-                corners.push_back(static_cast<int64_t>(value));
+                add_corner(static_cast<int64_t>(value));
                 break;
               case PlyRole::kCornerUvs:
               case PlyRole::kCornerNormals:
@@ -1161,78 +1363,14 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
           continue;
         }
         if (!reader.read(property.type, value)) return truncated(element, item);
-        switch (property.role) {
-          case PlyRole::kX:
-          case PlyRole::kY:
-          case PlyRole::kZ:
-            position[static_cast<int>(property.role) - static_cast<int>(PlyRole::kX)] =
-                narrow_to_float(value);
-            break;
-          case PlyRole::kNormalX:
-          case PlyRole::kNormalY:
-          case PlyRole::kNormalZ:
-            normal[static_cast<int>(property.role) - static_cast<int>(PlyRole::kNormalX)] =
-                narrow_to_float(value);
-            break;
-          case PlyRole::kU:
-          case PlyRole::kV:
-            uv[static_cast<int>(property.role) - static_cast<int>(PlyRole::kU)] =
-                narrow_to_float(value);
-            break;
-          case PlyRole::kRed:
-          case PlyRole::kGreen:
-          case PlyRole::kBlue:
-          case PlyRole::kAlpha:
-            color[static_cast<int>(property.role) - static_cast<int>(PlyRole::kRed)] =
-                ply_color(property.type, value);
-            break;
-          case PlyRole::kMaterial:
-            face_materials.push_back(static_cast<int64_t>(value));
-            break;
-          default:
-            break;
-        }
+        take_scalar(property, value, it);
       }
       if (is_vertex) {
-        for (int axis = 0; axis < 3; ++axis) {
-          if (!std::isfinite(position[axis])) {
-            return parse_error("vertex " + std::to_string(item) + " has a non-finite coordinate");
-          }
-        }
-        mesh.positions.insert(mesh.positions.end(), position, position + 3);
-        if (color_components != 0) {
-          for (uint32_t k = 0; k < color_components; ++k) {
-            if (!std::isfinite(color[k]))
-              return parse_error("vertex " + std::to_string(item) + " has a non-finite colour");
-          }
-          mesh.colors.insert(mesh.colors.end(), color, color + color_components);
-        }
-        if (with_normals) vertex_normals.insert(vertex_normals.end(), normal, normal + 3);
-        if (with_uvs) vertex_uvs.insert(vertex_uvs.end(), uv, uv + 2);
+        if (Status status = store_vertex(item, it); !status) return status;
       }
       if (is_face) {
-        if (corner_count < 3) {
-          return parse_error("invalid ply file: face " + std::to_string(item) +
-                             " has fewer than 3 corners");
-        }
-        if (has_corner_uvs && uv_values != 0 && uv_values != 2 * std::size_t{corner_count}) {
-          return parse_error("face " + std::to_string(item) + ": texcoord has " +
-                             std::to_string(uv_values) + " values for " +
-                             std::to_string(corner_count) + " corners");
-        }
-        if (has_corner_normals && normal_values != 0 &&
-            normal_values != 3 * std::size_t{corner_count}) {
-          return parse_error("face " + std::to_string(item) + ": corner_normals has " +
-                             std::to_string(normal_values) + " values for " +
-                             std::to_string(corner_count) + " corners");
-        }
-        // An empty list: no corner of the face has one.
-        const float nan = std::numeric_limits<float>::quiet_NaN();
-        if (has_corner_uvs && uv_values == 0)
-          corner_uvs.insert(corner_uvs.end(), 2 * corner_count, nan);
-        if (has_corner_normals && normal_values == 0)
-          corner_normals.insert(corner_normals.end(), 3 * corner_count, nan);
-        corner_counts.push_back(corner_count);
+        if (Status status = store_face(item, corner_count, uv_values, normal_values); !status)
+          return status;
       }
     }
   }
@@ -1264,14 +1402,28 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
       corner_normal_ids[c] = kind == TupleKind::kNone ? kNoAttribute : table.add(tuple);
     }
   }
+  // The output arrays at their final size, written through pointers: a push_back per
+  // corner was a tenth of the time of reading a binary file.
+  const std::size_t triangles = corners.size() - 2 * corner_counts.size();  // each face >= 3
+  mesh.triangles.resize(3 * triangles);
+  if (has_corner_uvs) mesh.uv_indices.resize(3 * triangles);
+  if (has_corner_normals) mesh.normal_indices.resize(3 * triangles);
+  if (any_material) mesh.face_materials.resize(triangles);
+  uint32_t* triangle_out = mesh.triangles.data();
+  uint32_t* uv_out = mesh.uv_indices.data();
+  uint32_t* normal_out = mesh.normal_indices.data();
+  uint32_t* material_out = mesh.face_materials.data();
   std::size_t first_corner = 0;
   for (std::size_t face = 0; face < corner_counts.size(); ++face) {
     const uint32_t count = corner_counts[face];
-    const int64_t* face_corners = corners.data() + first_corner;
+    const uint32_t* face_corners = corners.data() + first_corner;
     for (uint32_t i = 0; i < count; ++i) {
-      if (face_corners[i] < 0 || static_cast<uint64_t>(face_corners[i]) >= vertices) {
+      // A value set aside reads as 2^32 - 1 here, which is no vertex: there are fewer.
+      if (face_corners[i] >= vertices) {
+        const int64_t value =
+            first_corner + i == wide_corner ? wide_corner_value : int64_t{face_corners[i]};
         return parse_error("face " + std::to_string(face) + " uses vertex " +
-                           std::to_string(face_corners[i]) + " of " + std::to_string(vertices));
+                           std::to_string(value) + " of " + std::to_string(vertices));
       }
     }
     uint32_t material = kNoAttribute;
@@ -1287,11 +1439,11 @@ Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report) {
     if (count > 3) ++report.polygons_triangulated;
     for (uint32_t i = 1; i + 1 < count; ++i) {
       for (uint32_t k : {uint32_t{0}, i, i + 1}) {
-        mesh.triangles.push_back(static_cast<uint32_t>(face_corners[k]));
-        if (has_corner_uvs) mesh.uv_indices.push_back(corner_uv_ids[first_corner + k]);
-        if (has_corner_normals) mesh.normal_indices.push_back(corner_normal_ids[first_corner + k]);
+        *triangle_out++ = face_corners[k];
+        if (has_corner_uvs) *uv_out++ = corner_uv_ids[first_corner + k];
+        if (has_corner_normals) *normal_out++ = corner_normal_ids[first_corner + k];
       }
-      if (any_material) mesh.face_materials.push_back(material);
+      if (any_material) *material_out++ = material;
     }
     first_corner += count;
   }
@@ -1583,18 +1735,23 @@ Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
   // grow): read until end of file, the first read sized to hit it at once.
   std::error_code size_error;
   const uintmax_t size_hint = std::filesystem::file_size(path, size_error);
-  std::size_t chunk = size_error ? (std::size_t{1} << 20) : static_cast<std::size_t>(size_hint) + 1;
-  std::string bytes;
+  // A buffer that is not zero-filled first, as std::string::resize would (a pass over the
+  // whole file's worth of memory before fread writes it).
+  std::size_t capacity =
+      size_error ? (std::size_t{1} << 20) : static_cast<std::size_t>(size_hint) + 1;
+  std::unique_ptr<char[]> bytes(new char[capacity]);
+  std::size_t size = 0;
   for (;;) {
-    const std::size_t old_size = bytes.size();
-    bytes.resize(old_size + chunk);
-    const std::size_t got = std::fread(bytes.data() + old_size, 1, chunk, file.get());
-    bytes.resize(old_size + got);
-    if (got < chunk) break;
-    chunk = std::max(chunk, std::size_t{1} << 20);
+    const std::size_t got = std::fread(bytes.get() + size, 1, capacity - size, file.get());
+    size += got;
+    if (size < capacity) break;
+    std::unique_ptr<char[]> larger(new char[2 * capacity]);
+    std::memcpy(larger.get(), bytes.get(), size);
+    bytes = std::move(larger);
+    capacity *= 2;
   }
   if (std::ferror(file.get())) return describe_errno("cannot read file", errno);
-  return read_mesh_from_memory(bytes, format, mesh, report);
+  return read_mesh_from_memory(std::string_view(bytes.get(), size), format, mesh, report);
 }
 
 }  // namespace pm
