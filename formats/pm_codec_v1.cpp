@@ -1270,32 +1270,8 @@ Status read_pm_v1(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions
 Status read_pm_info_v1(std::string_view bytes, PmInfo& info) {
   Header h;
   if (Status status = parse_header(bytes, h); !status) return status;
-  PmInfo result;
-  result.major = h.major;
-  result.minor = h.minor;
-  result.flags = h.flags;
-  result.base_vertex_count = h.base_vertex_count;
-  result.base_face_count = h.base_face_count;
-  result.split_count = h.split_count;
-  result.loose_vertex_count = h.loose_vertex_count;
-  result.weld_count = h.weld_count;
-  result.carried_face_count = h.carried_face_count;
-  result.moved_face_count = h.moved_face_count;
-  result.split_face_count = h.split_face_count;
+  PmInfo result = info_from_header(h);
   result.section_count = h.section_count;
-  // Welded copies are output as their canonical vertex, so they are not counted.
-  result.full_vertex_count =
-      uint64_t{h.base_vertex_count} + h.split_count + h.loose_vertex_count - h.weld_count;
-  result.full_face_count = uint64_t{h.base_face_count} + h.split_face_count + h.carried_face_count;
-  result.max_error = h.max_error;
-  result.color_components = h.color_components;
-  result.uv_count = h.uv_count;
-  result.normal_count = h.normal_count;
-  result.material_count = h.material_count;
-  result.material_library_count = h.material_library_count;
-  result.has_uvs = (h.attributes & kAttributeUvIds) != 0;
-  result.has_normals = (h.attributes & kAttributeNormalIds) != 0;
-  result.has_materials = (h.attributes & kAttributeMaterialIds) != 0;
   info = result;
   return Status::ok();
 }

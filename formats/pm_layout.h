@@ -136,6 +136,37 @@ std::string string_problem(std::string_view text);
 bool read_strings(ByteReader& in, uint32_t count, const char* what, uint64_t& budget,
                   std::vector<std::string>& out);
 
+// The PmInfo fields 1.x and 2.0 headers share (their structs name them alike).
+template <typename AnyHeader>
+PmInfo info_from_header(const AnyHeader& h) {
+  PmInfo r;
+  r.major = h.major;
+  r.minor = h.minor;
+  r.flags = h.flags;
+  r.base_vertex_count = h.base_vertex_count;
+  r.base_face_count = h.base_face_count;
+  r.split_count = h.split_count;
+  r.loose_vertex_count = h.loose_vertex_count;
+  r.weld_count = h.weld_count;
+  r.carried_face_count = h.carried_face_count;
+  r.moved_face_count = h.moved_face_count;
+  r.split_face_count = h.split_face_count;
+  // Welded copies are output as their canonical vertex, so they are not counted.
+  r.full_vertex_count =
+      uint64_t{h.base_vertex_count} + h.split_count + h.loose_vertex_count - h.weld_count;
+  r.full_face_count = uint64_t{h.base_face_count} + h.split_face_count + h.carried_face_count;
+  r.max_error = h.max_error;
+  r.color_components = h.color_components;
+  r.uv_count = h.uv_count;
+  r.normal_count = h.normal_count;
+  r.material_count = h.material_count;
+  r.material_library_count = h.material_library_count;
+  r.has_uvs = (h.attributes & kAttributeUvIds) != 0;
+  r.has_normals = (h.attributes & kAttributeNormalIds) != 0;
+  r.has_materials = (h.attributes & kAttributeMaterialIds) != 0;
+  return r;
+}
+
 // "3190448 bytes (3 MiB)".
 std::string byte_count_text(uint64_t bytes);
 

@@ -31,10 +31,13 @@
 #include <cmath>
 #include <limits>
 
+#include "level_output.h"
 #include "view_criteria.h"
 
 namespace pm {
 namespace {
+
+using detail::output_attribute;
 
 using view::Vec;
 
@@ -53,30 +56,6 @@ constexpr double kNest = 1e-6;
 
 Vec position(const ProgressiveMesh& pm, uint32_t v) { return view::vec(&pm.positions[3 * std::size_t{v}]); }
 
-// The corner attribute ids of a mesh, renumbered into its own value table (as lod.cpp writes
-// levels): the whole table at full detail, else the values in use in table order.
-void output_attribute(const std::vector<uint32_t>& ids, const std::vector<float>& table,
-                      std::size_t dims, bool full, std::vector<float>& out_table,
-                      std::vector<uint32_t>& out_ids) {
-  const std::size_t count = table.size() / dims;
-  std::vector<uint32_t> new_id(count, kNoAttribute);
-  if (full) {
-    for (std::size_t i = 0; i < count; ++i) new_id[i] = static_cast<uint32_t>(i);
-    out_table = table;
-  } else {
-    for (uint32_t id : ids)
-      if (id != kNoAttribute) new_id[id] = 0;
-    uint32_t next = 0;
-    for (std::size_t i = 0; i < count; ++i) {
-      if (new_id[i] == kNoAttribute) continue;
-      new_id[i] = next++;
-      out_table.insert(out_table.end(), table.begin() + dims * i, table.begin() + dims * (i + 1));
-    }
-  }
-  out_ids.resize(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i)
-    out_ids[i] = ids[i] == kNoAttribute ? kNoAttribute : new_id[ids[i]];
-}
 
 }  // namespace
 
