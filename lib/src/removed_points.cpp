@@ -2,12 +2,29 @@
 #include "removed_points.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace pm {
 
+namespace {
+
+// The largest coordinate magnitude: distances' rounding errors scale with it.
+double extent_of(const HalfEdgeMesh& mesh) {
+  double extent = 0;
+  for (auto v : mesh.vertices())
+    for (int k = 0; k < 3; ++k) extent = std::max(extent, std::abs(double(mesh.point(v)[k])));
+  return extent;
+}
+
+}  // namespace
+
 RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh)
-    : mesh_(mesh), first_(mesh.n_faces(), kNone), next_(mesh.n_vertices(), kNone) {
+    : mesh_(mesh),
+      region_triangles_(BoxedTriangles::slack_for(extent_of(mesh))),
+      fan_(BoxedTriangles::slack_for(extent_of(mesh))),
+      first_(mesh.n_faces(), kNone),
+      next_(mesh.n_vertices(), kNone) {
   // The input's faces and, per vertex, the faces around it (compressed rows), kept
   // because the mesh's own connectivity changes with every collapse.
   input_corners_.reserve(3 * mesh.n_faces());
@@ -52,9 +69,12 @@ bool RemovedPoints::make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const {
   const HalfEdgeMesh::FaceHandle fl = mesh_.face_handle(h), fr = mesh_.opposite_face_handle(h);
   const Vec3 target = point_of(mesh_, u);
   fan.count = 0;
+  fan.triangles.clear();
   auto add = [&](HalfEdgeMesh::FaceHandle f) {
+    Vec3 corner[3];
     int c = 0;
-    for (auto w : mesh_.fv_range(f)) fan.corner[fan.count][c++] = w == v ? target : point_of(mesh_, w);
+    for (auto w : mesh_.fv_range(f)) corner[c++] = w == v ? target : point_of(mesh_, w);
+    fan.triangles.add(corner[0], corner[1], corner[2]);
     fan.face[fan.count++] = f.idx();
   };
   for (auto f : mesh_.vf_range(v)) {
@@ -93,35 +113,32 @@ uint32_t RemovedPoints::measuring_stride(HalfEdgeMesh::HalfedgeHandle h) const {
 }
 
 double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
-  Fan fan;
+  Fan& fan = fan_;
   if (!make_fan(h, fan)) return 0;
   const uint32_t stride = measuring_stride(h);
+  // The largest over points of the distance to the nearest face: a point already nearer
+  // than the worst so far to some face cannot raise it, so its search stops there.
   double worst = 0;
   for_each_point(h, stride, [&](uint32_t p) {
-    const Vec3 x = point_of(mesh_, mesh_.vertex_handle(p));
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < fan.count && nearest > worst; ++i)
-      nearest = std::min(nearest, point_triangle_distance(x, fan.corner[i][0], fan.corner[i][1],
-                                                          fan.corner[i][2]));
-    // Once a point is nearer than the worst so far to some face, it cannot raise the max.
+    const double nearest =
+        fan.triangles.nearest_distance(point_of(mesh_, mesh_.vertex_handle(p)), worst);
     if (nearest > worst) worst = nearest;
   });
 
   collect_input_faces(h, fan, stride);
-  auto input_point = [&](uint32_t f, int c) {
-    return point_of(mesh_, mesh_.vertex_handle(input_corners_[3 * f + c]));
-  };
+  region_triangles_.clear();
+  for (uint32_t f : region_) {
+    auto input_point = [&](int c) {
+      return point_of(mesh_, mesh_.vertex_handle(input_corners_[3 * f + c]));
+    };
+    region_triangles_.add(input_point(0), input_point(1), input_point(2));
+  }
   for (int i = 0; i < fan.moved; ++i) {  // the faces that change
-    const Vec3* corner = fan.corner[i];
-    const Vec3 samples[4] = {(corner[0] + corner[1] + corner[2]) / 3.0,
-                             (corner[0] + corner[1]) * 0.5, (corner[1] + corner[2]) * 0.5,
-                             (corner[2] + corner[0]) * 0.5};
+    const Vec3 a = fan.triangles.corner(i, 0), b = fan.triangles.corner(i, 1),
+               c = fan.triangles.corner(i, 2);
+    const Vec3 samples[4] = {(a + b + c) / 3.0, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5};
     for (const Vec3& x : samples) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < region_.size() && nearest > worst; ++k)
-        nearest = std::min(nearest, point_triangle_distance(x, input_point(region_[k], 0),
-                                                            input_point(region_[k], 1),
-                                                            input_point(region_[k], 2)));
+      const double nearest = region_triangles_.nearest_distance(x, worst);
       if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
     }
   }
@@ -129,21 +146,15 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
 }
 
 double RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
-  Fan fan;
+  Fan& fan = fan_;
   if (!make_fan(h, fan)) return 0;
   double farthest = 0;
   moving_.clear();
   for_each_point(h, 1, [&](uint32_t p) { moving_.push_back(p); });
   for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h))) first_[f.idx()] = kNone;
   for (uint32_t p : moving_) {
-    const Vec3 x = point_of(mesh_, mesh_.vertex_handle(p));
-    double nearest = std::numeric_limits<double>::infinity();
-    int best = 0;
-    for (int i = 0; i < fan.count; ++i) {
-      const double d =
-          point_triangle_distance(x, fan.corner[i][0], fan.corner[i][1], fan.corner[i][2]);
-      if (d < nearest) nearest = d, best = i;
-    }
+    double nearest;
+    const int best = fan.triangles.nearest(point_of(mesh_, mesh_.vertex_handle(p)), &nearest);
     next_[p] = first_[fan.face[best]];
     first_[fan.face[best]] = p;
     farthest = std::max(farthest, nearest);

@@ -14,6 +14,7 @@
 
 #include "geometry.h"
 #include "half_edge_mesh.h"
+#include "nearest_triangle.h"
 
 namespace pm {
 
@@ -40,9 +41,10 @@ class RemovedPoints {
   // The faces the points may go to, as (face id, corners after the collapse): first the
   // `moved` faces replacing v's (u in place of v), then u's other faces.
   struct Fan {
+    explicit Fan(double slack) : triangles(slack) {}
     int count = 0, moved = 0;
     int face[kMaxFan];
-    Vec3 corner[kMaxFan][3];
+    BoxedTriangles triangles;  // their corners, in the same order
   };
   // False when v has more faces than Fan holds; the simplifier never collapses a vertex
   // of valence above 64, so this does not happen.
@@ -66,6 +68,8 @@ class RemovedPoints {
   mutable std::vector<uint32_t> stamp_;      // per input face: last query that collected it
   mutable uint32_t query_ = 0;
   mutable std::vector<uint32_t> region_;     // scratch: input faces of the current query
+  mutable BoxedTriangles region_triangles_;  // scratch: their corners
+  mutable Fan fan_;                          // scratch: the current query's fan
   std::vector<uint32_t> first_;  // per face: first point of its list, kNone if empty
   std::vector<uint32_t> next_;   // per vertex: the next point in its face's list
   std::vector<uint32_t> moving_;  // scratch for collapse(), kept to avoid reallocation

@@ -1,0 +1,70 @@
+// Pruned nearest-triangle distances: see nearest_triangle.h (Ericson 2005, §5.1.3, §5.1.5).
+#include "nearest_triangle.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace pm {
+
+void BoxedTriangles::clear() {
+  triangles_.clear();
+  for (auto& bound : box_) bound.clear();
+}
+
+void BoxedTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c) {
+  triangles_.push_back({{a, b, c}});
+  // The sine of the smallest angle is twice the area over the product of the two longest
+  // edges; below 1e-3 the triangle counts as thin (the longest edge squared stands in for
+  // that product, which only makes more triangles thin).
+  const double longest2 = std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()});
+  const bool thin = area_vector(a, b, c).sqrnorm() < 1e-6 * longest2 * longest2;
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    box_[k].push_back(thin ? -kInfinity : std::min({a[k], b[k], c[k]}));
+    box_[3 + k].push_back(thin ? kInfinity : std::max({a[k], b[k], c[k]}));
+  }
+}
+
+int BoxedTriangles::bound_all(const Vec3& x) {
+  const std::size_t n = triangles_.size();
+  bound2_.resize(n);
+  const double *lx = box_[0].data(), *ly = box_[1].data(), *lz = box_[2].data();
+  const double *hx = box_[3].data(), *hy = box_[4].data(), *hz = box_[5].data();
+  double* b2 = bound2_.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    // At most one of the two terms per axis is positive.
+    const double dx = std::max(lx[i] - x[0], 0.0) + std::max(x[0] - hx[i], 0.0);
+    const double dy = std::max(ly[i] - x[1], 0.0) + std::max(x[1] - hy[i], 0.0);
+    const double dz = std::max(lz[i] - x[2], 0.0) + std::max(x[2] - hz[i], 0.0);
+    b2[i] = dx * dx + dy * dy + dz * dz;
+  }
+  std::size_t least = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (b2[i] < b2[least]) least = i;
+  return static_cast<int>(least);
+}
+
+double BoxedTriangles::nearest_distance(const Vec3& x, double stop) {
+  if (triangles_.empty()) return std::numeric_limits<double>::infinity();
+  // The triangle of nearest box first: most often the nearest triangle, so that the
+  // others' boxes are mostly beyond it.
+  const int first = bound_all(x);
+  double nearest = exact(first, x);
+  for (int i = 0; i < size() && nearest > stop; ++i)
+    if (i != first && !beyond(bound2_[i], nearest)) nearest = std::min(nearest, exact(i, x));
+  return nearest;
+}
+
+int BoxedTriangles::nearest(const Vec3& x, double* distance) {
+  int best = bound_all(x);
+  double nearest = exact(best, x);
+  for (int i = 0; i < size(); ++i) {
+    if (i == best || beyond(bound2_[i], nearest)) continue;
+    const double d = exact(i, x);
+    if (d < nearest || (d == nearest && i < best)) nearest = d, best = i;
+  }
+  *distance = nearest;
+  return best;
+}
+
+}  // namespace pm

@@ -1,0 +1,66 @@
+// The distance from a point to the nearest of a set of triangles, as the minimum of
+// point_triangle_distance (Ericson 2005, §5.1.5) over the set, computed for fewer of them:
+// a triangle's bounding box is a cheap lower bound of its distance (Ericson 2005, §5.1.3,
+// closest point on an AABB), so a triangle whose box is farther than the nearest distance
+// found so far need not be measured. The result is bit for bit the minimum over all
+// triangles: a skipped triangle's computed distance would have been larger than the minimum
+// anyway, by the margin `slack` that covers the rounding of both the bound and the exact
+// distance (see BoxedTriangles::slack_for).
+#pragma once
+
+#include <vector>
+
+#include "geometry.h"
+
+namespace pm {
+
+class BoxedTriangles {
+ public:
+  // A margin far above the rounding error of point_triangle_distance on a well-shaped
+  // triangle whose coordinates are at most `extent` in magnitude (some ulps of `extent`,
+  // times the conditioning of the triangle, which `thin` bounds).
+  static double slack_for(double extent) { return 1e-9 * extent + 1e-300; }
+
+  explicit BoxedTriangles(double slack) : slack_(slack) {}
+
+  void clear();
+  void add(const Vec3& a, const Vec3& b, const Vec3& c);
+  int size() const { return static_cast<int>(triangles_.size()); }
+  const Vec3& corner(int i, int c) const { return triangles_[i].corner[c]; }
+
+  // The least point_triangle_distance from x to the triangles, or infinity when there are
+  // none; or, once some triangle is at most `stop` away, any value at most `stop` (callers
+  // taking the largest of such minima need no more).
+  double nearest_distance(const Vec3& x, double stop);
+
+  // The first triangle (lowest index) at the least distance from x; *distance gets that
+  // distance. Requires size() > 0.
+  int nearest(const Vec3& x, double* distance);
+
+ private:
+  struct Triangle {
+    Vec3 corner[3];
+  };
+  double exact(int i, const Vec3& x) const {
+    const Triangle& t = triangles_[i];
+    return point_triangle_distance(x, t.corner[0], t.corner[1], t.corner[2]);
+  }
+  // Fills bound2_ with the squared distances from x to the boxes and returns the triangle
+  // of least bound.
+  int bound_all(const Vec3& x);
+  // True when a triangle whose squared box distance is b2 cannot be nearer than `nearest`.
+  bool beyond(double b2, double nearest) const {
+    const double reach = nearest + slack_;
+    return b2 > reach * reach;
+  }
+
+  double slack_;
+  std::vector<Triangle> triangles_;
+  // The boxes, one array per bound (x, y, z low then high) so that bound_all vectorizes. A
+  // nearly degenerate triangle gets an infinite box, so that it is always measured: rounding
+  // in its closest point may exceed the slack.
+  std::vector<double> box_[6];
+  std::vector<double> bound2_;  // scratch: per triangle, for the current point
+};
+
+}  // namespace pm
