@@ -6,8 +6,46 @@
 
 namespace pm {
 
+namespace {
+
+// The link condition as OpenMesh's TriConnectivity::is_collapse_ok states it (the same
+// answers), without its per-call allocations and tagged-bit writes: h (v0 -> v1) is not
+// deleted, nor are its ends; neither of its triangles has both other edges on a boundary;
+// vl != vr (so not both missing); v0 and v1 have no common neighbour but vl and vr; and
+// an interior edge does not join two boundary vertices.
+bool link_condition(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle v0v1) {
+  if (mesh.status(mesh.edge_handle(v0v1)).deleted()) return false;
+  const auto v1v0 = mesh.opposite_halfedge_handle(v0v1);
+  const auto v0 = mesh.to_vertex_handle(v1v0), v1 = mesh.to_vertex_handle(v0v1);
+  if (mesh.status(v0).deleted() || mesh.status(v1).deleted()) return false;
+  HalfEdgeMesh::VertexHandle vl, vr;
+  auto apex = [&](HalfEdgeMesh::HalfedgeHandle h, HalfEdgeMesh::VertexHandle& apex) {
+    if (mesh.is_boundary(h)) return true;
+    const auto h1 = mesh.next_halfedge_handle(h), h2 = mesh.next_halfedge_handle(h1);
+    apex = mesh.to_vertex_handle(h1);
+    return !(mesh.is_boundary(mesh.opposite_halfedge_handle(h1)) &&
+             mesh.is_boundary(mesh.opposite_halfedge_handle(h2)));
+  };
+  if (!apex(v0v1, vl) || !apex(v1v0, vr) || vl == vr) return false;
+  // Neighbours of v1, then each neighbour of v0 looked up among them: valences are small.
+  HalfEdgeMesh::VertexHandle ring[64];
+  int n = 0;
+  for (auto w : mesh.vv_range(v1)) {
+    if (w == vl || w == vr) continue;
+    if (n == 64) return mesh.is_collapse_ok(v0v1);  // a hub: OpenMesh's own test
+    ring[n++] = w;
+  }
+  for (auto w : mesh.vv_range(v0))
+    for (int i = 0; i < n; ++i)
+      if (ring[i] == w) return false;
+  return !(mesh.is_boundary(v0) && mesh.is_boundary(v1) && !mesh.is_boundary(v0v1) &&
+           !mesh.is_boundary(v1v0));
+}
+
+}  // namespace
+
 bool collapse_keeps_topology(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) {
-  if (!mesh.is_collapse_ok(h)) return false;
+  if (!link_condition(mesh, h)) return false;
   // A closed tetrahedron passes the link condition, but collapsing any of its edges leaves
   // two triangles on the same three vertices: not a simplicial surface any more.
   const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
