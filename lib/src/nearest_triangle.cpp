@@ -44,14 +44,26 @@ int BoxedTriangles::bound_all(const Vec3& x) {
   return static_cast<int>(least);
 }
 
-double BoxedTriangles::nearest_distance(const Vec3& x, double stop) {
+double BoxedTriangles::nearest_distance(const Vec3& x, double stop, int* hint) {
   if (triangles_.empty()) return std::numeric_limits<double>::infinity();
-  // The triangle of nearest box first: most often the nearest triangle, so that the
-  // others' boxes are mostly beyond it.
-  const int first = bound_all(x);
-  double nearest = exact(first, x);
-  for (int i = 0; i < size() && nearest > stop; ++i)
-    if (i != first && !beyond(bound2_[i], nearest)) nearest = std::min(nearest, exact(i, x));
+  // The hint first: when it settles the question, the boxes need not be looked at.
+  const int tried = hint && *hint >= 0 && *hint < size() ? *hint : -1;
+  int nearest_at = tried;
+  double nearest = tried >= 0 ? exact(tried, x) : std::numeric_limits<double>::infinity();
+  if (nearest <= stop) return nearest;
+  // Then the triangle of nearest box: most often the nearest triangle, so that the others'
+  // boxes are mostly beyond it.
+  const int least = bound_all(x);
+  if (least != tried) {
+    const double d = exact(least, x);
+    if (d < nearest) nearest = d, nearest_at = least;
+  }
+  for (int i = 0; i < size() && nearest > stop; ++i) {
+    if (i == least || i == tried || beyond(bound2_[i], nearest)) continue;
+    const double d = exact(i, x);
+    if (d < nearest) nearest = d, nearest_at = i;
+  }
+  if (hint) *hint = nearest_at;
   return nearest;
 }
 

@@ -30,8 +30,10 @@ class BoxedTriangles {
 
   // The least point_triangle_distance from x to the triangles, or infinity when there are
   // none; or, once some triangle is at most `stop` away, any value at most `stop` (callers
-  // taking the largest of such minima need no more).
-  double nearest_distance(const Vec3& x, double stop);
+  // taking the largest of such minima need no more). *hint, unless hint is null: a
+  // triangle to try first (any value will do, -1 for none), and on return the one of the
+  // answer: for a nearby point, the previous answer often settles the question.
+  double nearest_distance(const Vec3& x, double stop, int* hint);
 
   // The first triangle (lowest index) at the least distance from x; *distance gets that
   // distance. Requires size() > 0.

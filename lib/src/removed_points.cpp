@@ -119,9 +119,10 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   // The largest over points of the distance to the nearest face: a point already nearer
   // than the worst so far to some face cannot raise it, so its search stops there.
   double worst = 0;
+  int hint = -1;  // the points come face by face: the previous one's face is a good guess
   for_each_point(h, stride, [&](uint32_t p) {
     const double nearest =
-        fan.triangles.nearest_distance(point_of(mesh_, mesh_.vertex_handle(p)), worst);
+        fan.triangles.nearest_distance(point_of(mesh_, mesh_.vertex_handle(p)), worst, &hint);
     if (nearest > worst) worst = nearest;
   });
 
@@ -133,12 +134,13 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
     };
     region_triangles_.add(input_point(0), input_point(1), input_point(2));
   }
+  hint = -1;  // the last sample's nearest face is a guess for the next
   for (int i = 0; i < fan.moved; ++i) {  // the faces that change
     const Vec3 a = fan.triangles.corner(i, 0), b = fan.triangles.corner(i, 1),
                c = fan.triangles.corner(i, 2);
     const Vec3 samples[4] = {(a + b + c) / 3.0, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5};
     for (const Vec3& x : samples) {
-      const double nearest = region_triangles_.nearest_distance(x, worst);
+      const double nearest = region_triangles_.nearest_distance(x, worst, &hint);
       if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
     }
   }
