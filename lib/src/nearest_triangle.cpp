@@ -18,24 +18,25 @@ void BoxedTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c) {
   // that product, which only makes more triangles thin).
   const double longest2 = std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()});
   const bool thin = area_vector(a, b, c).sqrnorm() < 1e-6 * longest2 * longest2;
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  constexpr float kInfinity = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 3; ++k) {
-    box_[k].push_back(thin ? -kInfinity : std::min({a[k], b[k], c[k]}));
-    box_[3 + k].push_back(thin ? kInfinity : std::max({a[k], b[k], c[k]}));
+    box_[k].push_back(thin ? -kInfinity : float(std::min({a[k], b[k], c[k]})));
+    box_[3 + k].push_back(thin ? kInfinity : float(std::max({a[k], b[k], c[k]})));
   }
 }
 
 int BoxedTriangles::bound_all(const Vec3& x) {
   const std::size_t n = triangles_.size();
   bound2_.resize(n);
-  const double *lx = box_[0].data(), *ly = box_[1].data(), *lz = box_[2].data();
-  const double *hx = box_[3].data(), *hy = box_[4].data(), *hz = box_[5].data();
-  double* b2 = bound2_.data();
+  const float *lx = box_[0].data(), *ly = box_[1].data(), *lz = box_[2].data();
+  const float *hx = box_[3].data(), *hy = box_[4].data(), *hz = box_[5].data();
+  const float x0 = float(x[0]), x1 = float(x[1]), x2 = float(x[2]);
+  float* b2 = bound2_.data();
   for (std::size_t i = 0; i < n; ++i) {
     // At most one of the two terms per axis is positive.
-    const double dx = std::max(lx[i] - x[0], 0.0) + std::max(x[0] - hx[i], 0.0);
-    const double dy = std::max(ly[i] - x[1], 0.0) + std::max(x[1] - hy[i], 0.0);
-    const double dz = std::max(lz[i] - x[2], 0.0) + std::max(x[2] - hz[i], 0.0);
+    const float dx = std::max(lx[i] - x0, 0.0f) + std::max(x0 - hx[i], 0.0f);
+    const float dy = std::max(ly[i] - x1, 0.0f) + std::max(x1 - hy[i], 0.0f);
+    const float dz = std::max(lz[i] - x2, 0.0f) + std::max(x2 - hz[i], 0.0f);
     b2[i] = dx * dx + dy * dy + dz * dz;
   }
   std::size_t least = 0;

@@ -8,6 +8,7 @@
 // distance (see BoxedTriangles::slack_for).
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "geometry.h"
@@ -18,8 +19,12 @@ class BoxedTriangles {
  public:
   // A margin far above the rounding error of point_triangle_distance on a well-shaped
   // triangle whose coordinates are at most `extent` in magnitude (some ulps of `extent`,
-  // times the conditioning of the triangle, which `thin` bounds).
-  static double slack_for(double extent) { return 1e-9 * extent + 1e-300; }
+  // times the conditioning of the triangle, which `thin` bounds), and of the boxes'
+  // distances, computed in single precision. Beyond 1e15, squares could overflow a float:
+  // an infinite margin turns the pruning off.
+  static double slack_for(double extent) {
+    return extent < 1e15 ? 1e-5 * extent + 1e-30 : std::numeric_limits<double>::infinity();
+  }
 
   explicit BoxedTriangles(double slack) : slack_(slack) {}
 
@@ -50,19 +55,21 @@ class BoxedTriangles {
   // Fills bound2_ with the squared distances from x to the boxes and returns the triangle
   // of least bound.
   int bound_all(const Vec3& x);
-  // True when a triangle whose squared box distance is b2 cannot be nearer than `nearest`.
-  bool beyond(double b2, double nearest) const {
+  // True when a triangle whose squared box distance is b2 cannot be nearer than `nearest`
+  // (b2's own rounding, a few float ulps, is far below the 1e-6).
+  bool beyond(float b2, double nearest) const {
     const double reach = nearest + slack_;
-    return b2 > reach * reach;
+    return double(b2) * (1 - 1e-6) > reach * reach;
   }
 
   double slack_;
   std::vector<Triangle> triangles_;
-  // The boxes, one array per bound (x, y, z low then high) so that bound_all vectorizes. A
-  // nearly degenerate triangle gets an infinite box, so that it is always measured: rounding
-  // in its closest point may exceed the slack.
-  std::vector<double> box_[6];
-  std::vector<double> bound2_;  // scratch: per triangle, for the current point
+  // The boxes, one array per bound (x, y, z low then high), in single precision (the
+  // input's, so the corners' bounds are exact) so that bound_all vectorizes wide. A nearly
+  // degenerate triangle gets an infinite box, so that it is always measured: rounding in
+  // its closest point may exceed the slack.
+  std::vector<float> box_[6];
+  std::vector<float> bound2_;  // scratch: per triangle, for the current point
 };
 
 }  // namespace pm
