@@ -45,8 +45,7 @@ RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh)
   stamp_.assign(input_corners_.size() / 3, 0);
 }
 
-void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan,
-                                        uint32_t stride) const {
+void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const {
   if (++query_ == 0) {  // the stamps wrapped around: start afresh
     std::fill(stamp_.begin(), stamp_.end(), 0);
     query_ = 1;
@@ -58,7 +57,7 @@ void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fa
       if (stamp_[f] != query_) stamp_[f] = query_, region_.push_back(f);
     }
   };
-  for_each_point(h, stride, add_faces_of);
+  for (uint32_t p : sampled_) add_faces_of(p);
   for (int i = 0; i < fan.moved; ++i)
     for (auto w : mesh_.fv_range(mesh_.face_handle(fan.face[i]))) add_faces_of(uint32_t(w.idx()));
   add_faces_of(uint32_t(mesh_.to_vertex_handle(h).idx()));
@@ -94,39 +93,36 @@ bool RemovedPoints::make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const {
   return fan.count > 0;
 }
 
-template <typename Visit>
-void RemovedPoints::for_each_point(HalfEdgeMesh::HalfedgeHandle h, uint32_t stride,
-                                   Visit visit) const {
-  const auto v = mesh_.from_vertex_handle(h);
-  visit(uint32_t(v.idx()));
-  uint32_t i = 0;
-  for (auto f : mesh_.vf_range(v))
-    for (uint32_t p = first_[f.idx()]; p != kNone; p = next_[p])
-      if (i++ % stride == 0) visit(p);
+void RemovedPoints::gather_points(HalfEdgeMesh::HalfedgeHandle h,
+                                  std::vector<uint32_t>& points) const {
+  for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h)))
+    for (uint32_t p = first_[f.idx()]; p != kNone; p = next_[p]) points.push_back(p);
 }
 
-uint32_t RemovedPoints::measuring_stride(HalfEdgeMesh::HalfedgeHandle h) const {
-  uint32_t count = 0;
-  for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h)))
-    for (uint32_t p = first_[f.idx()]; p != kNone; p = next_[p]) ++count;
-  return count / kMeasuredPoints + 1;
+void RemovedPoints::sample_points(HalfEdgeMesh::HalfedgeHandle h) const {
+  moving_.clear();
+  gather_points(h, moving_);
+  const std::size_t stride = moving_.size() / kMeasuredPoints + 1;
+  sampled_.clear();
+  sampled_.push_back(uint32_t(mesh_.from_vertex_handle(h).idx()));
+  for (std::size_t i = 0; i < moving_.size(); i += stride) sampled_.push_back(moving_[i]);
 }
 
 double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   Fan& fan = fan_;
   if (!make_fan(h, fan)) return 0;
-  const uint32_t stride = measuring_stride(h);
+  sample_points(h);
   // The largest over points of the distance to the nearest face: a point already nearer
   // than the worst so far to some face cannot raise it, so its search stops there.
   double worst = 0;
   int hint = -1;  // the points come face by face: the previous one's face is a good guess
-  for_each_point(h, stride, [&](uint32_t p) {
+  for (uint32_t p : sampled_) {
     const double nearest =
         fan.triangles.nearest_distance(point_of(mesh_, mesh_.vertex_handle(p)), worst, &hint);
     if (nearest > worst) worst = nearest;
-  });
+  }
 
-  collect_input_faces(h, fan, stride);
+  collect_input_faces(h, fan);
   region_triangles_.clear();
   for (uint32_t f : region_) {
     auto input_point = [&](int c) {
@@ -151,8 +147,8 @@ double RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
   Fan& fan = fan_;
   if (!make_fan(h, fan)) return 0;
   double farthest = 0;
-  moving_.clear();
-  for_each_point(h, 1, [&](uint32_t p) { moving_.push_back(p); });
+  moving_.assign(1, uint32_t(mesh_.from_vertex_handle(h).idx()));  // v, then its faces' points
+  gather_points(h, moving_);
   for (auto f : mesh_.vf_range(mesh_.from_vertex_handle(h))) first_[f.idx()] = kNone;
   for (uint32_t p : moving_) {
     double nearest;

@@ -49,17 +49,17 @@ class RemovedPoints {
   // False when v has more faces than Fan holds; the simplifier never collapses a vertex
   // of valence above 64, so this does not happen.
   bool make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const;
-  // v, then every stride-th point of v's faces.
-  template <typename Visit>
-  void for_each_point(HalfEdgeMesh::HalfedgeHandle h, uint32_t stride, Visit visit) const;
+  // Appends to `points` the points of v's faces (the points that move), in list order.
+  void gather_points(HalfEdgeMesh::HalfedgeHandle h, std::vector<uint32_t>& points) const;
   // Near the base mesh a face holds thousands of points; measuring an evenly spread
   // subset of kMeasuredPoints keeps a collapse's cost bounded where errors are large
   // anyway. Every point still moves with every collapse.
   static constexpr uint32_t kMeasuredPoints = 512;
-  uint32_t measuring_stride(HalfEdgeMesh::HalfedgeHandle h) const;
+  // Fills sampled_: v, then every stride-th of v's faces' points, stride set by their count.
+  void sample_points(HalfEdgeMesh::HalfedgeHandle h) const;
 
-  // The input faces around the points and corners of the fan, each once.
-  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan, uint32_t stride) const;
+  // The input faces around the sampled points and the corners of the fan, each once.
+  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const;
 
   const HalfEdgeMesh& mesh_;
   std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
@@ -72,7 +72,8 @@ class RemovedPoints {
   mutable Fan fan_;                          // scratch: the current query's fan
   std::vector<uint32_t> first_;  // per face: first point of its list, kNone if empty
   std::vector<uint32_t> next_;   // per vertex: the next point in its face's list
-  std::vector<uint32_t> moving_;  // scratch for collapse(), kept to avoid reallocation
+  // Scratch, kept to avoid reallocation: the points that move, and those measured.
+  mutable std::vector<uint32_t> moving_, sampled_;
 };
 
 }  // namespace pm
