@@ -124,11 +124,20 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
 
   collect_input_faces(h, fan);
   region_triangles_.clear();
-  for (uint32_t f : region_) {
-    auto input_point = [&](int c) {
-      return point_of(mesh_, mesh_.vertex_handle(input_corners_[3 * f + c]));
-    };
-    region_triangles_.add(input_point(0), input_point(1), input_point(2));
+  // The corners are scattered over the input: their loads are asked for (prefetched) a few
+  // faces ahead.
+  constexpr std::size_t kAhead = 8;
+  const uint32_t* corners = input_corners_.data();
+  const auto* points = mesh_.points();
+  for (std::size_t k = 0; k < region_.size(); ++k) {
+    if (k + 2 * kAhead < region_.size()) __builtin_prefetch(corners + 3 * region_[k + 2 * kAhead]);
+    if (k + kAhead < region_.size()) {
+      const uint32_t* ahead = corners + 3 * region_[k + kAhead];
+      for (int c = 0; c < 3; ++c) __builtin_prefetch(points + ahead[c]);
+    }
+    const uint32_t* corner = corners + 3 * region_[k];
+    region_triangles_.add(to_vec3(points[corner[0]]), to_vec3(points[corner[1]]),
+                          to_vec3(points[corner[2]]));
   }
   hint = -1;  // the last sample's nearest face is a guess for the next
   for (int i = 0; i < fan.moved; ++i) {  // the faces that change
