@@ -140,13 +140,24 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
                           to_vec3(points[corner[2]]));
   }
   hint = -1;  // the last sample's nearest face is a guess for the next
+  // Neighbouring faces of the fan share their edge to u, so most midpoints come twice. A
+  // point measured again cannot raise `worst` (its distance is at most `worst` already), so
+  // it is measured once; the same sum in either order is the same point, bit for bit.
+  measured_midpoints_.clear();
+  auto measure = [&](const Vec3& x) {
+    const double nearest = region_triangles_.nearest_distance(x, worst, &hint);
+    if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
+  };
   for (int i = 0; i < fan.moved; ++i) {  // the faces that change
     const Vec3 a = fan.triangles.corner(i, 0), b = fan.triangles.corner(i, 1),
                c = fan.triangles.corner(i, 2);
-    const Vec3 samples[4] = {(a + b + c) / 3.0, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5};
-    for (const Vec3& x : samples) {
-      const double nearest = region_triangles_.nearest_distance(x, worst, &hint);
-      if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
+    measure((a + b + c) / 3.0);
+    for (const Vec3& x : {(a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5}) {
+      if (std::find(measured_midpoints_.begin(), measured_midpoints_.end(), x) !=
+          measured_midpoints_.end())
+        continue;
+      measured_midpoints_.push_back(x);
+      measure(x);
     }
   }
   return worst;

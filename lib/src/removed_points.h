@@ -74,6 +74,7 @@ class RemovedPoints {
   std::vector<uint32_t> next_;   // per vertex: the next point in its face's list
   // Scratch, kept to avoid reallocation: the points that move, and those measured.
   mutable std::vector<uint32_t> moving_, sampled_;
+  mutable std::vector<Vec3> measured_midpoints_;  // of the current query's fan
 };
 
 }  // namespace pm
