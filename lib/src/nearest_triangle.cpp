@@ -6,13 +6,17 @@
 
 namespace pm {
 
-void BoxedTriangles::clear() {
-  triangles_.clear();
-  for (auto& bound : box_) bound.clear();
+void BoxedTriangles::clear(std::size_t capacity) {
+  size_ = 0;
+  if (triangles_.size() >= capacity) return;
+  triangles_.resize(capacity);
+  for (auto& bound : box_) bound.resize(capacity);
+  bound2_.resize(capacity);
 }
 
 void BoxedTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c) {
-  triangles_.push_back({{a, b, c}});
+  const std::size_t i = size_++;
+  triangles_[i] = {{a, b, c}};
   // The sine of the smallest angle is twice the area over the product of the two longest
   // edges; below 1e-3 the triangle counts as thin (the longest edge squared stands in for
   // that product, which only makes more triangles thin).
@@ -20,14 +24,13 @@ void BoxedTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c) {
   const bool thin = area_vector(a, b, c).sqrnorm() < 1e-6 * longest2 * longest2;
   constexpr float kInfinity = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 3; ++k) {
-    box_[k].push_back(thin ? -kInfinity : float(std::min({a[k], b[k], c[k]})));
-    box_[3 + k].push_back(thin ? kInfinity : float(std::max({a[k], b[k], c[k]})));
+    box_[k][i] = thin ? -kInfinity : float(std::min({a[k], b[k], c[k]}));
+    box_[3 + k][i] = thin ? kInfinity : float(std::max({a[k], b[k], c[k]}));
   }
 }
 
 int BoxedTriangles::bound_all(const Vec3& x) {
-  const std::size_t n = triangles_.size();
-  bound2_.resize(n);
+  const std::size_t n = size_;
   const float *lx = box_[0].data(), *ly = box_[1].data(), *lz = box_[2].data();
   const float *hx = box_[3].data(), *hy = box_[4].data(), *hz = box_[5].data();
   const float x0 = float(x[0]), x1 = float(x[1]), x2 = float(x[2]);
@@ -46,7 +49,7 @@ int BoxedTriangles::bound_all(const Vec3& x) {
 }
 
 double BoxedTriangles::nearest_distance(const Vec3& x, double stop, int* hint) {
-  if (triangles_.empty()) return std::numeric_limits<double>::infinity();
+  if (size_ == 0) return std::numeric_limits<double>::infinity();
   // The hint first: when it settles the question, the boxes need not be looked at.
   const int tried = hint && *hint >= 0 && *hint < size() ? *hint : -1;
   int nearest_at = tried;

@@ -28,9 +28,11 @@ class BoxedTriangles {
 
   explicit BoxedTriangles(double slack) : slack_(slack) {}
 
-  void clear();
+  // Empties the set and makes room for `capacity` triangles: at most that many may be
+  // added (the arrays only grow, so a set reused query after query stops allocating).
+  void clear(std::size_t capacity);
   void add(const Vec3& a, const Vec3& b, const Vec3& c);
-  int size() const { return static_cast<int>(triangles_.size()); }
+  int size() const { return static_cast<int>(size_); }
   const Vec3& corner(int i, int c) const { return triangles_[i].corner[c]; }
 
   // The least point_triangle_distance from x to the triangles, or infinity when there are
@@ -63,6 +65,7 @@ class BoxedTriangles {
   }
 
   double slack_;
+  std::size_t size_ = 0;
   std::vector<Triangle> triangles_;
   // The boxes, one array per bound (x, y, z low then high), in single precision (the
   // input's, so the corners' bounds are exact) so that bound_all vectorizes wide. A nearly

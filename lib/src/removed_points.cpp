@@ -68,7 +68,7 @@ bool RemovedPoints::make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const {
   const HalfEdgeMesh::FaceHandle fl = mesh_.face_handle(h), fr = mesh_.opposite_face_handle(h);
   const Vec3 target = point_of(mesh_, u);
   fan.count = 0;
-  fan.triangles.clear();
+  fan.triangles.clear(kMaxFan);
   auto add = [&](HalfEdgeMesh::FaceHandle f) {
     Vec3 corner[3];
     int c = 0;
@@ -123,7 +123,7 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   }
 
   collect_input_faces(h, fan);
-  region_triangles_.clear();
+  region_triangles_.clear(region_.size());
   // The corners are scattered over the input: their loads are asked for (prefetched) a few
   // faces ahead.
   constexpr std::size_t kAhead = 8;
