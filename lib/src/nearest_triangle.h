@@ -57,6 +57,14 @@ class BoxedTriangles {
   // Fills bound2_ with the squared distances from x to the boxes and returns the triangle
   // of least bound.
   int bound_all(const Vec3& x);
+  // Lowers nearest (at triangle nearest_at) to the least distance from x to triangles
+  // [begin, end) other than `tried` (measured already), or stops once it is at most `stop`.
+  void search(const Vec3& x, std::size_t begin, std::size_t end, double stop, int tried,
+              double& nearest, int& nearest_at);
+  // Consecutive triangles (neighbours, as the callers add them) in chunks of kChunk, each
+  // with the box of their boxes: a chunk beyond the nearest distance is skipped whole.
+  static constexpr std::size_t kChunk = 16;
+  void make_chunks();
   // True when a triangle whose squared box distance is b2 cannot be nearer than `nearest`
   // (b2's own rounding, a few float ulps, is far below the 1e-6).
   bool beyond(float b2, double nearest) const {
@@ -73,6 +81,9 @@ class BoxedTriangles {
   // its closest point may exceed the slack.
   std::vector<float> box_[6];
   std::vector<float> bound2_;  // scratch: per triangle, for the current point
+  bool chunks_ready_ = false;
+  std::vector<float> chunk_box_[6];
+  std::vector<float> chunk_bound2_;  // scratch: per chunk, for the current point
 };
 
 }  // namespace pm
