@@ -42,25 +42,30 @@ RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh)
   std::vector<uint32_t> fill(faces_of_begin_.begin(), faces_of_begin_.end() - 1);
   for (std::size_t i = 0; i < input_corners_.size(); ++i)
     faces_of_[fill[input_corners_[i]]++] = uint32_t(i / 3);
-  stamp_.assign(input_corners_.size() / 3, 0);
 }
 
 void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const {
-  if (++query_ == 0) {  // the stamps wrapped around: start afresh
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    query_ = 1;
-  }
+  // The vertices whose input faces make the region, then the faces, each once: a small
+  // open-addressing set of face ids (it stays in cache, where a mark per input face would
+  // be a scattered load per face on a large input), in the order first met.
+  region_vertices_.assign(sampled_.begin(), sampled_.end());
+  for (int i = 0; i < fan.moved; ++i)
+    for (auto w : mesh_.fv_range(mesh_.face_handle(fan.face[i])))
+      region_vertices_.push_back(uint32_t(w.idx()));
+  region_vertices_.push_back(uint32_t(mesh_.to_vertex_handle(h).idx()));
+  std::size_t entries = 0;
+  for (uint32_t v : region_vertices_) entries += faces_of_begin_[v + 1] - faces_of_begin_[v];
+  std::size_t slots = 64;
+  while (slots < 2 * entries) slots *= 2;
+  seen_.assign(slots, kNone);
   region_.clear();
-  auto add_faces_of = [&](uint32_t v) {
+  for (uint32_t v : region_vertices_)
     for (uint32_t i = faces_of_begin_[v]; i < faces_of_begin_[v + 1]; ++i) {
       const uint32_t f = faces_of_[i];
-      if (stamp_[f] != query_) stamp_[f] = query_, region_.push_back(f);
+      std::size_t slot = (f * 0x9E3779B1u) & (slots - 1);  // Fibonacci hashing
+      while (seen_[slot] != kNone && seen_[slot] != f) slot = (slot + 1) & (slots - 1);
+      if (seen_[slot] == kNone) seen_[slot] = f, region_.push_back(f);
     }
-  };
-  for (uint32_t p : sampled_) add_faces_of(p);
-  for (int i = 0; i < fan.moved; ++i)
-    for (auto w : mesh_.fv_range(mesh_.face_handle(fan.face[i]))) add_faces_of(uint32_t(w.idx()));
-  add_faces_of(uint32_t(mesh_.to_vertex_handle(h).idx()));
 }
 
 bool RemovedPoints::make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const {

@@ -65,8 +65,8 @@ class RemovedPoints {
   std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
   std::vector<uint32_t> faces_of_begin_;     // per vertex: its input faces in faces_of_
   std::vector<uint32_t> faces_of_;
-  mutable std::vector<uint32_t> stamp_;      // per input face: last query that collected it
-  mutable uint32_t query_ = 0;
+  mutable std::vector<uint32_t> region_vertices_;  // scratch: the vertices around them
+  mutable std::vector<uint32_t> seen_;             // scratch: a set of the region's faces
   mutable std::vector<uint32_t> region_;     // scratch: input faces of the current query
   mutable BoxedTriangles region_triangles_;  // scratch: their corners
   mutable Fan fan_;                          // scratch: the current query's fan
