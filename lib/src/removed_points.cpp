@@ -20,9 +20,12 @@ double extent_of(const HalfEdgeMesh& mesh) {
 }  // namespace
 
 RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh)
+    : RemovedPoints(mesh, BoxedTriangles::slack_for(extent_of(mesh))) {}
+
+RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh, double slack)
     : mesh_(mesh),
-      region_triangles_(BoxedTriangles::slack_for(extent_of(mesh))),
-      fan_(BoxedTriangles::slack_for(extent_of(mesh))),
+      region_triangles_(slack),
+      fan_(slack),
       first_(mesh.n_faces(), kNone),
       next_(mesh.n_vertices(), kNone) {
   // The input's faces and, per vertex, the faces around it (compressed rows), kept

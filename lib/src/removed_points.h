@@ -37,6 +37,9 @@ class RemovedPoints {
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
 
+  // `slack`: the nearest-triangle searches' rounding margin (BoxedTriangles::slack_for).
+  RemovedPoints(const HalfEdgeMesh& mesh, double slack);
+
   static constexpr int kMaxFan = 128;
   // The faces the points may go to, as (face id, corners after the collapse): first the
   // `moved` faces replacing v's (u in place of v), then u's other faces.
