@@ -6,13 +6,63 @@
 
 namespace pm {
 
+namespace {
+
+// The link condition as OpenMesh's TriConnectivity::is_collapse_ok states it (the same
+// answers), without its per-call allocations and tagged-bit writes: h (v0 -> v1) is not
+// deleted, nor are its ends; neither of its triangles has both other edges on a boundary;
+// vl != vr (so not both missing); v0 and v1 have no common neighbour but vl and vr; and
+// an interior edge does not join two boundary vertices. When it holds, *valence0 and
+// *valence1 are the valences of v0 and v1 (the walks count them).
+bool link_condition(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle v0v1, int* valence0,
+                    int* valence1) {
+  if (mesh.status(mesh.edge_handle(v0v1)).deleted()) return false;
+  const auto v1v0 = mesh.opposite_halfedge_handle(v0v1);
+  const auto v0 = mesh.to_vertex_handle(v1v0), v1 = mesh.to_vertex_handle(v0v1);
+  if (mesh.status(v0).deleted() || mesh.status(v1).deleted()) return false;
+  HalfEdgeMesh::VertexHandle vl, vr;
+  auto apex = [&](HalfEdgeMesh::HalfedgeHandle h, HalfEdgeMesh::VertexHandle& apex) {
+    if (mesh.is_boundary(h)) return true;
+    const auto h1 = mesh.next_halfedge_handle(h), h2 = mesh.next_halfedge_handle(h1);
+    apex = mesh.to_vertex_handle(h1);
+    return !(mesh.is_boundary(mesh.opposite_halfedge_handle(h1)) &&
+             mesh.is_boundary(mesh.opposite_halfedge_handle(h2)));
+  };
+  if (!apex(v0v1, vl) || !apex(v1v0, vr) || vl == vr) return false;
+  // Neighbours of v1, then each neighbour of v0 looked up among them: valences are small.
+  HalfEdgeMesh::VertexHandle ring[64];
+  int n = 0;
+  *valence1 = 0;
+  for (auto w : mesh.vv_range(v1)) {
+    ++*valence1;
+    if (w == vl || w == vr) continue;
+    if (n == 64) {  // a hub: OpenMesh's own test
+      if (!mesh.is_collapse_ok(v0v1)) return false;
+      *valence0 = static_cast<int>(mesh.valence(v0));
+      *valence1 = static_cast<int>(mesh.valence(v1));
+      return true;
+    }
+    ring[n++] = w;
+  }
+  *valence0 = 0;
+  for (auto w : mesh.vv_range(v0)) {
+    ++*valence0;
+    for (int i = 0; i < n; ++i)
+      if (ring[i] == w) return false;
+  }
+  return !(mesh.is_boundary(v0) && mesh.is_boundary(v1) && !mesh.is_boundary(v0v1) &&
+           !mesh.is_boundary(v1v0));
+}
+
+}  // namespace
+
 bool collapse_keeps_topology(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) {
-  if (!mesh.is_collapse_ok(h)) return false;
+  int valence_v, valence_u;
+  if (!link_condition(mesh, h, &valence_v, &valence_u)) return false;
   // A closed tetrahedron passes the link condition, but collapsing any of its edges leaves
   // two triangles on the same three vertices: not a simplicial surface any more.
   const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
-  return !(mesh.valence(v) == 3 && mesh.valence(u) == 3 && !mesh.is_boundary(v) &&
-           !mesh.is_boundary(u));
+  return !(valence_v == 3 && valence_u == 3 && !mesh.is_boundary(v) && !mesh.is_boundary(u));
 }
 
 bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,

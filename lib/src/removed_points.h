@@ -14,6 +14,7 @@
 
 #include "geometry.h"
 #include "half_edge_mesh.h"
+#include "nearest_triangle.h"
 
 namespace pm {
 
@@ -36,39 +37,47 @@ class RemovedPoints {
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
 
+  // `slack`: the nearest-triangle searches' rounding margin (BoxedTriangles::slack_for).
+  RemovedPoints(const HalfEdgeMesh& mesh, double slack);
+
   static constexpr int kMaxFan = 128;
   // The faces the points may go to, as (face id, corners after the collapse): first the
   // `moved` faces replacing v's (u in place of v), then u's other faces.
   struct Fan {
+    explicit Fan(double slack) : triangles(slack) {}
     int count = 0, moved = 0;
     int face[kMaxFan];
-    Vec3 corner[kMaxFan][3];
+    BoxedTriangles triangles;  // their corners, in the same order
   };
   // False when v has more faces than Fan holds; the simplifier never collapses a vertex
   // of valence above 64, so this does not happen.
   bool make_fan(HalfEdgeMesh::HalfedgeHandle h, Fan& fan) const;
-  // v, then every stride-th point of v's faces.
-  template <typename Visit>
-  void for_each_point(HalfEdgeMesh::HalfedgeHandle h, uint32_t stride, Visit visit) const;
+  // Appends to `points` the points of v's faces (the points that move), in list order.
+  void gather_points(HalfEdgeMesh::HalfedgeHandle h, std::vector<uint32_t>& points) const;
   // Near the base mesh a face holds thousands of points; measuring an evenly spread
   // subset of kMeasuredPoints keeps a collapse's cost bounded where errors are large
   // anyway. Every point still moves with every collapse.
   static constexpr uint32_t kMeasuredPoints = 512;
-  uint32_t measuring_stride(HalfEdgeMesh::HalfedgeHandle h) const;
+  // Fills sampled_: v, then every stride-th of v's faces' points, stride set by their count.
+  void sample_points(HalfEdgeMesh::HalfedgeHandle h) const;
 
-  // The input faces around the points and corners of the fan, each once.
-  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan, uint32_t stride) const;
+  // The input faces around the sampled points and the corners of the fan, each once.
+  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const;
 
   const HalfEdgeMesh& mesh_;
   std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
   std::vector<uint32_t> faces_of_begin_;     // per vertex: its input faces in faces_of_
   std::vector<uint32_t> faces_of_;
-  mutable std::vector<uint32_t> stamp_;      // per input face: last query that collected it
-  mutable uint32_t query_ = 0;
+  mutable std::vector<uint32_t> region_vertices_;  // scratch: the vertices around them
+  mutable std::vector<uint32_t> seen_;             // scratch: a set of the region's faces
   mutable std::vector<uint32_t> region_;     // scratch: input faces of the current query
+  mutable BoxedTriangles region_triangles_;  // scratch: their corners
+  mutable Fan fan_;                          // scratch: the current query's fan
   std::vector<uint32_t> first_;  // per face: first point of its list, kNone if empty
   std::vector<uint32_t> next_;   // per vertex: the next point in its face's list
-  std::vector<uint32_t> moving_;  // scratch for collapse(), kept to avoid reallocation
+  // Scratch, kept to avoid reallocation: the points that move, and those measured.
+  mutable std::vector<uint32_t> moving_, sampled_;
+  mutable std::vector<Vec3> measured_midpoints_;  // of the current query's fan
 };
 
 }  // namespace pm

@@ -216,20 +216,44 @@ class SchroederSimplifier {
       // Garland and Heckbert 1997, §4: the cheapest pair; here among v's legal half-edge
       // collapses, with u staying where it is (subset placement, §4 "optimal placement" is
       // not possible for a progressive mesh that keeps input positions).
-      double best = HUGE_VAL, best_distance = 0;
+      //
+      // The options of options[0]'s kind (special or not) come first, the cheapest legal
+      // one wins; only if none is legal, the first legal one of the other kind. Legality is
+      // the dearer test, so it is asked in order of cost, until one passes: the choice is
+      // the same as testing every option.
       const Quadric& qv = quadrics_[v.idx()];
-      for (int i = 0; i < count; ++i) {
-        if (chosen.is_valid() && options[i].special != options[0].special) break;
-        if (!legal(options[i].h)) continue;
+      struct Costed {
+        double cost, geometric;
+        int option;
+      };
+      auto costed = [&](int i) {
         const VertexHandle u = mesh_.to_vertex_handle(options[i].h);
         // v's planes at u, as a mean over their area (cost_of_moving), plus the
         // attributes' error in the same units (Hoppe 1999, §4).
         const double geometric = cost_of_moving(qv, point_of(mesh_, u));
-        const double cost = geometric + attribute_cost(options[i].h);
-        if (cost < best) best = cost, chosen = options[i].h, best_distance = std::sqrt(geometric);
+        return Costed{geometric + attribute_cost(options[i].h), geometric, i};
+      };
+      Costed first_kind[64];
+      int n_first = 0, i = 0;
+      for (; i < count && options[i].special == options[0].special; ++i) {
+        const Costed c = costed(i);
+        if (c.cost < HUGE_VAL) first_kind[n_first++] = c;  // not NaN nor infinite
       }
-      if (!chosen.is_valid()) return;
-      queue_.push({static_cast<float>(best), static_cast<float>(best_distance),
+      std::sort(first_kind, first_kind + n_first, [](const Costed& a, const Costed& b) {
+        return a.cost != b.cost ? a.cost < b.cost : a.option < b.option;
+      });
+      const Costed* best = nullptr;
+      for (int k = 0; k < n_first && !best; ++k)
+        if (legal(options[first_kind[k].option].h)) best = &first_kind[k];
+      Costed other;
+      for (; i < count && !best; ++i) {
+        if (!legal(options[i].h)) continue;
+        other = costed(i);
+        if (other.cost < HUGE_VAL) best = &other;
+      }
+      if (!best) return;
+      chosen = options[best->option].h;
+      queue_.push({static_cast<float>(best->cost), static_cast<float>(std::sqrt(best->geometric)),
                    static_cast<uint32_t>(v.idx()), static_cast<uint32_t>(chosen.idx()),
                    version_[v.idx()]});
       return;
