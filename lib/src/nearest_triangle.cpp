@@ -15,15 +15,18 @@ void BoxedTriangles::clear(std::size_t capacity) {
   bound2_.resize(capacity);
 }
 
-void BoxedTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c) {
+bool BoxedTriangles::is_thin(const Vec3& a, const Vec3& b, const Vec3& c) {
+  // The sine of the smallest angle is twice the area over the product of the two longest
+  // edges (the longest edge squared stands in for that product, which only makes more
+  // triangles thin).
+  const double longest2 = std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()});
+  return area_vector(a, b, c).sqrnorm() < 1e-6 * longest2 * longest2;
+}
+
+void BoxedTriangles::add(const Vec3& a, const Vec3& b, const Vec3& c, bool thin) {
   const std::size_t i = size_++;
   chunks_ready_ = false;
   triangles_[i] = {{a, b, c}};
-  // The sine of the smallest angle is twice the area over the product of the two longest
-  // edges; below 1e-3 the triangle counts as thin (the longest edge squared stands in for
-  // that product, which only makes more triangles thin).
-  const double longest2 = std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()});
-  const bool thin = area_vector(a, b, c).sqrnorm() < 1e-6 * longest2 * longest2;
   constexpr float kInfinity = std::numeric_limits<float>::infinity();
   for (int k = 0; k < 3; ++k) {
     box_[k][i] = thin ? -kInfinity : float(std::min({a[k], b[k], c[k]}));

@@ -31,7 +31,12 @@ class BoxedTriangles {
   // Empties the set and makes room for `capacity` triangles: at most that many may be
   // added (the arrays only grow, so a set reused query after query stops allocating).
   void clear(std::size_t capacity);
-  void add(const Vec3& a, const Vec3& b, const Vec3& c);
+  void add(const Vec3& a, const Vec3& b, const Vec3& c) { add(a, b, c, is_thin(a, b, c)); }
+  // The same, where the caller knows is_thin(a, b, c) already.
+  void add(const Vec3& a, const Vec3& b, const Vec3& c, bool thin);
+  // Nearly degenerate: the sine of the smallest angle below 1e-3. Rounding in such a
+  // triangle's closest point may exceed the slack, so it is always measured.
+  static bool is_thin(const Vec3& a, const Vec3& b, const Vec3& c);
   int size() const { return static_cast<int>(size_); }
   const Vec3& corner(int i, int c) const { return triangles_[i].corner[c]; }
 

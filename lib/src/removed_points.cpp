@@ -45,6 +45,13 @@ RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh, double slack)
   std::vector<uint32_t> fill(faces_of_begin_.begin(), faces_of_begin_.end() - 1);
   for (std::size_t i = 0; i < input_corners_.size(); ++i)
     faces_of_[fill[input_corners_[i]]++] = uint32_t(i / 3);
+  thin_input_face_.resize(input_corners_.size() / 3);
+  for (std::size_t f = 0; f < thin_input_face_.size(); ++f) {
+    auto corner = [&](int c) {
+      return point_of(mesh, mesh.vertex_handle(input_corners_[3 * f + c]));
+    };
+    thin_input_face_[f] = BoxedTriangles::is_thin(corner(0), corner(1), corner(2));
+  }
 }
 
 void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const {
@@ -145,7 +152,7 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
     }
     const uint32_t* corner = corners + 3 * region_[k];
     region_triangles_.add(to_vec3(points[corner[0]]), to_vec3(points[corner[1]]),
-                          to_vec3(points[corner[2]]));
+                          to_vec3(points[corner[2]]), thin_input_face_[region_[k]]);
   }
   hint = -1;  // the last sample's nearest face is a guess for the next
   // Neighbouring faces of the fan share their edge to u, so most midpoints come twice. A

@@ -68,6 +68,7 @@ class RemovedPoints {
   std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
   std::vector<uint32_t> faces_of_begin_;     // per vertex: its input faces in faces_of_
   std::vector<uint32_t> faces_of_;
+  std::vector<bool> thin_input_face_;        // BoxedTriangles::is_thin, per input face
   mutable std::vector<uint32_t> region_vertices_;  // scratch: the vertices around them
   mutable std::vector<uint32_t> seen_;             // scratch: a set of the region's faces
   mutable std::vector<uint32_t> region_;     // scratch: input faces of the current query
