@@ -290,6 +290,14 @@ bool read_planes(ByteReader& in, std::size_t count, std::vector<uint64_t>& codes
   return true;
 }
 
+// A residual code as a difference, or false when it is beyond any difference of two u32
+// values (so that adding it to one cannot overflow).
+bool residual_of(uint64_t code, int64_t& difference) {
+  if (code > (uint64_t{1} << 33)) return false;
+  difference = unzigzag(code);
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Quantization grids (§5.3): origin + q * step, q in [0, 2^bits).
 
@@ -1383,7 +1391,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     split.u = v - 1 - u_offset;
     uint64_t error_code;
     if (!read_varint64(error_in, error_code)) return failed(error_in);
-    const int64_t error_bits = int64_t{ordered_from_float(previous_error)} - unzigzag(error_code);
+    int64_t error_step = 0;
+    if (!residual_of(error_code, error_step)) return bad(v, "has an impossible error");
+    const int64_t error_bits = int64_t{ordered_from_float(previous_error)} - error_step;
     if (error_bits < 0 || error_bits > 0xFFFFFFFFll) return bad(v, "has an impossible error");
     split.error = float_from_ordered(static_cast<uint32_t>(error_bits));
     if (!std::isfinite(split.error) || split.error < 0 || split.error > previous_error ||
@@ -1449,7 +1459,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     // The position and colour: the neighbours' mean plus the residual.
     positions.predict(neighbours.data(), neighbours.size(), predicted);
     for (std::size_t c = 0; c < 3; ++c) {
-      const int64_t unit = int64_t{predicted[c]} + unzigzag(position_codes[next_position++]);
+      int64_t residual = 0;
+      if (!residual_of(position_codes[next_position++], residual)) return bad(v, "has a position beyond the grid");
+      const int64_t unit = int64_t{predicted[c]} + residual;
       const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
       if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
       positions.units.push_back(static_cast<uint32_t>(unit));
@@ -1458,7 +1470,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     if (h.color_components != 0) {
       colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
       for (std::size_t c = 0; c < h.color_components; ++c) {
-        const int64_t unit = int64_t{color_predicted[c]} + unzigzag(color_codes[next_color++]);
+        int64_t residual = 0;
+        if (!residual_of(color_codes[next_color++], residual)) return bad(v, "has an impossible colour");
+        const int64_t unit = int64_t{color_predicted[c]} + residual;
         if (unit < 0 || unit > 0xFFFFFFFFll) return bad(v, "has an impossible colour");
         colors.units.push_back(static_cast<uint32_t>(unit));
         pm.colors.push_back(float_from_ordered(static_cast<uint32_t>(unit)));

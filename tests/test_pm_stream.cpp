@@ -2,6 +2,7 @@
 // meshes, chunking, one-ring coding, quantization, decoding as bytes arrive, prefixes
 // (truncated streams and max_splits), golden files of every version, adversarial streams.
 #include <gtest/gtest.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -376,6 +377,71 @@ TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
   EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
   EXPECT_EQ(with_header_byte(10, 1), ErrorCode::kOk);             // minor 2.1: may-ignore fields only
   EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
+}
+
+// The stream with the first CHNK's stream `k` (§5.7) replaced by `replacement`.
+std::string with_chunk_stream(const std::string& bytes, int k, const std::string& replacement) {
+  std::size_t offset = 96;
+  while (offset + 24 <= bytes.size()) {
+    uint64_t stored = 0, raw_size = 0;
+    for (int b = 0; b < 8; ++b) stored |= uint64_t{static_cast<uint8_t>(bytes[offset + 8 + b])} << (8 * b);
+    for (int b = 0; b < 8; ++b) raw_size |= uint64_t{static_cast<uint8_t>(bytes[offset + 16 + b])} << (8 * b);
+    if (bytes.compare(offset, 4, "CHNK") == 0) {
+      std::string raw(raw_size, '\0');
+      EXPECT_EQ(ZSTD_decompress(raw.data(), raw.size(), bytes.data() + offset + 24, stored), raw_size);
+      // Ten varint64 lengths, then the streams.
+      std::vector<uint64_t> lengths(10);
+      std::size_t at = 0;
+      for (uint64_t& length : lengths) {
+        for (int shift = 0;; shift += 7) {
+          const auto byte = static_cast<uint8_t>(raw[at++]);
+          length |= uint64_t{byte & 0x7Fu} << shift;
+          if ((byte & 0x80) == 0) break;
+        }
+      }
+      std::vector<std::string> streams;
+      for (uint64_t length : lengths) {
+        streams.push_back(raw.substr(at, length));
+        at += length;
+      }
+      streams[k] = replacement;
+      std::string rebuilt;
+      for (const std::string& stream : streams) {
+        for (uint64_t v = stream.size(); ; v >>= 7) {
+          rebuilt.push_back(static_cast<char>((v & 0x7F) | (v >= 0x80 ? 0x80 : 0)));
+          if (v < 0x80) break;
+        }
+      }
+      for (const std::string& stream : streams) rebuilt += stream;
+      std::string section;
+      EXPECT_TRUE(detail::append_section(detail::make_tag("CHNK"), 1, rebuilt, rebuilt.size(), 3, section).is_ok());
+      return bytes.substr(0, offset) + section + bytes.substr(offset + 24 + stored);
+    }
+    offset += 24 + stored;
+  }
+  ADD_FAILURE() << "no CHNK";
+  return bytes;
+}
+
+// Residuals at the edge of 64 bits, planes with a spare top byte: clean errors, no overflow.
+TEST(PmStream, HostileResidualsAndPlanesAreRefused) {
+  const std::string bytes = write(small_mesh());  // chunk 0: 2 splits, 6 position codes
+  ProgressiveMesh pm;
+  // The stream rebuilt unchanged still decodes (the surgery itself is sound).
+  {
+    std::string same = with_chunk_stream(bytes, 9, "");
+    EXPECT_TRUE(read_pm(same, pm).is_ok());
+  }
+  const std::string huge = std::string(1, '\x08') + std::string(8 * 6, '\xFF');
+  EXPECT_EQ(read_pm(with_chunk_stream(bytes, 5, huge), pm).code(), ErrorCode::kCorruptStream);
+  std::string just_over = std::string(1, '\x05') + std::string(5 * 6, '\0');
+  for (int i = 0; i < 6; ++i) just_over[1 + 4 * 6 + i] = 0x03;  // codes of 3 * 2^32: beyond
+  EXPECT_EQ(read_pm(with_chunk_stream(bytes, 5, just_over), pm).code(), ErrorCode::kCorruptStream);
+  std::string spare = std::string(1, '\x02') + std::string(2 * 6, '\0');  // top plane all zero
+  EXPECT_EQ(read_pm(with_chunk_stream(bytes, 5, spare), pm).code(), ErrorCode::kCorruptStream);
+  // Errors: a code beyond any difference of two floats' bits.
+  EXPECT_EQ(read_pm(with_chunk_stream(bytes, 4, "\xff\xff\xff\xff\xff\xff\xff\xff\xff\x01\x00"), pm).code(),
+            ErrorCode::kCorruptStream);
 }
 
 TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
