@@ -1010,11 +1010,25 @@ Status decompress_frame(const std::string& where, std::string_view frame, uint64
   return Status::ok();
 }
 
-namespace {
-
-bool is_tag_character(uint8_t c) {
-  return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
+bool is_valid_tag(uint32_t tag) {
+  for (int i = 0; i < 4; ++i) {
+    const auto c = static_cast<uint8_t>(tag >> (8 * i));
+    if (!((c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'))) return false;
+  }
+  return true;
 }
+
+bool read_section_header(std::string_view bytes, SectionHeader& out) {
+  if (bytes.size() < kSectionHeaderSize) return false;
+  ByteReader fields(bytes.substr(0, kSectionHeaderSize), "section header", ErrorCode::kTruncatedStream);
+  fields.read_u32(out.tag);  // cannot fail: all 24 bytes are there
+  fields.read_u32(out.flags);
+  fields.read_u64(out.stored_size);
+  fields.read_u64(out.raw_size);
+  return true;
+}
+
+namespace {
 
 // A known section found by scan_sections(): where its frame is and what it declares.
 struct SectionRef {
@@ -1041,19 +1055,14 @@ Status scan_sections(std::string_view bytes, const Header& h, SectionList& list,
     file.set_where("section " + std::to_string(s) + " header");
     std::string_view section_header;
     if (!file.read_bytes(kSectionHeaderSize, section_header)) return file.status();
-    ByteReader fields(section_header, file.where(), ErrorCode::kTruncatedStream);
-    uint32_t tag = 0, flags = 0;
-    uint64_t stored_size = 0, raw_size = 0;
-    fields.read_u32(tag);  // cannot fail: all 24 bytes are there
-    fields.read_u32(flags);
-    fields.read_u64(stored_size);
-    fields.read_u64(raw_size);
-    for (int i = 0; i < 4; ++i) {
-      if (!is_tag_character(static_cast<uint8_t>(tag >> (8 * i)))) {
-        return Status(ErrorCode::kCorruptStream, "section " + std::to_string(s) + ": tag " +
-                                                     tag_name(tag) +
-                                                     " is not four ascii letters or digits");
-      }
+    SectionHeader fields;
+    read_section_header(section_header, fields);
+    const uint32_t tag = fields.tag, flags = fields.flags;
+    const uint64_t stored_size = fields.stored_size, raw_size = fields.raw_size;
+    if (!is_valid_tag(tag)) {
+      return Status(ErrorCode::kCorruptStream, "section " + std::to_string(s) + ": tag " +
+                                                   tag_name(tag) +
+                                                   " is not four ascii letters or digits");
     }
     const std::string where = "section " + tag_name(tag);
     file.set_where(where);

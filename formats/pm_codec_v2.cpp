@@ -25,7 +25,6 @@
 #include <zstd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -655,7 +654,7 @@ struct Writer {
       fans.add_face(pm.base_faces[3 * f], pm.base_faces[3 * f + 1], pm.base_faces[3 * f + 2]);
     }
     SplitFans::Fan fan;
-    std::vector<uint32_t> arc, record, sorted_arc, neighbours, moved_slots;
+    std::vector<uint32_t> arc, record, sorted_arc, sorted_record, neighbours;
     std::vector<uint32_t> predicted(3), color_predicted(colors.components);
     ByteWriter index_out(index);
     float previous_error = h.max_error;
@@ -697,7 +696,7 @@ struct Writer {
           if (place_l < places && place_r <= places && SplitFans::arc(fan, place_l, place_r, arc)) {
             sorted_arc = arc;
             std::sort(sorted_arc.begin(), sorted_arc.end());
-            std::vector<uint32_t> sorted_record = record;
+            sorted_record = record;
             std::sort(sorted_record.begin(), sorted_record.end());
             coded = sorted_arc == sorted_record;
           }
@@ -1090,20 +1089,14 @@ Status PmStreamReader::State::process(std::string_view bytes, std::size_t& used)
     if (stage == kVersion1) return Status::ok();  // nothing used: finish() reads it all
     if (stage == kDone) {
       // Only optional sections of other tools may follow the last known one (§4.3).
-      if (rest.empty() || stopped || rest.size() < kSectionHeaderSize) return Status::ok();
-      ByteReader in(rest, "section header", ErrorCode::kTruncatedStream);
-      uint32_t tag = 0, flags = 0;
-      uint64_t stored = 0;
-      in.read_u32(tag);
-      in.read_u32(flags);
-      in.read_u64(stored);
-      bool tag_ok = true;
-      for (int k = 0; k < 4; ++k) tag_ok = tag_ok && std::isalnum(static_cast<unsigned char>(tag >> (8 * k)));
-      if (!tag_ok || is_v2_tag(tag) || (flags & kSectionRequired) != 0) {
+      SectionHeader section;
+      if (rest.empty() || stopped || !read_section_header(rest, section)) return Status::ok();
+      if (!is_valid_tag(section.tag) || is_v2_tag(section.tag) ||
+          (section.flags & kSectionRequired) != 0) {
         return corrupt(std::to_string(rest.size()) + " bytes follow the last section");
       }
-      if (rest.size() - kSectionHeaderSize < stored) return Status::ok();
-      used += kSectionHeaderSize + static_cast<std::size_t>(stored);
+      if (rest.size() - kSectionHeaderSize < section.stored_size) return Status::ok();
+      used += kSectionHeaderSize + static_cast<std::size_t>(section.stored_size);
       continue;
     }
     // A reader that has the splits it wants stops before the next chunk.
@@ -1115,18 +1108,11 @@ Status PmStreamReader::State::process(std::string_view bytes, std::size_t& used)
       continue;
     }
     // A section: its 24-byte header, then its frame.
-    if (rest.size() < kSectionHeaderSize) return Status::ok();
-    ByteReader in(rest, "section header", ErrorCode::kTruncatedStream);
-    uint32_t tag = 0, flags = 0;
-    uint64_t stored = 0, raw_size = 0;
-    in.read_u32(tag);
-    in.read_u32(flags);
-    in.read_u64(stored);
-    in.read_u64(raw_size);
-    for (int k = 0; k < 4; ++k) {
-      const auto c = static_cast<unsigned char>(tag >> (8 * k));
-      if (!std::isalnum(c)) return corrupt("section header: bad tag " + tag_name(tag));
-    }
+    SectionHeader section;
+    if (!read_section_header(rest, section)) return Status::ok();
+    const uint32_t tag = section.tag, flags = section.flags;
+    const uint64_t stored = section.stored_size, raw_size = section.raw_size;
+    if (!is_valid_tag(tag)) return corrupt("section header: bad tag " + tag_name(tag));
     if (!is_v2_tag(tag)) {
       if ((flags & kSectionRequired) != 0) {
         return Status(h.minor > kMinor2 ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream,
@@ -1710,12 +1696,12 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
     // Section headers from `offset`: tag and stored size, or false at the end of `bytes`.
     std::size_t offset = kHeaderSize;
     const auto section_at = [&](uint32_t& tag, uint32_t& flags, uint64_t& stored, uint64_t& raw_size) {
-      if (offset > bytes.size() || bytes.size() - offset < kSectionHeaderSize) return false;
-      ByteReader in(bytes.substr(offset), "section header", ErrorCode::kTruncatedStream);
-      in.read_u32(tag);
-      in.read_u32(flags);
-      in.read_u64(stored);
-      in.read_u64(raw_size);
+      SectionHeader section;
+      if (offset > bytes.size() || !read_section_header(bytes.substr(offset), section)) return false;
+      tag = section.tag;
+      flags = section.flags;
+      stored = section.stored_size;
+      raw_size = section.raw_size;
       return true;
     };
     uint32_t tag = 0, flags = 0;

@@ -167,6 +167,16 @@ PmInfo info_from_header(const AnyHeader& h) {
   return r;
 }
 
+// A section's 24-byte header (§4.1 of both format documents).
+struct SectionHeader {
+  uint32_t tag = 0, flags = 0;
+  uint64_t stored_size = 0, raw_size = 0;
+};
+// The section header at the start of `bytes`; false when fewer than 24 bytes are there.
+bool read_section_header(std::string_view bytes, SectionHeader& out);
+// Whether the tag's four bytes are all ASCII letters or digits.
+bool is_valid_tag(uint32_t tag);
+
 // "3190448 bytes (3 MiB)".
 std::string byte_count_text(uint64_t bytes);
 

@@ -973,18 +973,6 @@ class PlyValueReader {
   // the binary value of `type` at `at`, without a bounds check.
   double decode(PlyType type, const char* at) const {
     switch (type) {
-      case PlyType::kInt8:
-        return static_cast<int8_t>(at[0]);
-      case PlyType::kUint8:
-        return static_cast<uint8_t>(at[0]);
-      case PlyType::kInt16:
-        return static_cast<int16_t>(load<uint16_t>(at));
-      case PlyType::kUint16:
-        return load<uint16_t>(at);
-      case PlyType::kInt32:
-        return static_cast<int32_t>(load<uint32_t>(at));
-      case PlyType::kUint32:
-        return load<uint32_t>(at);
       case PlyType::kFloat32: {
         const uint32_t bits = load<uint32_t>(at);
         float single;
@@ -997,8 +985,9 @@ class PlyValueReader {
         std::memcpy(&wide, &bits, sizeof wide);
         return wide;
       }
+      default:  // every integer type is exact in a double
+        return static_cast<double>(decode_integer(type, at));
     }
-    return 0;
   }
   // The same for an integer type (not a float one), without going through a double.
   int64_t decode_integer(PlyType type, const char* at) const {
