@@ -186,6 +186,10 @@ bool CornerAttributes::is_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandl
   return has_materials() && is_seam_of_kind(kKinds, mesh, h);
 }
 
+bool CornerAttributes::is_uv_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const {
+  return has_uvs() && is_seam_of_kind(kUv, mesh, mesh.halfedge_handle(e, 0));
+}
+
 // kind kKinds stands for materials.
 bool CornerAttributes::kind_allows(int kind, const HalfEdgeMesh& mesh, HalfedgeHandle h) const {
   const VertexHandle v = mesh.from_vertex_handle(h);

@@ -44,6 +44,8 @@ class CornerAttributes {
   // An interior edge whose two faces differ in material, or in a corner's texture
   // coordinates or normal at either end (compared by value, bit for bit).
   bool is_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const;
+  // Texture-coordinate seams only (SeamDrift follows them).
+  bool is_uv_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const;
 
   // For each kind, the collapse h = (v -> u) is legal when v is on no seam of that kind,
   // or on exactly two of its seam edges, one of them v-u (v slides along the seam), and
