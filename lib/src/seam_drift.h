@@ -39,6 +39,7 @@ class SeamDrift {
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
+  static constexpr std::size_t kMeasuredPoints = 256;  // per seam edge and query
   // The seam neighbour of v other than u, kNone when v is not on exactly two seam edges
   // with one of them v-u (then the collapse moves no seam: the legality rules allow no
   // other seam collapse).
