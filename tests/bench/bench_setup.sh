@@ -8,7 +8,7 @@ bench_install() {
   local tool=$1
   shift
   local missing=() package
-  for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev \
+  for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev libdraco-dev \
                  zlib1g-dev "$@"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
       missing+=("$package")
