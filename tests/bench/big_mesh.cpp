@@ -65,6 +65,12 @@ Mesh from_openmesh(const OpenMeshTriMesh& mesh) {
   return result;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
 bool read_file(const std::string& path, std::string& bytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
@@ -84,12 +90,6 @@ bool write_file_atomically(const std::string& path, const std::string& bytes) {
   fs::rename(temporary, path, error);
   return !error;
 }
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 Mesh loop_subdivide(const Mesh& mesh, int times, std::size_t* refused_faces) {
   std::size_t refused = 0;

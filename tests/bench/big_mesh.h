@@ -33,6 +33,10 @@ Mesh loop_subdivide(const Mesh& mesh, int times, std::size_t* refused_faces = nu
 // The shared test meshes: PM_BENCH_SOURCE_DIR/../shared/meshes, the folder next to the
 // repository (see its README.md).
 std::string shared_meshes_dir();
+// A whole file into `bytes`; false when it cannot be read.
+bool read_file(const std::string& path, std::string& bytes);
+// Written beside `path` and renamed, so that a killed run never leaves a partial file.
+bool write_file_atomically(const std::string& path, const std::string& bytes);
 // Where load_subdivided() keeps its results by default: big_meshes/ in this build's
 // tests/bench directory.
 std::string default_cache_dir();

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "big_mesh.h"  // read_file, write_file_atomically
 #include "pm/mesh.h"
 #include "pm/progressive_mesh.h"
 
@@ -19,8 +20,6 @@ using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 // Prints "program: message" to stderr and exits with status 1.
 [[noreturn]] void fail(const std::string& message);
 
-bool read_file(const std::string& path, std::string& bytes);
-bool write_file_atomically(const std::string& path, const std::string& bytes);
 // The input's identity for the caches: its arrays' bytes.
 std::string mesh_key(const pm::Mesh& mesh);
 // The library's source, so that a cached .pm is encoded again when the encoder changes: the
