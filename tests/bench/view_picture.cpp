@@ -13,7 +13,8 @@
 // from three overview cameras around the model (not through the LOD's own camera, which would
 // hide the falloff), each face coloured by its level: blue for base-mesh faces, through green,
 // to red for the deepest (the depth in the vertex hierarchy of the last split that made or
-// changed the face, over the deepest applied split's), with the edges drawn under --wire.
+// changed the face, stretched between the shallowest and deepest such depth in the mesh), with
+// the edges drawn under --wire.
 // The counts on stderr.
 #include <algorithm>
 #include <cmath>
@@ -129,8 +130,13 @@ int main(int argc, char** argv) {
     depth[j] = p == pm::kNoSplit ? 1 : depth[p] + 1;  // parents come first
     if (refinement.applied(j)) deepest = std::max(deepest, depth[j]);
   }
+  // Stretched over the depths the mesh's faces have, so that the colours span blue to red.
+  uint32_t shallowest = deepest;
+  for (uint32_t level : levels)
+    if (level > 0) shallowest = std::min(shallowest, depth[level - 1]);
+  const double span = std::max<double>(1, deepest - shallowest);
   render.face_color = [&](std::size_t face) {
-    return level_color(levels[face] == 0 ? 0.0 : double(depth[levels[face] - 1]) / deepest);
+    return level_color(levels[face] == 0 ? 0.0 : (depth[levels[face] - 1] - shallowest) / span);
   };
   // The overviews: the model framed by its own box from three sides.
   const pm::bench::Box frame = pm::bench::bounding_box(mesh);
