@@ -454,6 +454,63 @@ TEST(ViewDependent, DetailFallsOffWithDistance) {
       << near_active << "/" << near_total << " near, " << far_active << "/" << far_total << " far";
 }
 
+// Faces outside the frustum, counted on computed bounds: a face is outside when its bounding
+// sphere (centroid, farthest corner) lies beyond one of the frustum's five planes. Frustum
+// culling (Hoppe 1997, §3.1) coarsens there: for cameras that see part of the model, the
+// faces outside are fewer than with culling off, at most half of them over the views. (The
+// base mesh's count there is no bound: fandisk's base mesh has 4 faces, and a split whose box
+// meets the frustum makes faces that may lie outside it.)
+std::size_t faces_outside(const Mesh& mesh, const ViewCamera& c) {
+  const CameraAxes a = axes_of(c);
+  std::size_t count = 0;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    Point3 q[3];
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t v = mesh.triangles[3 * f + i];
+      q[i] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+    }
+    const Point3 centroid{(q[0][0] + q[1][0] + q[2][0]) / 3, (q[0][1] + q[1][1] + q[2][1]) / 3,
+                          (q[0][2] + q[1][2] + q[2][2]) / 3};
+    double radius = 0;
+    for (const Point3& p : q) radius = std::max(radius, distance(p, centroid));
+    const Point3 d = sub(centroid, c.eye);
+    const double z = dot(d, a.forward), x = dot(d, a.right), y = dot(d, a.up);
+    // Signed distances to the side planes (inward positive), through the eye.
+    const double cx = 1 / std::sqrt(1 + a.tan_x * a.tan_x), cy = 1 / std::sqrt(1 + a.tan_y * a.tan_y);
+    const double inside[5] = {z, (z * a.tan_x - x) * cx, (z * a.tan_x + x) * cx,
+                              (z * a.tan_y - y) * cy, (z * a.tan_y + y) * cy};
+    count += *std::min_element(inside, inside + 5) < -radius;
+  }
+  return count;
+}
+
+TEST(ViewDependent, FrustumCullingHalvesTheFacesOutsideTheFrustum) {
+  PM_SKIP_IF_NO_SHARED();
+  for (const char* name : {"fandisk.obj", "stanford-bunny.obj"}) {
+    const Encoded& e = encoded(test::shared_mesh_path(name));
+    const Box box = box_of(e.pm.positions);
+    SelectiveRefinement culled(e.pm), unculled(e.pm);
+    std::mt19937 random(5);
+    std::size_t with = 0, without = 0;
+    for (int i = 0; i < 8; ++i) {
+      ViewCamera camera = random_camera(random, box);
+      ViewOptions options;
+      options.pixel_error = 2;
+      ASSERT_TRUE(culled.set_view(camera, options).ok());
+      options.frustum_culling = false;
+      ASSERT_TRUE(unculled.set_view(camera, options).ok());
+      const std::size_t a = faces_outside(culled.to_mesh(), camera);
+      const std::size_t b = faces_outside(unculled.to_mesh(), camera);
+      EXPECT_LE(a, b) << name << " " << describe(camera);
+      with += a;
+      without += b;
+    }
+    EXPECT_GT(without, 0u) << name;
+    EXPECT_LE(2 * with, without) << name << ": " << with << " faces outside with culling, "
+                                 << without << " without";
+  }
+}
+
 TEST(ViewDependent, BadCamerasAndTolerancesAreInvalidArguments) {
   SelectiveRefinement r(grid().pm);
   ViewCamera same;
