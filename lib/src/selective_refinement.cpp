@@ -21,21 +21,24 @@
 // Why the mesh of every set S closed under the rule keeps the input's topology. We assume, as
 // the encoder guarantees, that every mesh M_k of the full sequence is a manifold (with
 // boundary) on which split k + 1 acts at a manifold vertex, undoing a collapse that met the
-// link condition. Induction on |S|; S empty is the base mesh. Otherwise let m be S's largest
-// split: S' = S - {m} is closed too (dependencies point to earlier splits), and its mesh is
-// valid, each of its faces non-degenerate. Let phi map each vertex of M_{m-1} to its deepest
-// active ancestor for S' (Lemma: mesh(S') is phi(M_{m-1}) without the faces phi makes
-// degenerate; an inactive face, made by an unapplied split k, has two corners below k's u
-// and v, which phi maps to the same vertex).
-//  1. phi maps only u to u: the parent chain of m is in S', so every earlier split of u is
-//     applied and every vertex below u in M_{m-1} is active. So u's faces in mesh(S') are
-//     the images of u's fan in M_{m-1}: its link is the image of u's link cycle (or path)
-//     w_1..w_d with consecutive repeats removed, and, mesh(S') being a manifold, no repeats.
+// link condition. "Degenerate" below means two equal corners (combinatorics; zero area by
+// geometry is another matter, see the end). Induction on |S|; S empty is the base mesh.
+// Otherwise let m be S's largest split: S' = S - {m} is closed too (dependencies point to
+// earlier splits), and its mesh is a manifold with the input's topology whose faces are not
+// degenerate. Let phi map each vertex of M_{m-1} to its deepest active ancestor for S'.
+// Lemma: mesh(S') is phi(M_{m-1}) without the faces phi makes degenerate (an inactive face,
+// made by an unapplied split k, has two corners that descend from k's u and v after k; none
+// of those descendants is active, so phi maps both to the same vertex).
+//  1. phi maps only u to u: m's parent chain is in S', so u and every earlier split of u are
+//     applied, and every other vertex of M_{m-1} that descends from u descends from the v of
+//     one of those splits, which is active. So u's faces in mesh(S') are the images of u's
+//     fan in M_{m-1}: its link is the image of u's link cycle (or path) w_1..w_d with
+//     consecutive repeats removed, and, mesh(S') being a manifold, without any repeat.
 //  2. phi(vl) != phi(vr). Otherwise, that vertex appearing once in the reduced link, the whole
-//     arc of the link between vl and vr on one side (the side without the gap, at a boundary)
+//     arc of the link between vl and vr on one side (at a boundary, the side without the gap)
 //     maps to it, so every face of u's fan on that side is degenerate, among them the fn face
-//     on that side of (u, vl): but it is active (its creator is a dependency of m), hence
-//     non-degenerate. (With vr absent there is nothing to show.)
+//     on that side of (u, vl): but it is active (its creator is a dependency of m), hence not
+//     degenerate. (With only one of vl, vr there is nothing to show.)
 //  3. mesh(S) is mesh(S') after splitting u along phi(vl) and phi(vr): the faces whose corner
 //     at u descends from v (m's other side) take v, fl = (v, u, phi(vl)) and fr = (u, v,
 //     phi(vr)) appear, and no other corner changes, since m's descendants are not in S. A
@@ -43,8 +46,13 @@
 //     along one) with a new vertex v is the inverse of collapsing (u, v) under the link
 //     condition (Dey, Edelsbrunner, Guha and Nekhayev 1999, "Topology preserving edge
 //     contraction"): link(u) and link(v) meet exactly in phi(vl), phi(vr). So mesh(S) is a
-//     manifold with the topology of mesh(S'), its faces non-degenerate.
+//     manifold with the topology of mesh(S'), and no face of it is degenerate.
 // Collapsing a split no applied split depends on leaves a closed set, so its mesh is valid too.
+// Geometry is not covered: a face may join corners that never met in the full sequence, and
+// where the input has exactly collinear vertices (a CAD grid) such a face can have zero area,
+// as Hoppe 1997's meshes can fold over. DependencyRule::kExactRing (the last modifier of every
+// face around u; Xia and Varshney 1996, §4; El-Sana and Varshney 1999, §3) makes every face
+// one of some M_k, at the price of about 2.6 times as many splits for the same wanted set.
 #include "pm/selective_refinement.h"
 
 #include <algorithm>
