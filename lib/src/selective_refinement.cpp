@@ -9,8 +9,8 @@
 // front; a corner's vertex is the active ancestor of its full-detail vertex). That is a
 // function of S alone: the order in which splits were applied or collapsed does not matter.
 //
-// The rule (Hoppe 1997, §4.2: "a vsplit is legal if vs is active and the faces fn0..fn3 are
-// active"; here as static dependencies): split m, on u, depends on its hierarchy parent (the
+// The rule (Hoppe 1997, §4.2: a vsplit is legal when vs is active and the faces fn0..fn3 are
+// active; here as static dependencies): split m, on u, depends on its hierarchy parent (the
 // previous split of u, or the split that created u) and on the splits that created fn0..fn3,
 // the faces that held the edge (u, vl) or (u, vr) just before m in the full sequence (the
 // faces that become fl's and fr's neighbours). A split may be collapsed when no applied split
