@@ -2,8 +2,9 @@
 // For each shared mesh (encoded with the default options), random spheres around random
 // vertices: the splits a region wants (those whose bounding sphere meets it, found top-down
 // through the hierarchy as SelectiveRefinement::refine_sphere does) against the splits applied
-// once the set is closed under the dependencies (SelectiveRefinement::set_applied). The ratio
-// is the forced refinement: 1 would be none. Markdown on stdout (and --out FILE).
+// once the set is closed under the dependencies (SelectiveRefinement::set_applied), under
+// Hoppe 1997's rule (the default) and under DependencyRule::kExactRing (the rule before it).
+// The ratio is the forced refinement: 1 would be none. Markdown on stdout (and --out FILE).
 //
 //   pm_bench_forced [--meshes DIR] [--regions N] [--radius R] [--out FILE]
 //
@@ -58,10 +59,14 @@ int main(int argc, char** argv) {
      << regions << " spheres per mesh, each around a random vertex (seed 7), radius "
      << pm::bench::significant(radius_fraction) << " of the box diagonal. Wanted: the splits "
      << "whose bounding sphere meets the region (top-down through the hierarchy). Applied: "
-     << "the wanted splits closed under the dependencies. Sums over the spheres.\n\n"
-     << "| mesh | splits | wanted | applied | applied / wanted | worst sphere (wanted -> applied) |\n"
-     << "|---|---:|---:|---:|---:|---|\n";
-  std::size_t all_wanted = 0, all_applied = 0;
+     << "the wanted splits closed under the dependencies, by Hoppe 1997's rule (the parent and "
+     << "the creators of fn0..fn3, the default) and by `kExactRing` (the last modifier of every "
+     << "face around the split's vertex, the rule before). Sums over the spheres; the worst "
+     << "sphere is the one with the largest applied / wanted under Hoppe 1997's rule.\n\n"
+     << "| mesh | splits | wanted | applied (Hoppe 1997) | per wanted | applied (exact ring) "
+     << "| per wanted | worst sphere: wanted -> Hoppe 1997, exact ring |\n"
+     << "|---|---:|---:|---:|---:|---:|---:|---|\n";
+  std::size_t all_wanted = 0, all_applied = 0, all_exact = 0;
   for (const char* name : names) {
     const std::string path = meshes + "/" + name;
     pm::Mesh input;
@@ -71,7 +76,7 @@ int main(int argc, char** argv) {
     }
     pm::ProgressiveMesh pm;
     if (pm::Status s = pm::encode(input, pm::EncodeOptions{}, pm); !s) die(path + ": " + s.message());
-    pm::SelectiveRefinement r(pm);
+    pm::SelectiveRefinement r(pm), exact(pm, pm::DependencyRule::kExactRing);
     const std::size_t n = r.split_count();
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     for (std::size_t i = 0; i < pm.positions.size(); ++i) {
@@ -84,7 +89,8 @@ int main(int argc, char** argv) {
     const double radius = radius_fraction * diagonal;
     std::mt19937 random(7);
     std::uniform_int_distribution<uint32_t> pick(0, static_cast<uint32_t>(pm.vertex_count() - 1));
-    std::size_t wanted_sum = 0, applied_sum = 0, worst_wanted = 0, worst_applied = 0;
+    std::size_t wanted_sum = 0, applied_sum = 0, exact_sum = 0, worst_wanted = 0, worst_applied = 0,
+                worst_exact = 0;
     double worst_ratio = 0;
     for (int k = 0; k < regions; ++k) {
       const uint32_t centre_vertex = pick(random);
@@ -110,25 +116,34 @@ int main(int argc, char** argv) {
           if (child != pm::kNoSplit) stack.push_back(child);
       }
       r.set_applied(wanted);
-      const std::size_t applied = r.applied_count();
+      exact.set_applied(wanted);
+      const std::size_t applied = r.applied_count(), applied_exact = exact.applied_count();
       wanted_sum += count;
       applied_sum += applied;
+      exact_sum += applied_exact;
       const double ratio = count ? double(applied) / count : 1;
-      if (ratio > worst_ratio) worst_ratio = ratio, worst_wanted = count, worst_applied = applied;
+      if (ratio > worst_ratio)
+        worst_ratio = ratio, worst_wanted = count, worst_applied = applied, worst_exact = applied_exact;
     }
     all_wanted += wanted_sum;
     all_applied += applied_sum;
+    all_exact += exact_sum;
+    const double per = 1.0 / std::max<std::size_t>(wanted_sum, 1);
     md << "| " << name << " | " << pm::bench::with_thousands(n) << " | "
        << pm::bench::with_thousands(wanted_sum) << " | " << pm::bench::with_thousands(applied_sum)
-       << " | " << pm::bench::significant(double(applied_sum) / std::max<std::size_t>(wanted_sum, 1))
+       << " | " << pm::bench::significant(applied_sum * per) << " | "
+       << pm::bench::with_thousands(exact_sum) << " | " << pm::bench::significant(exact_sum * per)
        << " | " << pm::bench::with_thousands(worst_wanted) << " -> "
-       << pm::bench::with_thousands(worst_applied) << " |\n";
-    std::fprintf(stderr, "%s: %zu wanted, %zu applied\n", name, wanted_sum, applied_sum);
+       << pm::bench::with_thousands(worst_applied) << ", " << pm::bench::with_thousands(worst_exact)
+       << " |\n";
+    std::fprintf(stderr, "%s: %zu wanted, %zu applied, %zu under the exact ring\n", name,
+                 wanted_sum, applied_sum, exact_sum);
   }
+  const double per = 1.0 / std::max<std::size_t>(all_wanted, 1);
   md << "| all | | " << pm::bench::with_thousands(all_wanted) << " | "
-     << pm::bench::with_thousands(all_applied) << " | "
-     << pm::bench::significant(double(all_applied) / std::max<std::size_t>(all_wanted, 1))
-     << " | |\n";
+     << pm::bench::with_thousands(all_applied) << " | " << pm::bench::significant(all_applied * per)
+     << " | " << pm::bench::with_thousands(all_exact) << " | "
+     << pm::bench::significant(all_exact * per) << " | |\n";
   const std::string report = md.str();
   std::fputs(report.c_str(), stdout);
   if (!out.empty()) {
