@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The picture of a view-dependent level of detail (issue 7): the Stanford bunny encoded by
-# pmenc, refined for a camera just in front of its nose looking along its body toward the tail
+# pmenc, refined for a camera 0.015 in front of its nose looking along its body toward the tail
 # (pm::SelectiveRefinement::set_view, 1080 pixels high, 60 degrees, 250-pixel tolerance,
-# culling off so that the distance alone sets the detail: the head, 1 cm from the eye, is
-# dense, the rump, 17 cm away, coarse), seen from three sides and coloured by level (blue:
+# culling off so that the distance alone sets the detail: the head, 0.015 from the eye, is
+# dense, the rump, 0.17 away, coarse), seen from three sides and coloured by level (blue:
 # base mesh and shallow splits, green, red: the deepest splits in the vertex hierarchy), with
 # and without its edges. Builds pmenc and pm_view_picture in build-bench/ (or
 # $PM_BENCH_BUILD) and writes tests/bench/images/view_bunny.png (edges drawn, where the
@@ -31,7 +31,7 @@ cmake --build "$build" -j"$(nproc)" --target pmenc pm_view_picture
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$build/apps/pmenc" "$bunny" -o "$work/bunny.pm" -q
-# The camera: 1.5 cm in front of the nose (the bunny's smallest x), looking toward the tail.
+# The camera: 0.015 in front of the nose (the bunny's smallest x), looking toward the tail.
 camera=(--eye -0.105,0.125,0.02 --target 0.06,0.08,0.0 --fov 60 --height 1080 --pixel-error 250
         --no-culling)
 mkdir -p "$images"
