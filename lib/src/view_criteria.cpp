@@ -52,12 +52,21 @@ bool back_facing(const SplitBounds& b, const Vec& d, double distance, bool with_
     if (with_margin) margin = sin_lower(-cos_theta + sin_beta + b.cone_angle) * (distance - r);
     return false;
   }
-  // theta + beta + alpha < pi/2 <=> cos(theta) > sin(alpha + beta), when alpha + beta < pi/2.
-  const double beta = std::asin(sin_beta), alpha = b.cone_angle;
-  const bool back = alpha + beta < kHalfPi && cos_theta > std::sin(alpha + beta);
+  // theta + beta + alpha < pi/2 <=> cos(theta) > sin(alpha + beta), when alpha + beta < pi/2,
+  // that is when cos(alpha + beta) > 0. The sine and cosine of alpha + beta from those of
+  // alpha and beta (sin beta = r / distance), without asin.
+  const double cos_beta = std::sqrt(std::max(0.0, 1 - sin_beta * sin_beta));
+  const double sin_alpha = std::sin(double(b.cone_angle)), cos_alpha = std::cos(double(b.cone_angle));
+  const double sin_sum = sin_alpha * cos_beta + cos_alpha * sin_beta;
+  const double cos_sum = cos_alpha * cos_beta - sin_alpha * sin_beta;
+  const bool back = cos_sum > 0 && cos_theta > sin_sum;
   if (back || with_margin) {
-    const double slack = std::fabs(std::acos(cos_theta) + beta + alpha - kHalfPi);
-    margin = sin_lower(slack) * (distance - r);
+    // The slack is |theta - phi| with phi = pi/2 - alpha - beta, and the margin (distance - r)
+    // sin(slack) up to pi/2: |sin(theta - phi)| = |sin theta cos phi - cos theta sin phi|,
+    // with cos phi = sin(alpha + beta), sin phi = cos(alpha + beta); beyond pi/2 it is less
+    // than sin(slack) would allow, still a margin. No acos.
+    const double sin_theta = std::sqrt(std::max(0.0, 1 - cos_theta * cos_theta));
+    margin = std::fabs(sin_theta * sin_sum - cos_theta * cos_sum) * (distance - r);
   }
   return back;
 }

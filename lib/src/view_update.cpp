@@ -295,6 +295,14 @@ Status SelectiveRefinement::update_view(const ViewCamera& camera, const ViewOpti
         std::chrono::duration<double, std::micro>(Clock::now() - start).count() >=
             budget.max_microseconds)
       break;
+    // As in advance(): the flags and counts of a split some entries ahead, asked for now.
+    if (state.dirty_head + 8 < state.dirty.size()) {
+      const uint32_t ahead = state.dirty[state.dirty_head + 8];
+      __builtin_prefetch(&state.flags[ahead]);
+      __builtin_prefetch(&refcount_[ahead]);
+      __builtin_prefetch(&applied_[ahead]);
+      __builtin_prefetch(&deps_begin_[ahead]);
+    }
     const uint32_t j = state.dirty[state.dirty_head++];
     state.flags[j].queued = 0;
     const bool needed = state.flags[j].wanted || refcount_[j] > 0;
