@@ -134,6 +134,7 @@ struct SelectiveRequest {
   pm::ViewOptions options;
   pm::Point3 a{}, b{};  // sphere centre (radius in radius), box corners, or the viewpoint
   double radius = 0;
+  pm::DependencyRule rule = pm::DependencyRule::kHoppe1997;  // --exact-ring: kExactRing
 };
 
 // Comma-separated finite numbers, exactly `count` of them.
@@ -511,7 +512,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   if (selective) {
     // One selectively refined mesh; its "level" is the number of splits applied.
     const SelectiveRequest& request = settings.selective;
-    pm::SelectiveRefinement refinement(progressive);
+    pm::SelectiveRefinement refinement(progressive, request.rule);
     switch (request.kind) {
       case SelectiveRequest::Kind::kView:
         if (pm::Status s = refinement.set_view(request.camera, request.options); !s) return failed(s);
@@ -784,6 +785,12 @@ int main(int argc, char** argv) {
       "--viewpoint", viewpoint_text,
       "X,Y,Z: with --faces N or --vertices N, a mesh within that budget that keeps the "
       "vertices nearest the viewpoint first");
+  bool exact_ring = false;
+  auto* exact_ring_flag = app.add_flag(
+      "--exact-ring", exact_ring,
+      "With --view, --region or --viewpoint: apply each split only with every face around its "
+      "vertex as it was recorded, so that every face is one of some level (no face joins "
+      "vertices that never met; much more refinement is forced)");
   for (auto* other : {by_region, by_viewpoint, by_vertices, by_faces, by_ratio, by_error, by_lods,
                       by_morph, compare})
     by_view->excludes(other);
@@ -856,6 +863,9 @@ int main(int argc, char** argv) {
     return fail_usage("--compare prints on standard output: write the mesh to a file");
 
   SelectiveRequest& selective = settings.selective;
+  if (*exact_ring_flag && !*by_view && !*by_region && !*by_viewpoint)
+    return fail_usage("--exact-ring needs --view, --region or --viewpoint");
+  if (exact_ring) selective.rule = pm::DependencyRule::kExactRing;
   if (*by_view) {
     std::string problem;
     if (!parse_view(view_text, selective.camera, problem))

@@ -86,6 +86,16 @@ TEST(ViewCli, ViewRegionAndViewpointWriteWhatTheLibraryGives) {
   run = pmdec({dir.file("s.pm"), "--viewpoint", "1,0,0", "--vertices", "90", "-o", dir.file("q.obj"), "-q"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_TRUE(test::same_faces(r.to_mesh(), read_or_fail(dir.file("q.obj"))));
+
+  // --exact-ring: the stricter dependencies, and at least as many splits as the default.
+  SelectiveRefinement exact(pm, DependencyRule::kExactRing);
+  exact.refine_sphere({0.5, 0.5, 0.5}, 0.4);
+  r.refine_sphere({0.5, 0.5, 0.5}, 0.4);
+  EXPECT_GE(exact.applied_count(), r.applied_count());
+  run = pmdec({dir.file("s.pm"), "--region", "sphere:0.5,0.5,0.5,0.4", "--exact-ring", "-o",
+               dir.file("e.obj"), "-q"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(test::same_faces(exact.to_mesh(), read_or_fail(dir.file("e.obj"))));
 }
 
 TEST(ViewCli, BadValuesAreOneLineUsageErrors) {
@@ -126,6 +136,11 @@ TEST(ViewCli, BadValuesAreOneLineUsageErrors) {
   const CommandResult r = pmdec({pm, "--viewpoint", "0,0,0", "--faces", "1", "-o", dir.file("out.obj")});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(r.err.rfind("pmdec: " + pm + ": budget of 1 faces", 0), 0u) << r.err;
+  EXPECT_FALSE(test::file_exists(dir.file("out.obj")));
+  // --exact-ring needs a selective mode.
+  const CommandResult alone = pmdec({pm, "--exact-ring", "-o", dir.file("out.obj")});
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_EQ(alone.err, "pmdec: --exact-ring needs --view, --region or --viewpoint\n");
   EXPECT_FALSE(test::file_exists(dir.file("out.obj")));
   // The modes exclude each other and the level options.
   EXPECT_EQ(pmdec({pm, "--region", "sphere:0,0,0,1", "--ratio", "0.5", "-o", dir.file("out.obj")}).exit_code, 2);

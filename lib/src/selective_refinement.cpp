@@ -1,30 +1,58 @@
 // Selective refinement of a progressive mesh: the vertex hierarchy and the dependencies that
 // let any set of splits closed under them be applied, in any order (Hoppe 1997, "View-
-// dependent refinement of progressive meshes", §2 and §4; the dependencies are those of Xia
-// and Varshney 1996, "Dynamic view-dependent simplification for polygonal models", §4, and
-// El-Sana and Varshney 1999, "Generalized view-dependent simplification", §3: a split needs
-// the splits that built the neighbourhood it was recorded in; compare Kim and Lee 2001, "Truly
-// selective refinement of progressive meshes", §3, whose dependencies are also on faces).
+// dependent refinement of progressive meshes", §2 and §4).
 //
-// The rule. Replaying the splits in order, let last(f) be the split that last created face f
-// or rewrote one of its corners. Split j (on vertex u) depends on last(f) for every face f
-// incident to u just before j, and on its hierarchy parent. Why a set S of splits closed
-// under this rule gives a valid mesh with the input's topology:
-//  1. Each face's modifiers in S form a prefix of its modifiers in the full sequence (a
-//     modifier of f depends on the previous one), so its state is one it had in the full
-//     sequence, and the mesh of S is that of applying S's splits in increasing order.
-//  2. Applying S in increasing order, split j finds around u exactly the faces, in the same
-//     state, that it found in the full sequence: each face of that ring has all its earlier
-//     modifiers applied (they are j's dependencies, with their prefixes), none later; and no
-//     other face holds u, since a face could only hold u in S's mesh but not in the full one
-//     if an earlier split of u (which moved it away) were missing, and every split of u that
-//     precedes j leaves faces around u whose last modifiers depend on it, so j depends on it.
-//  3. So after j, the stars of u and v are those of the full sequence after j: the collapse
-//     v -> u that j undoes satisfies the link condition there as it did when the encoder made
-//     it (Dey, Edelsbrunner, Guha and Nekhayev 1999, "Topology preserving edge contraction"),
-//     and the split keeps the topology.
-// Collapsing j is allowed when no applied split depends on it; then no later modifier of its
-// faces is applied and undoing its corner rewrites restores them exactly.
+// The mesh of a set S of applied splits. A vertex is active when it is a base vertex or its
+// split is in S. Its faces are the base faces and the new faces (fl, fr) of the splits in S;
+// each corner of a face is the deepest active vertex on the path, in the vertex hierarchy, from
+// a base vertex to the vertex that corner has at full detail (Hoppe 1997, §4: the active vertex
+// front; a corner's vertex is the active ancestor of its full-detail vertex). That is a
+// function of S alone: the order in which splits were applied or collapsed does not matter.
+//
+// The rule (Hoppe 1997, §4.2: a vsplit is legal when vs is active and the faces fn0..fn3 are
+// active; here as static dependencies): split m, on u, depends on its hierarchy parent (the
+// previous split of u, or the split that created u) and on the splits that created fn0..fn3,
+// the faces that held the edge (u, vl) or (u, vr) just before m in the full sequence (the
+// faces that become fl's and fr's neighbours). A split may be collapsed when no applied split
+// depends on it. Compared with requiring the whole one-ring m was recorded in (Xia and
+// Varshney 1996, El-Sana and Varshney 1999), the faces around u may have other corners than
+// they had then, and far less is forced.
+//
+// Why the mesh of every set S closed under the rule keeps the input's topology. We assume, as
+// the encoder guarantees, that every mesh M_k of the full sequence is a manifold (with
+// boundary) on which split k + 1 acts at a manifold vertex, undoing a collapse that met the
+// link condition. "Degenerate" below means two equal corners (combinatorics; zero area by
+// geometry is another matter, see the end). Induction on |S|; S empty is the base mesh.
+// Otherwise let m be S's largest split: S' = S - {m} is closed too (dependencies point to
+// earlier splits), and its mesh is a manifold with the input's topology whose faces are not
+// degenerate. Let phi map each vertex of M_{m-1} to its deepest active ancestor for S'.
+// Lemma: mesh(S') is phi(M_{m-1}) without the faces phi makes degenerate (an inactive face,
+// made by an unapplied split k, has two corners that descend from k's u and v after k; none
+// of those descendants is active, so phi maps both to the same vertex).
+//  1. phi maps only u to u: m's parent chain is in S', so u and every earlier split of u are
+//     applied, and every other vertex of M_{m-1} that descends from u descends from the v of
+//     one of those splits, which is active. So u's faces in mesh(S') are the images of u's
+//     fan in M_{m-1}: its link is the image of u's link cycle (or path) w_1..w_d with
+//     consecutive repeats removed, and, mesh(S') being a manifold, without any repeat.
+//  2. phi(vl) != phi(vr). Otherwise, that vertex appearing once in the reduced link, the whole
+//     arc of the link between vl and vr on one side (at a boundary, the side without the gap)
+//     maps to it, so every face of u's fan on that side is degenerate, among them the fn face
+//     on that side of (u, vl): but it is active (its creator is a dependency of m), hence not
+//     degenerate. (With only one of vl, vr there is nothing to show.)
+//  3. mesh(S) is mesh(S') after splitting u along phi(vl) and phi(vr): the faces whose corner
+//     at u descends from v (m's other side) take v, fl = (v, u, phi(vl)) and fr = (u, v,
+//     phi(vr)) appear, and no other corner changes, since m's descendants are not in S. A
+//     split of a manifold vertex along two distinct vertices of its link (or, at a boundary,
+//     along one) with a new vertex v is the inverse of collapsing (u, v) under the link
+//     condition (Dey, Edelsbrunner, Guha and Nekhayev 1999, "Topology preserving edge
+//     contraction"): link(u) and link(v) meet exactly in phi(vl), phi(vr). So mesh(S) is a
+//     manifold with the topology of mesh(S'), and no face of it is degenerate.
+// Collapsing a split no applied split depends on leaves a closed set, so its mesh is valid too.
+// Geometry is not covered: a face may join corners that never met in the full sequence, and
+// where the input has exactly collinear vertices (a CAD grid) such a face can have zero area,
+// as Hoppe 1997's meshes can fold over. DependencyRule::kExactRing (the last modifier of every
+// face around u; Xia and Varshney 1996, §4; El-Sana and Varshney 1999, §3) makes every face
+// one of some M_k, at the price of about 2.6 times as many splits for the same wanted set.
 #include "pm/selective_refinement.h"
 
 #include <algorithm>
@@ -59,7 +87,8 @@ Vec position(const ProgressiveMesh& pm, uint32_t v) { return view::vec(&pm.posit
 
 }  // namespace
 
-SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
+SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm, DependencyRule rule)
+    : pm_(&pm), rule_(rule) {
   const uint32_t n = static_cast<uint32_t>(pm.splits.size());
   base_vertex_count_ = pm.base_vertex_count;
   base_face_count_ = static_cast<uint32_t>(pm.base_face_count());
@@ -79,7 +108,6 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
   if (uvs) created_uvs_.assign(pm.face_uvs.begin(), pm.face_uvs.begin() + 3 * std::size_t{faces});
   if (normals)
     created_normals_.assign(pm.face_normals.begin(), pm.face_normals.begin() + 3 * std::size_t{faces});
-  created_mod_.assign(faces, kNoSplit);
 
   split_u_.resize(n);
   parent_.assign(n, kNoSplit);
@@ -94,7 +122,9 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
   // Replay every split once on a face array with vertex-to-face incidence, recording what the
   // selective splits need (Hoppe 1997, §4.1: the vsplit records of the vertex hierarchy).
   std::vector<uint32_t> corners = created_corners_;
-  std::vector<uint32_t> corner_uvs = created_uvs_, corner_normals = created_normals_;
+  std::vector<uint32_t> creator(faces, kNoSplit);  // the split that created each face
+  first_move_.assign(3 * std::size_t{faces}, kNoSplit);
+  std::vector<uint32_t> last_move(3 * std::size_t{faces}, kNoSplit);
   std::vector<uint32_t> last(faces, kNoSplit);
   std::vector<std::vector<uint32_t>> incident(vertices);
   for (uint32_t f = 0; f < base_face_count_; ++f)
@@ -120,10 +150,27 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
     }
     latest[u] = latest[v] = j;
 
-    // Dependencies: the last modifiers of u's whole ring, and the parent.
+    // Dependencies (Hoppe 1997, §4.2: vsplit is legal iff vs is active and fn0..fn3 are
+    // active): the parent, and the creators of the faces that hold the edge (u, vl) or
+    // (u, vr) now, just before the split (base faces have none). With kExactRing, the last
+    // modifier of every face around u instead (Xia and Varshney 1996, §4; El-Sana and
+    // Varshney 1999, §3), which is a superset, since a face's last modifier depends on its
+    // creator through the modifiers in between.
     deps_begin_[j] = static_cast<uint32_t>(deps_.size());
-    for (uint32_t f : incident[u])
-      if (last[f] != kNoSplit) deps_.push_back(last[f]);
+    for (uint32_t f : incident[u]) {
+      if (rule == DependencyRule::kExactRing) {
+        if (last[f] != kNoSplit) deps_.push_back(last[f]);
+        continue;
+      }
+      if (creator[f] == kNoSplit) continue;
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t w = corners[3 * f + c];
+        if ((w == s.vl && s.vl != kNoVertex) || (w == s.vr && s.vr != kNoVertex)) {
+          deps_.push_back(creator[f]);
+          break;
+        }
+      }
+    }
     if (p != kNoSplit) deps_.push_back(p);
     std::sort(deps_.begin() + deps_begin_[j], deps_.end());
     deps_.erase(std::unique(deps_.begin() + deps_begin_[j], deps_.end()), deps_.end());
@@ -141,21 +188,22 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
     };
     for (uint32_t f : incident[u]) add_face(corners[3 * f], corners[3 * f + 1], corners[3 * f + 2]);
 
-    // The moved faces: corner u becomes v.
+    // The moved faces: corner u becomes v. Each corner's moves are chained, in order, for
+    // to_mesh(), which follows them while their splits are applied.
     moved_begin_[j] = static_cast<uint32_t>(moved_.size());
     for (uint32_t k = 0; k < s.moved_count; ++k) {
       const uint32_t entry = s.moved_begin + k;
       const uint32_t f = pm.moved_faces[entry];
       uint32_t c = 0;
       while (corners[3 * f + c] != u) ++c;  // validate(): u is there once
-      MovedCorner m{f, c, last[f], uvs ? corner_uvs[3 * f + c] : kNoAttribute,
-                    normals ? corner_normals[3 * f + c] : kNoAttribute};
-      moved_.push_back(m);
+      const uint32_t index = static_cast<uint32_t>(moved_.size());
+      moved_.push_back(MovedCorner{j, entry, kNoSplit});
+      uint32_t& tail = last_move[3 * std::size_t{f} + c];
+      (tail == kNoSplit ? first_move_[3 * std::size_t{f} + c] : moved_[tail].next) = index;
+      tail = index;
       corners[3 * f + c] = v;
-      if (uvs) corner_uvs[3 * f + c] = pm.moved_uvs[entry];
-      if (normals) corner_normals[3 * f + c] = pm.moved_normals[entry];
-      last[f] = j;
       moved_mark[f] = j;
+      last[f] = j;
       incident[v].push_back(f);
       add_face(corners[3 * f], corners[3 * f + 1], corners[3 * f + 2]);
     }
@@ -170,7 +218,7 @@ SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm) : pm_(&pm) {
         corners[3 * f + i] = created_corners_[3 * f + i] = abc[i];
         incident[abc[i]].push_back(f);
       }
-      last[f] = created_mod_[f] = j;
+      creator[f] = last[f] = j;
       add_face(a, b, c);
       ++f;
     };
@@ -289,10 +337,6 @@ std::size_t SelectiveRefinement::vertex_count() const {
 }
 
 void SelectiveRefinement::reset() {
-  corners_ = created_corners_;
-  corner_uvs_ = created_uvs_;
-  corner_normals_ = created_normals_;
-  face_mod_ = created_mod_;
   std::fill(applied_.begin(), applied_.end(), 0);
   std::fill(refcount_.begin(), refcount_.end(), 0);
   applied_count_ = 0;
@@ -315,39 +359,19 @@ void SelectiveRefinement::deactivate_face(uint32_t face) {
   active_slot_[face - base_face_count_] = kNoSplit;
 }
 
-// Hoppe 1997, §4.3 (vsplit): the moved corners become v, the new faces appear.
+// Hoppe 1997, §4.3 (vsplit): fl and fr appear. The corners that now take v (those whose
+// full-detail vertex descends from v) are found by to_mesh(), which derives every corner from
+// the applied set (see the top of this file), so a split costs O(1) and its dependencies.
 void SelectiveRefinement::apply_one(uint32_t j) {
-  const uint32_t v = base_vertex_count_ + j;
-  const VertexSplit& s = pm_->splits[j];
-  const bool uvs = !corner_uvs_.empty(), normals = !corner_normals_.empty();
-  for (uint32_t k = moved_begin_[j]; k < moved_begin_[j + 1]; ++k) {
-    const MovedCorner& m = moved_[k];
-    const std::size_t corner = 3 * std::size_t{m.face} + m.corner;
-    corners_[corner] = v;
-    const uint32_t entry = s.moved_begin + (k - moved_begin_[j]);
-    if (uvs) corner_uvs_[corner] = pm_->moved_uvs[entry];
-    if (normals) corner_normals_[corner] = pm_->moved_normals[entry];
-    face_mod_[m.face] = j;
-  }
   for (uint32_t f = new_face_begin_[j]; f < new_face_begin_[j + 1]; ++f) activate_face(f);
   for (uint32_t k = deps_begin_[j]; k < deps_begin_[j + 1]; ++k) ++refcount_[deps_[k]];
   applied_[j] = 1;
   ++applied_count_;
 }
 
-// Hoppe 1997, §4.3 (ecol): the reverse, leaving the new faces as they are re-created.
+// Hoppe 1997, §4.3 (ecol): the reverse.
 void SelectiveRefinement::collapse_one(uint32_t j) {
-  const uint32_t u = split_u_[j];
-  const bool uvs = !corner_uvs_.empty(), normals = !corner_normals_.empty();
   for (uint32_t f = new_face_begin_[j]; f < new_face_begin_[j + 1]; ++f) deactivate_face(f);
-  for (uint32_t k = moved_begin_[j + 1]; k-- > moved_begin_[j];) {
-    const MovedCorner& m = moved_[k];
-    const std::size_t corner = 3 * std::size_t{m.face} + m.corner;
-    corners_[corner] = u;
-    if (uvs) corner_uvs_[corner] = m.coarse_uv;
-    if (normals) corner_normals_[corner] = m.coarse_normal;
-    face_mod_[m.face] = m.coarse_mod;
-  }
   for (uint32_t k = deps_begin_[j]; k < deps_begin_[j + 1]; ++k) --refcount_[deps_[k]];
   applied_[j] = 0;
   --applied_count_;
@@ -479,14 +503,38 @@ Mesh SelectiveRefinement::to_mesh(std::vector<uint32_t>* face_levels) const {
   std::vector<uint32_t> faces, face_uvs, face_normals, face_materials;
   faces.reserve(3 * (order.size() + carried));
   if (face_levels) face_levels->clear();
+  // Each corner: its vertex when its face was created, then its moves while their splits are
+  // applied (they form a prefix: each move splits the vertex the previous one made); or, when
+  // that first vertex is not active, its deepest active ancestor, with the attributes the
+  // corner was created with (the corner never had that vertex in the full sequence).
   for (uint32_t f : order) {
-    faces.insert(faces.end(), &corners_[3 * std::size_t{f}], &corners_[3 * std::size_t{f} + 3]);
-    if (uvs) face_uvs.insert(face_uvs.end(), &corner_uvs_[3 * std::size_t{f}], &corner_uvs_[3 * std::size_t{f} + 3]);
-    if (normals)
-      face_normals.insert(face_normals.end(), &corner_normals_[3 * std::size_t{f}],
-                          &corner_normals_[3 * std::size_t{f} + 3]);
+    uint32_t level = f < base_face_count_
+                         ? 0
+                         : 1 + static_cast<uint32_t>(std::upper_bound(new_face_begin_.begin(),
+                                                                      new_face_begin_.end(), f) -
+                                                     new_face_begin_.begin() - 1);
+    for (int c = 0; c < 3; ++c) {
+      const std::size_t corner = 3 * std::size_t{f} + c;
+      uint32_t vertex = created_corners_[corner];
+      uint32_t uv = uvs ? created_uvs_[corner] : 0, normal = normals ? created_normals_[corner] : 0;
+      if (!vertex_active(vertex)) {
+        while (!vertex_active(vertex)) vertex = split_u_[vertex - base_vertex_count_];
+      } else {
+        for (uint32_t k = first_move_[corner]; k != kNoSplit && applied_[moved_[k].split];
+             k = moved_[k].next) {
+          const MovedCorner& m = moved_[k];
+          vertex = base_vertex_count_ + m.split;
+          if (uvs) uv = pm.moved_uvs[m.entry];
+          if (normals) normal = pm.moved_normals[m.entry];
+          level = std::max(level, m.split + 1);
+        }
+      }
+      faces.push_back(vertex);
+      if (uvs) face_uvs.push_back(uv);
+      if (normals) face_normals.push_back(normal);
+    }
     if (materials) face_materials.push_back(pm.face_materials[f]);
-    if (face_levels) face_levels->push_back(face_mod_[f] == kNoSplit ? 0 : face_mod_[f] + 1);
+    if (face_levels) face_levels->push_back(level);
   }
   faces.insert(faces.end(), pm.carried_faces.begin(), pm.carried_faces.end());
   if (uvs)
@@ -540,8 +588,8 @@ std::size_t SelectiveRefinement::memory_bytes() const {
   std::size_t total = sizeof(*this);
   for (const std::vector<uint32_t>* v :
        {&split_u_, &parent_, &child_u_, &child_v_, &roots_, &first_split_, &deps_begin_, &deps_,
-        &moved_begin_, &new_face_begin_, &created_corners_, &corners_, &created_uvs_,
-        &created_normals_, &corner_uvs_, &corner_normals_, &created_mod_, &face_mod_, &refcount_,
+        &moved_begin_, &new_face_begin_, &created_corners_, &created_uvs_, &created_normals_,
+        &first_move_, &refcount_,
         &active_faces_, &active_slot_})
     total += bytes(*v);
   total += bytes(bounds_) + bytes(moved_) + bytes(applied_);

@@ -20,11 +20,20 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 Vec normalized(const Vec& a) { return (1.0 / length(a)) * a; }
 
+// A lower bound of sin(x) for x >= 0, capped at 1 from pi/2 on: the larger of the chord 2x/pi
+// and x - x^3/6 (sin x >= x - x^3/6 for x >= 0), without a call to sin.
+double sin_lower(double x) {
+  if (x >= kHalfPi) return 1;
+  return std::max(x * (1 / kHalfPi), x * (1 - x * x * (1.0 / 6)));
+}
+
 // §3.2, surface orientation: the region is back-facing when every direction from the eye to
 // the sphere (a cone of half-angle asin(r / distance) around d) makes less than 90 degrees
 // minus the normal cone's half-angle with the cone's axis: theta + beta + alpha < pi/2.
-// Moving the eye by m turns each of those directions by at most asin(m / (distance - r)) <=
-// (pi/2) m / (distance - r), hence the margin (written to `margin` when asked for).
+// Moving the eye by m < distance - r turns each of those directions by at most
+// asin(m / (distance - r)), so the decision holds while that stays below the slack |theta +
+// beta + alpha - pi/2|: for m < (distance - r) sin(slack), hence the margin (written to
+// `margin` when asked for), with a lower bound of the sine.
 bool back_facing(const SplitBounds& b, const Vec& d, double distance, bool with_margin,
                  double& margin) {
   const double r = b.radius;
@@ -40,16 +49,24 @@ bool back_facing(const SplitBounds& b, const Vec& d, double distance, bool with_
     // Facing the eye (theta >= 90 degrees), the common case, without trigonometry: the slack
     // theta + beta + alpha - pi/2 is at least asin(-cos theta) + asin(sin beta) + alpha >=
     // -cos theta + sin beta + alpha.
-    if (with_margin)
-      margin = std::min((-cos_theta + sin_beta + b.cone_angle) / kHalfPi, 1.0) * (distance - r);
+    if (with_margin) margin = sin_lower(-cos_theta + sin_beta + b.cone_angle) * (distance - r);
     return false;
   }
-  // theta + beta + alpha < pi/2 <=> cos(theta) > sin(alpha + beta), when alpha + beta < pi/2.
-  const double beta = std::asin(sin_beta), alpha = b.cone_angle;
-  const bool back = alpha + beta < kHalfPi && cos_theta > std::sin(alpha + beta);
+  // theta + beta + alpha < pi/2 <=> cos(theta) > sin(alpha + beta), when alpha + beta < pi/2,
+  // that is when cos(alpha + beta) > 0. The sine and cosine of alpha + beta from those of
+  // alpha and beta (sin beta = r / distance), without asin.
+  const double cos_beta = std::sqrt(std::max(0.0, 1 - sin_beta * sin_beta));
+  const double sin_alpha = std::sin(double(b.cone_angle)), cos_alpha = std::cos(double(b.cone_angle));
+  const double sin_sum = sin_alpha * cos_beta + cos_alpha * sin_beta;
+  const double cos_sum = cos_alpha * cos_beta - sin_alpha * sin_beta;
+  const bool back = cos_sum > 0 && cos_theta > sin_sum;
   if (back || with_margin) {
-    const double slack = std::fabs(std::acos(cos_theta) + beta + alpha - kHalfPi);
-    margin = std::min(slack / kHalfPi, 1.0) * (distance - r);
+    // The slack is |theta - phi| with phi = pi/2 - alpha - beta, and the margin (distance - r)
+    // sin(slack) up to pi/2: |sin(theta - phi)| = |sin theta cos phi - cos theta sin phi|,
+    // with cos phi = sin(alpha + beta), sin phi = cos(alpha + beta); beyond pi/2 it is less
+    // than sin(slack) would allow, still a margin. No acos.
+    const double sin_theta = std::sqrt(std::max(0.0, 1 - cos_theta * cos_theta));
+    margin = std::fabs(sin_theta * sin_sum - cos_theta * cos_sum) * (distance - r);
   }
   return back;
 }

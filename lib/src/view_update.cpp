@@ -78,11 +78,32 @@ struct SelectiveRefinement::ViewState {
   ViewCamera camera;
   ViewOptions options;
   bool model_inside = false;
-  std::vector<uint8_t> wanted, wanted_children, monitored, queued;
-  std::vector<uint32_t> version;  // of each split's live calendar entries
+  // Per split, together so that one evaluation touches one cache line of them: the version of
+  // its live calendar entries, whether it is wanted, how many of its children are, whether
+  // its calendar entries are live, whether it waits in `dirty`.
+  struct Flags {
+    uint32_t version;
+    uint8_t wanted, wanted_children, monitored, queued;
+  };
+  std::vector<Flags> flags;
   // By the eye's motion (screen-space error, orientation) and the camera's (frustum).
   Calendar by_eye, by_camera;
-  std::vector<Entry> due;
+  std::vector<Entry> due, sorted;  // sorted: sort_by_split()'s scratch
+  int split_bits = 1;              // enough bits for any split index
+
+  // A stable radix sort by split, 11 bits a pass: linear, where the entries due in a frame
+  // (tens of thousands) took std::sort a tenth of the update.
+  static void sort_by_split(std::vector<Entry>& entries, std::vector<Entry>& scratch, int bits) {
+    constexpr int kBits = 11;
+    scratch.resize(entries.size());
+    for (int shift = 0; shift < bits; shift += kBits) {
+      std::size_t count[(1 << kBits) + 1] = {};
+      for (const Entry& e : entries) ++count[((e.split >> shift) & ((1 << kBits) - 1)) + 1];
+      for (int i = 0; i < (1 << kBits); ++i) count[i + 1] += count[i];
+      for (const Entry& e : entries) scratch[count[(e.split >> shift) & ((1 << kBits) - 1)]++] = e;
+      entries.swap(scratch);
+    }
+  }
   std::vector<uint32_t> dirty;  // splits whose wanted flag changed: to split or collapse
   std::size_t dirty_head = 0;
   std::size_t evaluations = 0;
@@ -94,28 +115,28 @@ struct SelectiveRefinement::ViewState {
 
   // Watches j again once the eye or the camera has moved by the decision's margins.
   void schedule(uint32_t j, const view::Decision& d) {
-    monitored[j] = 1;
-    const Entry entry{j, ++version[j]};
+    flags[j].monitored = 1;
+    const Entry entry{j, ++flags[j].version};
     if (d.eye_margin < std::numeric_limits<double>::infinity()) by_eye.add(entry, d.eye_margin);
     if (d.margin < std::numeric_limits<double>::infinity()) by_camera.add(entry, d.margin);
   }
   void unmonitor(uint32_t j) {
-    if (!monitored[j]) return;
-    monitored[j] = 0;
-    ++version[j];
+    if (!flags[j].monitored) return;
+    flags[j].monitored = 0;
+    ++flags[j].version;
   }
   void mark_dirty(uint32_t j) {
-    if (queued[j]) return;
-    queued[j] = 1;
+    if (flags[j].queued) return;
+    flags[j].queued = 1;
     dirty.push_back(j);
   }
 
   // j was in F and is now wanted: its parent leaves L, its children join F (evaluated now).
   void become_wanted(const SelectiveRefinement& r, uint32_t j, const view::Decision& decision) {
-    wanted[j] = 1;
+    flags[j].wanted = 1;
     mark_dirty(j);
     const uint32_t p = r.parent_[j];
-    if (p != kNoSplit && wanted_children[p]++ == 0) unmonitor(p);
+    if (p != kNoSplit && flags[p].wanted_children++ == 0) unmonitor(p);
     for (uint32_t c : {r.child_u_[j], r.child_v_[j]}) {
       if (c == kNoSplit) continue;
       const view::Decision d = evaluate(r, c);
@@ -124,7 +145,7 @@ struct SelectiveRefinement::ViewState {
       else
         schedule(c, d);
     }
-    if (wanted_children[j] == 0)
+    if (flags[j].wanted_children == 0)
       schedule(j, decision);
     else
       unmonitor(j);
@@ -133,13 +154,13 @@ struct SelectiveRefinement::ViewState {
   // j was in L and is no longer wanted: its children leave F, it joins F, and its parent may
   // become a leaf (evaluated now).
   void become_unwanted(const SelectiveRefinement& r, uint32_t j, const view::Decision& decision) {
-    wanted[j] = 0;
+    flags[j].wanted = 0;
     mark_dirty(j);
     for (uint32_t c : {r.child_u_[j], r.child_v_[j]})
       if (c != kNoSplit) unmonitor(c);
     schedule(j, decision);
     const uint32_t p = r.parent_[j];
-    if (p != kNoSplit && --wanted_children[p] == 0) {
+    if (p != kNoSplit && --flags[p].wanted_children == 0) {
       const view::Decision d = evaluate(r, p);
       if (d.want)
         schedule(p, d);
@@ -150,7 +171,7 @@ struct SelectiveRefinement::ViewState {
 
   void reevaluate(const SelectiveRefinement& r, uint32_t j) {
     const view::Decision d = evaluate(r, j);
-    if (d.want == bool(wanted[j]))
+    if (d.want == bool(flags[j].wanted))
       schedule(j, d);
     else if (d.want)
       become_wanted(r, j, d);
@@ -161,11 +182,9 @@ struct SelectiveRefinement::ViewState {
   // The boundary from scratch, top-down; every split applied or wanted is then looked at.
   void initialize(const SelectiveRefinement& r) {
     const std::size_t n = r.split_count();
-    wanted.assign(n, 0);
-    wanted_children.assign(n, 0);
-    monitored.assign(n, 0);
-    queued.assign(n, 0);
-    version.assign(n, 0);
+    flags.assign(n, Flags{0, 0, 0, 0, 0});
+    split_bits = 1;
+    while (split_bits < 32 && (std::size_t{1} << split_bits) < n) ++split_bits;
     by_eye.clear(std::max(r.model_radius_, 1e-30) / 1024);
     by_camera.clear(std::max(r.model_radius_, 1e-30) / 1024);
     dirty.clear();
@@ -182,15 +201,15 @@ struct SelectiveRefinement::ViewState {
       const view::Decision d = evaluate(r, j);
       seen.push_back({j, d});
       if (!d.want) continue;
-      wanted[j] = 1;
-      if (r.parent_[j] != kNoSplit) ++wanted_children[r.parent_[j]];
+      flags[j].wanted = 1;
+      if (r.parent_[j] != kNoSplit) ++flags[r.parent_[j]].wanted_children;
       if (r.child_v_[j] != kNoSplit) stack.push_back(r.child_v_[j]);
       if (r.child_u_[j] != kNoSplit) stack.push_back(r.child_u_[j]);
     }
     for (const Seen& s : seen)
-      if (!wanted[s.split] || wanted_children[s.split] == 0) schedule(s.split, s.decision);
+      if (!flags[s.split].wanted || flags[s.split].wanted_children == 0) schedule(s.split, s.decision);
     for (uint32_t j = 0; j < n; ++j)
-      if (wanted[j] || r.applied_[j]) mark_dirty(j);
+      if (flags[j].wanted || r.applied_[j]) mark_dirty(j);
   }
 
   // The evaluations that are due after the eye and the camera moved by these amounts. An
@@ -201,10 +220,21 @@ struct SelectiveRefinement::ViewState {
     by_camera.advance(camera_moved, due);
     // In split order: the bounds and flags are then read in address order, which the
     // hardware prefetches (the order does not change the result, the wanted set of the camera).
-    std::sort(due.begin(), due.end(),
-              [](const Entry& a, const Entry& b) { return a.split < b.split; });
-    for (const Entry& e : due)
-      if (monitored[e.split] && version[e.split] == e.version) reevaluate(r, e.split);
+    sort_by_split(due, sorted, split_bits);
+    // The due splits are sparse (a tenth of the boundary): each evaluation would wait for its
+    // bounds and flags from memory, one at a time. Asking for them some entries ahead lets
+    // those loads overlap.
+    constexpr std::size_t kAhead = 16;
+    for (std::size_t i = 0; i < due.size(); ++i) {
+      if (i + kAhead < due.size()) {
+        const uint32_t ahead = due[i + kAhead].split;
+        __builtin_prefetch(&r.bounds_[ahead]);
+        __builtin_prefetch(reinterpret_cast<const char*>(&r.bounds_[ahead]) + sizeof(SplitBounds) - 1);
+        __builtin_prefetch(&flags[ahead]);
+      }
+      const Entry& e = due[i];
+      if (flags[e.split].monitored && flags[e.split].version == e.version) reevaluate(r, e.split);
+    }
   }
 };
 
@@ -213,9 +243,9 @@ void SelectiveRefinement::ViewStateDeleter::operator()(ViewState* state) const {
 std::size_t SelectiveRefinement::view_memory_bytes() const {
   if (!view_) return 0;
   const ViewState& s = *view_;
-  std::size_t total = sizeof(ViewState) + s.wanted.capacity() + s.wanted_children.capacity() +
-                      s.monitored.capacity() + s.queued.capacity() + 4 * s.version.capacity() +
-                      4 * s.dirty.capacity() + sizeof(ViewState::Entry) * s.due.capacity();
+  std::size_t total = sizeof(ViewState) + sizeof(ViewState::Flags) * s.flags.capacity() +
+                      4 * s.dirty.capacity() +
+                      sizeof(ViewState::Entry) * (s.due.capacity() + s.sorted.capacity());
   return total + s.by_eye.memory_bytes() + s.by_camera.memory_bytes();
 }
 
@@ -265,9 +295,17 @@ Status SelectiveRefinement::update_view(const ViewCamera& camera, const ViewOpti
         std::chrono::duration<double, std::micro>(Clock::now() - start).count() >=
             budget.max_microseconds)
       break;
+    // As in advance(): the flags and counts of a split some entries ahead, asked for now.
+    if (state.dirty_head + 8 < state.dirty.size()) {
+      const uint32_t ahead = state.dirty[state.dirty_head + 8];
+      __builtin_prefetch(&state.flags[ahead]);
+      __builtin_prefetch(&refcount_[ahead]);
+      __builtin_prefetch(&applied_[ahead]);
+      __builtin_prefetch(&deps_begin_[ahead]);
+    }
     const uint32_t j = state.dirty[state.dirty_head++];
-    state.queued[j] = 0;
-    const bool needed = state.wanted[j] || refcount_[j] > 0;
+    state.flags[j].queued = 0;
+    const bool needed = state.flags[j].wanted || refcount_[j] > 0;
     if (needed && !applied_[j]) {
       const std::size_t count = apply_with_dependencies(j);
       operations += count;
@@ -279,13 +317,13 @@ Status SelectiveRefinement::update_view(const ViewCamera& camera, const ViewOpti
       while (!stack.empty()) {
         const uint32_t x = stack.back().first;
         stack.pop_back();
-        if (!applied_[x] || refcount_[x] != 0 || state.wanted[x]) continue;
+        if (!applied_[x] || refcount_[x] != 0 || state.flags[x].wanted) continue;
         collapse_one(x);
         ++operations;
         ++local.collapses;
         for (uint32_t k = deps_begin_[x]; k < deps_begin_[x + 1]; ++k) {
           const uint32_t d = deps_[k];
-          if (refcount_[d] == 0 && !state.wanted[d] && applied_[d]) stack.push_back({d, 0});
+          if (refcount_[d] == 0 && !state.flags[d].wanted && applied_[d]) stack.push_back({d, 0});
         }
       }
     }

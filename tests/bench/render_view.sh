@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # The picture of a view-dependent level of detail (issue 7): the Stanford bunny encoded by
-# pmenc, refined for a camera in front of its head (pm::SelectiveRefinement::set_view, 1080
-# pixels high, 60 degrees, 20-pixel tolerance), seen from three sides and coloured by level
-# (blue: base mesh, green, red: the finest splits), with and without its edges. Builds
-# pmenc and pm_view_picture in build-bench/ (or $PM_BENCH_BUILD) and writes
-# tests/bench/images/view_bunny.png and view_bunny_wire.png. See tests/bench/README.md,
-# "View-dependent refinement".
+# pmenc, refined for a camera 0.015 in front of its nose looking along its body toward the tail
+# (pm::SelectiveRefinement::set_view, 1080 pixels high, 60 degrees, 250-pixel tolerance,
+# culling off so that the distance alone sets the detail: the head, 0.015 from the eye, is
+# dense, the rump, 0.17 away, coarse), seen from three sides and coloured by level (blue:
+# base mesh and shallow splits, green, red: the deepest splits in the vertex hierarchy), with
+# and without its edges. Builds pmenc and pm_view_picture in build-bench/ (or
+# $PM_BENCH_BUILD) and writes tests/bench/images/view_bunny.png (edges drawn, where the
+# density shows) and view_bunny_solid.png. See tests/bench/README.md, "View-dependent
+# refinement".
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -28,11 +31,13 @@ cmake --build "$build" -j"$(nproc)" --target pmenc pm_view_picture
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$build/apps/pmenc" "$bunny" -o "$work/bunny.pm" -q
-# The camera: in front of the bunny's head, looking along its body toward the tail.
-camera=(--eye -0.2,0.15,0.1 --target 0.05,0.1,-0.02 --fov 60 --height 1080 --pixel-error 20)
+# The camera: 0.015 in front of the nose (the bunny's smallest x), looking toward the tail.
+camera=(--eye -0.105,0.125,0.02 --target 0.06,0.08,0.0 --fov 60 --height 1080 --pixel-error 250
+        --no-culling)
 mkdir -p "$images"
-"$build/tests/bench/pm_view_picture" "$work/bunny.pm" "${camera[@]}" --size 400 \
-  -o "$images/view_bunny.png"
+rm -f "$images/view_bunny_wire.png"
 "$build/tests/bench/pm_view_picture" "$work/bunny.pm" "${camera[@]}" --size 400 --wire \
-  -o "$images/view_bunny_wire.png"
+  -o "$images/view_bunny.png"
+"$build/tests/bench/pm_view_picture" "$work/bunny.pm" "${camera[@]}" --size 400 \
+  -o "$images/view_bunny_solid.png"
 ls -l "$images"/view_bunny*.png

@@ -58,6 +58,14 @@ double percentile(std::vector<double> values, double p) {
   return values[std::min(values.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
+// The load average over 1, 5 and 15 minutes ("?" where /proc/loadavg cannot be read).
+std::string load_average() {
+  std::ifstream file("/proc/loadavg");
+  std::string a, b, c;
+  if (!(file >> a >> b >> c)) return "?";
+  return a + " " + b + " " + c;
+}
+
 double mean(const std::vector<double>& values) {
   double sum = 0;
   for (double v : values) sum += v;
@@ -141,6 +149,7 @@ int main(int argc, char** argv) {
   pm::ViewOptions options;
   options.pixel_error = settings.pixel_error;
 
+  const std::string load_before = load_average();
   std::vector<Run> runs(settings.runs);
   for (int r = 0; r < settings.runs; ++r) {
     Run& run = runs[r];
@@ -192,9 +201,13 @@ int main(int argc, char** argv) {
   const double faces_min = *std::min_element(first.faces.begin(), first.faces.end());
   const double faces_max = *std::max_element(first.faces.begin(), first.faces.end());
 
+  const std::string load_after = load_average();
   std::ostringstream md;
   md << "# View-dependent refinement: incremental update against rebuilding (issue 7)\n\n"
-     << pm::bench::run_description(PM_BENCH_SOURCE_DIR) << "\n"
+     << pm::bench::run_description(PM_BENCH_SOURCE_DIR)
+     << "- load average (1, 5, 15 min): " << load_before << " before the orbits, " << load_after
+     << " after (a shared machine: other work is in every time; the two are timed in turn, "
+        "frame by frame, so it weighs on both)\n\n"
      << "Input: `" << settings.pm_path.substr(settings.pm_path.find_last_of('/') + 1) << "`, "
      << with_thousands(pm.split_count()) << " vertex splits, "
      << with_thousands(pm.base_face_count() + pm.splits.size() * 2 -

@@ -3,14 +3,20 @@
 // see the detail fall off away from the camera and outside its view.
 //
 //   pm_view_picture FILE.pm --eye X,Y,Z --target X,Y,Z [--fov DEG] [--height PX]
-//                   [--pixel-error P] [--up x|y|z] [--wire] -o OUT.png [--size PX]
+//                   [--pixel-error P] [--up x|y|z] [--no-culling] [--wire] -o OUT.png
+//                   [--size PX]
+//
+// --no-culling turns off frustum and back-face culling, so that only the distance to the eye
+// (the screen-space error) sets the detail.
 //
 // The mesh pm::SelectiveRefinement::set_view() gives for that camera is rendered (render.h)
 // from three overview cameras around the model (not through the LOD's own camera, which would
 // hide the falloff), each face coloured by its level: blue for base-mesh faces, through green,
-// to red for faces the finest splits made (1 + the index of the last split that made or changed
-// the face, over the split count, on a square-root scale), with the edges drawn under --wire.
+// to red for the deepest (the depth in the vertex hierarchy of the last split that made or
+// changed the face, stretched between the shallowest and deepest such depth in the mesh), with
+// the edges drawn under --wire.
 // The counts on stderr.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,7 +34,8 @@ namespace {
 int usage() {
   std::fprintf(stderr,
                "usage: pm_view_picture FILE.pm --eye X,Y,Z --target X,Y,Z [--fov DEG] [--height PX]\n"
-               "                       [--pixel-error P] [--up x|y|z] [--wire] -o OUT.png [--size PX]\n");
+               "                       [--pixel-error P] [--up x|y|z] [--no-culling] [--wire] -o OUT.png\n"
+               "                       [--size PX]\n");
   return 2;
 }
 
@@ -72,6 +79,8 @@ int main(int argc, char** argv) {
       up_axis = axis[0] - 'x';
     } else if (arg == "--size" && more) {
       size = std::atoi(argv[++i]);
+    } else if (arg == "--no-culling") {
+      options.frustum_culling = options.backface_culling = false;
     } else if (arg == "--wire") {
       wire = true;
     } else if (arg == "-o" && more) {
@@ -110,8 +119,25 @@ int main(int argc, char** argv) {
   render.wireframe = wire;
   render.wire_width = 0.4;
   render.wire_color = {0.1f, 0.1f, 0.1f};
-  const double n = std::max<std::size_t>(1, pm.split_count());
-  render.face_color = [&](std::size_t face) { return level_color(std::sqrt(levels[face] / n)); };
+  // The level of a face: the depth, in the vertex hierarchy, of the last split that made or
+  // changed it (0: a base face), over the deepest applied split's depth. Depth rather than the
+  // split's index: the index orders splits over the whole model, the depth says how many times
+  // this neighbourhood was refined.
+  std::vector<uint32_t> depth(refinement.split_count(), 0);
+  uint32_t deepest = 1;
+  for (std::size_t j = 0; j < depth.size(); ++j) {
+    const uint32_t p = refinement.parent(j);
+    depth[j] = p == pm::kNoSplit ? 1 : depth[p] + 1;  // parents come first
+    if (refinement.applied(j)) deepest = std::max(deepest, depth[j]);
+  }
+  // Stretched over the depths the mesh's faces have, so that the colours span blue to red.
+  uint32_t shallowest = deepest;
+  for (uint32_t level : levels)
+    if (level > 0) shallowest = std::min(shallowest, depth[level - 1]);
+  const double span = std::max<double>(1, deepest - shallowest);
+  render.face_color = [&](std::size_t face) {
+    return level_color(levels[face] == 0 ? 0.0 : (depth[levels[face] - 1] - shallowest) / span);
+  };
   // The overviews: the model framed by its own box from three sides.
   const pm::bench::Box frame = pm::bench::bounding_box(mesh);
   std::vector<pm::bench::Image> panels;
