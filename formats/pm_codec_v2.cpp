@@ -19,6 +19,13 @@
 // Each field is a stream of its own in the chunk, which zstd compresses better than
 // interleaved records.
 //
+// 2.1 (§5.10) codes four of those streams with an adaptive binary range coder
+// (range_coder.h) instead of leaving them to zstd: u as the gap from the previous u of its
+// layer (the encoder orders each chunk in layers of independent splits, by u: Pajarola and
+// Rossignac 2000, "Compressed progressive meshes", §3), vl and vr with models per ring size,
+// and the position residuals with models per neighbourhood spread: zstd sees bytes, not the
+// distributions these fields have. 2.0 streams are still read (and written on request).
+//
 // The reader trusts nothing, as the 1.x reader: every count is capped, every section header
 // is checked before its payload is decompressed, the memory a decode needs is computed from
 // checked numbers before it is allocated, and the decoded mesh goes through validate().
@@ -30,6 +37,7 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -39,6 +47,7 @@
 #include "corner_codes.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
+#include "range_coder.h"
 #include "split_fans.h"
 
 namespace pm {
@@ -46,7 +55,7 @@ namespace detail {
 namespace {
 
 constexpr uint16_t kMajor2 = 2;
-constexpr uint16_t kMinor2 = 0;
+constexpr uint16_t kMinor2 = 1;  // the newest minor this reader knows (2.1)
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 
@@ -361,6 +370,49 @@ bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid) {
   return true;
 }
 
+// 2.1 (§5.10): the adaptive models of a chunk's range-coded streams, fresh in each chunk so
+// that chunks stay independent of each other's coding.
+constexpr uint32_t kRingContexts = 21;     // ring sizes 1..19 apart, 20 and more together
+constexpr uint32_t kSpreadContexts = 33;   // bit lengths 0..32 of the neighbours' spread
+struct ChunkModels {
+  BitModel restart;                        // u: a new layer starts here
+  EgModels u_gap[2];                       // u: [0] a layer's first, [1] the others
+  TreeModels vl[kRingContexts], vr[kRingContexts];
+  EgModels vl_large, vr_large;             // rings of 63 faces or more
+  EgModels position[kSpreadContexts];      // |residual|, by the spread of the neighbours
+  BitModel sign[kSpreadContexts];
+};
+
+uint32_t bit_length(uint64_t x) {
+  uint32_t n = 0;
+  while ((x >> n) != 0) ++n;
+  return n;
+}
+
+// A ring code (vl's or vr's, 0 .. n + 1 for a fan of n faces): a binary tree of
+// bit_length(n + 1) bits with the models of its ring size, or exp-Golomb for rings of 63
+// faces or more.
+void put_ring_code(RangeEncoder& rc, TreeModels* trees, EgModels& large, std::size_t n, uint32_t code) {
+  const uint32_t bits = bit_length(uint64_t{n} + 1);
+  if (bits <= kTreeBits) {
+    put_tree(rc, trees[std::min<std::size_t>(n, kRingContexts - 1)], static_cast<int>(bits), code);
+  } else {
+    put_eg(rc, large, code);
+  }
+}
+
+bool get_ring_code(RangeDecoder& rc, TreeModels* trees, EgModels& large, std::size_t n, uint32_t& code) {
+  const uint32_t bits = bit_length(uint64_t{n} + 1);
+  if (bits <= kTreeBits) {
+    code = get_tree(rc, trees[std::min<std::size_t>(n, kRingContexts - 1)], static_cast<int>(bits));
+    return true;
+  }
+  uint64_t value = 0;
+  if (!get_eg(rc, large, value) || value > 0xFFFFFFFFu) return false;
+  code = static_cast<uint32_t>(value);
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Values per vertex (positions, colours) in the integers their residuals are taken in
 // (§5.6): the ordered float bits when lossless, the grid index when quantized.
@@ -375,6 +427,19 @@ struct VertexValues {
   }
   uint32_t from_float(float x, std::size_t c) const {
     return grid != nullptr ? quantize(*grid, x, c) : ordered_from_float(x);
+  }
+
+  // 2.1 (§5.10): the context of a residual, the bit length of the neighbours' mean absolute
+  // deviation from the prediction in that coordinate: where the ring is wide, residuals are
+  // large, so each scale of the surface gets its own statistics.
+  uint32_t spread_context(const uint32_t* neighbours, std::size_t count, uint32_t predicted,
+                          std::size_t c) const {
+    uint64_t sum = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const int64_t d = int64_t{units[components * neighbours[k] + c]} - int64_t{predicted};
+      sum += static_cast<uint64_t>(d < 0 ? -d : d);
+    }
+    return std::min<uint32_t>(bit_length(sum / count), kSpreadContexts - 1);
   }
 
   // The prediction of a new vertex from its neighbours in the refined mesh (Taubin et al.
@@ -404,15 +469,7 @@ struct VertexValues {
 // stream cut early still refines, and big meshes have few chunks.
 
 std::vector<uint32_t> plan_chunks(uint32_t splits, uint32_t largest) {
-  std::vector<uint32_t> sizes;
-  uint32_t size = std::min<uint32_t>(256, largest);
-  for (uint32_t done = 0; done < splits;) {
-    const uint32_t n = std::min(size, splits - done);
-    sizes.push_back(n);
-    done += n;
-    if (size < largest) size = std::min(largest, size * 2);
-  }
-  return sizes;
+  return chunk_plan(splits, largest);
 }
 
 struct ChunkEntry {
@@ -428,6 +485,8 @@ enum ChunkStream {
 constexpr const char* kStreamNames[kChunkStreams] = {
     "u", "vl", "vr", "explicit splits", "errors", "positions", "colours", "materials",
     "texture coordinate ids", "normal ids"};
+
+
 
 // The known sections of a stream with this header, in the order it must hold them (§4.3):
 // each is present exactly when it has entries.
@@ -480,6 +539,13 @@ uint64_t raw_bound(const Header2& h, uint32_t tag) {
 
 uint64_t chunk_raw_bound(const Header2& h, const ChunkEntry& c) {
   const uint64_t n = c.splits, m = c.moved_faces, a = c.new_faces;
+  // 2.1: a range-coded decision costs at most 6.05 bits (probabilities stay within
+  // [31, 2017] / 2048), and u, vl, vr and each position take at most 66 decisions: 400 bytes
+  // per split cover them, and 30 the four codes' ends.
+  if (h.minor >= 1) {
+    return 5 * kChunkStreams + 30 + n * (400 + 10 * uint64_t{h.color_components}) +
+           (15 * n + 5 * m) + 5 * a + 2 * 5 * (m + 3 * a);
+  }
   return 5 * kChunkStreams + n * (15 + 10 + 30 + 10 * uint64_t{h.color_components}) +
          (15 * n + 5 * m) + 5 * a + 2 * 5 * (m + 3 * a);
 }
@@ -661,8 +727,13 @@ struct Writer {
     uint32_t next_face = static_cast<uint32_t>(pm.base_face_count());
     std::size_t i = 0;
     std::vector<uint64_t> position_codes, color_codes;
+    const bool ranged = h.minor >= 1;
     for (uint32_t size : plan_chunks(h.split_count, options.chunk_splits)) {
       std::string streams[kChunkStreams];
+      auto models = std::make_unique<ChunkModels>();
+      RangeEncoder u_rc(streams[kStreamU]), vl_rc(streams[kStreamVl]), vr_rc(streams[kStreamVr]),
+          position_rc(streams[kStreamPositions]);
+      int64_t previous_u = -1;
       position_codes.clear();
       color_codes.clear();
       ChunkEntry entry;
@@ -674,7 +745,18 @@ struct Writer {
       for (const std::size_t end = i + size; i < end; ++i) {
         const VertexSplit& split = pm.splits[i];
         const auto v = static_cast<uint32_t>(pm.base_vertex_count + i);
-        u_out.put_varint(v - 1 - split.u);
+        if (ranged) {
+          // u as the gap from the previous u of its layer (§5.10); a new layer starts
+          // wherever u does not grow.
+          const bool first = i + size == end;
+          const bool restart = !first && int64_t{split.u} <= previous_u;
+          if (!first) u_rc.bit(models->restart, restart ? 1 : 0);
+          if (first || restart) previous_u = -1;
+          put_eg(u_rc, models->u_gap[previous_u < 0 ? 0 : 1], static_cast<uint64_t>(split.u - previous_u - 1));
+          previous_u = split.u;
+        } else {
+          u_out.put_varint(v - 1 - split.u);
+        }
         const int64_t error_step = int64_t{ordered_from_float(previous_error)} -
                                    int64_t{ordered_from_float(split.error)};
         put_varint64(streams[kStreamErrors], zigzag(error_step));
@@ -684,7 +766,8 @@ struct Writer {
         // One-ring coding when the moved faces are the arc from vl to vr around u.
         bool coded = false;
         std::size_t place_l = 0, place_r = 0;
-        if (fans.fan(split.u, fan)) {
+        const bool has_fan = fans.fan(split.u, fan);
+        if (has_fan) {
           const std::size_t places = fan.closed ? fan.faces.size() : fan.ring.size();
           const auto place = [&](uint32_t vertex, std::size_t none) {
             if (vertex == kNoVertex) return fan.closed ? places : none;
@@ -703,15 +786,27 @@ struct Writer {
         }
         neighbours.assign(1, split.u);
         if (coded) {
-          vl_out.put_varint(split.vl == kNoVertex ? 0 : static_cast<uint32_t>(place_l) + 1);
-          vr_out.put_varint(split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1);
+          const uint32_t vl_code = split.vl == kNoVertex ? 0 : static_cast<uint32_t>(place_l) + 1;
+          const uint32_t vr_code = split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1;
+          if (ranged) {
+            put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code);
+            put_ring_code(vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code);
+          } else {
+            vl_out.put_varint(vl_code);
+            vr_out.put_varint(vr_code);
+          }
           const std::size_t n = fan.faces.size();
           for (std::size_t k = 0; k <= arc.size(); ++k) {
             neighbours.push_back(fan.ring[fan.closed ? (place_l + k) % n : place_l + k]);
           }
         } else {
-          vl_out.put_varint(0);
-          vr_out.put_varint(0);
+          if (!ranged) {
+            vl_out.put_varint(0);
+            vr_out.put_varint(0);
+          } else if (has_fan) {  // a fan, but not an arc of it: both codes 0
+            put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), 0);
+            put_ring_code(vr_rc, models->vr, models->vr_large, fan.faces.size(), 0);
+          }
           explicit_out.put_varint(split.vl == kNoVertex ? 0 : split.vl + 1);
           explicit_out.put_varint(split.vr == kNoVertex ? 0 : split.vr + 1);
           explicit_out.put_varint(split.moved_count);
@@ -721,7 +816,15 @@ struct Writer {
         // The new vertex's position and colour, against the mean of its neighbours.
         positions.predict(neighbours.data(), neighbours.size(), predicted.data());
         for (std::size_t c = 0; c < 3; ++c) {
-          position_codes.push_back(zigzag(int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c]));
+          const int64_t residual = int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c];
+          if (ranged) {
+            // |residual| and its sign, with the models of its neighbours' spread (§5.10).
+            const uint32_t context = positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
+            put_eg(position_rc, models->position[context], static_cast<uint64_t>(residual < 0 ? -residual : residual));
+            if (residual != 0) position_rc.bit(models->sign[context], residual < 0 ? 1 : 0);
+          } else {
+            position_codes.push_back(zigzag(residual));
+          }
         }
         if (colors.components != 0) {
           colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
@@ -753,7 +856,11 @@ struct Writer {
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
       index_out.put_f32(entry.error_after);
-      put_planes(streams[kStreamPositions], position_codes);
+      if (ranged) {
+        for (RangeEncoder* rc : {&u_rc, &vl_rc, &vr_rc, &position_rc}) rc->finish();
+      } else {
+        put_planes(streams[kStreamPositions], position_codes);
+      }
       put_planes(streams[kStreamColors], color_codes);
       std::string raw;
       for (const std::string& stream : streams) put_varint64(raw, stream.size());
@@ -792,6 +899,10 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
                                                      " bits (0 for none, or 4 to 24)");
     }
   }
+  if (options.minor_version > kMinor2) {
+    return Status(ErrorCode::kInvalidArgument, "format 2." + std::to_string(options.minor_version) +
+                                                   " (this writer writes 2.0 and 2.1)");
+  }
   if (options.chunk_splits < 1 || options.chunk_splits > (1u << 20)) {
     return Status(ErrorCode::kInvalidArgument, "chunks of " + std::to_string(options.chunk_splits) +
                                                    " splits (1 to 1048576)");
@@ -816,6 +927,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   h.moved_face_count = static_cast<uint32_t>(pm.moved_faces.size());
   for (const VertexSplit& split : pm.splits) h.split_face_count += split.new_face_count();
   h.chunk_count = static_cast<uint32_t>(plan_chunks(h.split_count, options.chunk_splits).size());
+  h.minor = options.minor_version;
   h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
   h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
                  (pm.has_materials() ? kAttributeMaterialIds : 0);
@@ -1341,8 +1453,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   }
   std::vector<ByteReader> streams;
   streams.reserve(kChunkStreams);
+  std::string_view stream_bytes[kChunkStreams];
   for (int k = 0; k < kChunkStreams; ++k) {
-    std::string_view bytes;
+    std::string_view& bytes = stream_bytes[k];
     if (!in.read_bytes(sizes[k], bytes)) return false;
     streams.emplace_back(bytes, where + " (" + kStreamNames[k] + ")", ErrorCode::kCorruptStream);
   }
@@ -1363,7 +1476,23 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   std::vector<uint32_t> color_predicted(h.color_components);
   uint32_t new_faces = 0, moved_total = 0;
   std::vector<uint64_t> position_codes, color_codes;
-  if (!read_planes(position_in, 3 * std::size_t{entry.splits}, position_codes)) return failed(position_in);
+  // 2.1 (§5.10): u, vl, vr and the positions are range codes, with fresh models per chunk.
+  const bool ranged = h.minor >= 1;
+  std::unique_ptr<ChunkModels> models;
+  std::optional<RangeDecoder> u_rc, vl_rc, vr_rc, position_rc;
+  if (ranged) {
+    models = std::make_unique<ChunkModels>();
+    u_rc.emplace(stream_bytes[kStreamU]);
+    vl_rc.emplace(stream_bytes[kStreamVl]);
+    vr_rc.emplace(stream_bytes[kStreamVr]);
+    position_rc.emplace(stream_bytes[kStreamPositions]);
+  } else if (!read_planes(position_in, 3 * std::size_t{entry.splits}, position_codes)) {
+    return failed(position_in);
+  }
+  int64_t previous_u = -1;
+  const auto range_failed = [&](const char* stream) {
+    return in.fail(ErrorCode::kCorruptStream, where + " (" + stream + "): the range code is corrupt or ends early");
+  };
   if (!read_planes(color_in, std::size_t{h.color_components} * entry.splits, color_codes)) {
     return failed(color_in);
   }
@@ -1371,10 +1500,22 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   for (uint32_t j = 0; j < entry.splits; ++j) {
     const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size());
     VertexSplit split;
-    uint32_t u_offset, vl_code, vr_code;
-    if (!u_in.read_varint(u_offset)) return failed(u_in);
-    if (u_offset >= v) return bad(v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
-    split.u = v - 1 - u_offset;
+    uint32_t u_offset, vl_code = 0, vr_code = 0;
+    if (ranged) {
+      if (j > 0 && u_rc->bit(models->restart) != 0) previous_u = -1;
+      if (j == 0) previous_u = -1;
+      uint64_t gap = 0;
+      if (!get_eg(*u_rc, models->u_gap[previous_u < 0 ? 0 : 1], gap) || !u_rc->ok()) return range_failed("u");
+      if (gap >= uint64_t{v} || previous_u + 1 + static_cast<int64_t>(gap) >= int64_t{v}) {
+        return bad(v, "names u beyond the vertices before it");
+      }
+      split.u = static_cast<uint32_t>(previous_u + 1 + static_cast<int64_t>(gap));
+      previous_u = split.u;
+    } else {
+      if (!u_in.read_varint(u_offset)) return failed(u_in);
+      if (u_offset >= v) return bad(v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
+      split.u = v - 1 - u_offset;
+    }
     uint64_t error_code;
     if (!read_varint64(error_in, error_code)) return failed(error_in);
     int64_t error_step = 0;
@@ -1388,8 +1529,22 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
                     "not the index's");
     }
     previous_error = split.error;
-    if (!vl_in.read_varint(vl_code)) return failed(vl_in);
-    if (!vr_in.read_varint(vr_code)) return failed(vr_in);
+    bool has_fan = false;
+    if (ranged) {
+      // The ring codes exist only when u has a fan (§5.10); without one the split is explicit.
+      has_fan = fans.fan(split.u, fan);
+      if (has_fan) {
+        if (!get_ring_code(*vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code) || !vl_rc->ok()) {
+          return range_failed("vl");
+        }
+        if (!get_ring_code(*vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code) || !vr_rc->ok()) {
+          return range_failed("vr");
+        }
+      }
+    } else {
+      if (!vl_in.read_varint(vl_code)) return failed(vl_in);
+      if (!vr_in.read_varint(vr_code)) return failed(vr_in);
+    }
     neighbours.assign(1, split.u);
     if (vl_code == 0 && vr_code == 0) {
       // An explicit split: vl, vr and the moved faces as ids (§5.5).
@@ -1415,7 +1570,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         arc.push_back(f);
       }
     } else {
-      if (!fans.fan(split.u, fan)) return bad(v, "names places around u, whose faces are not a fan");
+      if (!has_fan && !fans.fan(split.u, fan)) return bad(v, "names places around u, whose faces are not a fan");
       const std::size_t n = fan.faces.size();
       std::size_t i = 0, end = n;
       if (vl_code != 0) {
@@ -1446,7 +1601,17 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     positions.predict(neighbours.data(), neighbours.size(), predicted);
     for (std::size_t c = 0; c < 3; ++c) {
       int64_t residual = 0;
-      if (!residual_of(position_codes[next_position++], residual)) return bad(v, "has a position beyond the grid");
+      if (ranged) {
+        const uint32_t context = positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
+        uint64_t magnitude = 0;
+        if (!get_eg(*position_rc, models->position[context], magnitude)) return range_failed("positions");
+        if (magnitude > 0xFFFFFFFFu) return bad(v, "has a position beyond the grid");
+        residual = static_cast<int64_t>(magnitude);
+        if (magnitude != 0 && position_rc->bit(models->sign[context]) != 0) residual = -residual;
+        if (!position_rc->ok()) return range_failed("positions");
+      } else if (!residual_of(position_codes[next_position++], residual)) {
+        return bad(v, "has a position beyond the grid");
+      }
       const int64_t unit = int64_t{predicted[c]} + residual;
       const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
       if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
@@ -1510,6 +1675,14 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   }
   if (ordered_from_float(previous_error) < ordered_from_float(entry.error_after)) {
     return in.fail(ErrorCode::kCorruptStream, where + ": the index's error after it is larger than its last");
+  }
+  if (ranged) {
+    for (auto* rc : {&u_rc, &vl_rc, &vr_rc, &position_rc}) {
+      if (!(*rc)->ok() || !(*rc)->at_end()) {
+        return in.fail(ErrorCode::kCorruptStream, where + ": a range-coded stream is corrupt, ends early or has bytes left over");
+      }
+    }
+    for (int k : {kStreamU, kStreamVl, kStreamVr, kStreamPositions}) streams[k].skip(streams[k].remaining());
   }
   for (ByteReader& stream : streams) {
     if (!stream.at_end()) {

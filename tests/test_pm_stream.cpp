@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -86,10 +87,14 @@ std::vector<ProgressiveMesh> encoded_meshes() {
 TEST(PmStream, LiteralMeshesRoundTripWithEveryChunkSize) {
   for (const ProgressiveMesh& pm : literal_meshes()) {
     for (uint32_t chunk : {1u, 7u, 4096u}) {
-      SCOPED_TRACE("splits " + std::to_string(pm.splits.size()) + ", chunks of " + std::to_string(chunk));
-      WriteOptions options;
-      options.chunk_splits = chunk;
-      expect_round_trip(pm, options);
+      for (uint16_t minor : {0, 1}) {
+        SCOPED_TRACE("splits " + std::to_string(pm.splits.size()) + ", chunks of " +
+                     std::to_string(chunk) + ", 2." + std::to_string(minor));
+        WriteOptions options;
+        options.chunk_splits = chunk;
+        options.minor_version = minor;
+        expect_round_trip(pm, options);
+      }
     }
   }
 }
@@ -98,6 +103,17 @@ TEST(PmStream, EncodedMeshesRoundTripAndAreSmallerThanFormat1) {
   for (const ProgressiveMesh& pm : encoded_meshes()) {
     SCOPED_TRACE("splits " + std::to_string(pm.splits.size()));
     expect_round_trip(pm);
+    for (int bits : {0, 14}) {  // 2.0 too, lossless and quantized
+      WriteOptions options;
+      options.minor_version = 0;
+      options.position_bits = bits;
+      const std::string bytes = write(pm, options);
+      EXPECT_EQ(static_cast<uint8_t>(bytes[10]), 0);
+      if (bits == 0) expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(pm));
+      options.minor_version = 1;
+      const ProgressiveMesh v21 = read(write(pm, options)), v20 = read(bytes);
+      EXPECT_EQ(bits_of(v21.positions), bits_of(v20.positions));  // the same grid values
+    }
     // The one-ring coding leaves out the moved faces and the global ids of vl and vr, and
     // the positions are residuals: a 2.0 stream is much smaller than a 1.1 stream.
     std::string v1, v2;
@@ -375,7 +391,7 @@ TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
   EXPECT_EQ(with_header_byte(87, 1), ErrorCode::kCorruptStream);  // reserved byte
   EXPECT_EQ(with_header_byte(88, 2), ErrorCode::kCorruptStream);  // an unknown option
   EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
-  EXPECT_EQ(with_header_byte(10, 1), ErrorCode::kOk);             // minor 2.1: may-ignore fields only
+  EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kOk);             // minor 2.2: may-ignore fields only
   EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
 }
 
@@ -425,7 +441,9 @@ std::string with_chunk_stream(const std::string& bytes, int k, const std::string
 
 // Residuals at the edge of 64 bits, planes with a spare top byte: clean errors, no overflow.
 TEST(PmStream, HostileResidualsAndPlanesAreRefused) {
-  const std::string bytes = write(small_mesh());  // chunk 0: 2 splits, 6 position codes
+  WriteOptions v20;
+  v20.minor_version = 0;
+  const std::string bytes = write(small_mesh(), v20);  // chunk 0: 2 splits, 6 position codes
   ProgressiveMesh pm;
   // The stream rebuilt unchanged still decodes (the surgery itself is sound).
   {
@@ -442,6 +460,36 @@ TEST(PmStream, HostileResidualsAndPlanesAreRefused) {
   // Errors: a code beyond any difference of two floats' bits.
   EXPECT_EQ(read_pm(with_chunk_stream(bytes, 4, "\xff\xff\xff\xff\xff\xff\xff\xff\xff\x01\x00"), pm).code(),
             ErrorCode::kCorruptStream);
+}
+
+// 2.1's range codes (§5.10): every damaged, cut, lengthened or out-of-range code is a clean
+// kCorruptStream (or, where the damage still decodes to a valid mesh, harmless).
+TEST(PmStream, HostileRangeCodesAreRefused) {
+  const std::string bytes = write(with_attributes(generated_mesh(600)));
+  ProgressiveMesh pm;
+  for (int k : {0, 1, 2, 5}) {
+    SCOPED_TRACE("stream " + std::to_string(k));
+    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, ""), pm).code(), ErrorCode::kCorruptStream);
+    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(5, '\0')), pm).code(), ErrorCode::kCorruptStream);
+    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, "\x01" + std::string(40, '\0')), pm).code(),
+              ErrorCode::kCorruptStream);  // first byte not 0
+    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4, '\xFF')), pm).code(),
+              ErrorCode::kCorruptStream);  // code = range
+    // All ones: endless exp-Golomb prefixes, u beyond v, ring codes beyond the ring.
+    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4000, '\xFE')), pm).code(),
+              ErrorCode::kCorruptStream);
+    // Random bytes: never a crash; an error, or (rarely) a valid mesh.
+    uint32_t seed = 12345u + static_cast<uint32_t>(k);
+    for (int trial = 0; trial < 200; ++trial) {
+      std::string noise(1 + trial % 300, '\0');
+      for (std::size_t b = 1; b < noise.size(); ++b) {
+        seed = seed * 1664525u + 1013904223u;
+        noise[b] = static_cast<char>(seed >> 24);
+      }
+      const Status status = read_pm(with_chunk_stream(bytes, k, noise), pm);
+      EXPECT_TRUE(status.is_ok() || status.code() == ErrorCode::kCorruptStream) << status.message();
+    }
+  }
 }
 
 TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
@@ -478,11 +526,11 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
       if (!g.pm.keeps_order()) test::write_file(dir + g.name + "-v1.1.pm", v1);
       WriteOptions options;
       options.chunk_splits = 128;
-      test::write_file(dir + g.name + "-v2.0.pm", write(g.pm, options));
+      test::write_file(dir + g.name + "-v2.1.pm", write(g.pm, options));
     }
   }
   for (const Golden& g : goldens) {
-    for (const char* version : {"v1.1", "v2.0"}) {
+    for (const char* version : {"v1.1", "v2.0", "v2.1"}) {
       if (g.pm.keeps_order() && std::string(version) == "v1.1") continue;  // 1.x has no order
       SCOPED_TRACE(std::string(g.name) + "-" + version);
       const std::string path = dir + g.name + "-" + version + ".pm";
@@ -533,6 +581,74 @@ TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
     ReadOptions prefix;
     prefix.max_splits = half;
     EXPECT_FALSE(read(write(pm), prefix).keeps_order() && half < pm.splits.size());
+  }
+}
+
+// A level's triangles as position triples, each rotated to its smallest corner, sorted:
+// the same for two meshes that differ only in vertex and face order.
+std::vector<std::vector<uint32_t>> sorted_triangles(const Mesh& mesh) {
+  std::vector<std::vector<uint32_t>> out;
+  for (std::size_t t = 0; t < mesh.face_count(); ++t) {
+    std::vector<uint32_t> corners[3];
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) {
+        float x = mesh.positions[3 * std::size_t{mesh.triangles[3 * t + c]} + k];
+        uint32_t b;
+        std::memcpy(&b, &x, 4);
+        corners[c].push_back(b);
+      }
+    }
+    const int first = static_cast<int>(std::min_element(corners, corners + 3) - corners);
+    std::vector<uint32_t> triangle;
+    for (int c = 0; c < 3; ++c) triangle.insert(triangle.end(), corners[(first + c) % 3].begin(), corners[(first + c) % 3].end());
+    out.push_back(triangle);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The encoder's layers (layer_splits): the same mesh at every chunk's end, full detail the
+// input's arrays, a valid progressive mesh, and a smaller stream.
+TEST(PmStream, LayeredSplitsKeepEveryChunksMesh) {
+  std::vector<std::string> paths = test::sample_mesh_paths();
+  if (test::shared_meshes_available()) paths.push_back(test::shared_mesh_path("spot.obj"));
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    Mesh input;
+    ASSERT_TRUE(read_mesh(path, input).is_ok());
+    EncodeOptions options;
+    options.keep_order = true;
+    options.layer_chunk_splits = 0;
+    ProgressiveMesh plain, layered;
+    ASSERT_TRUE(encode(input, options, plain).is_ok());
+    options.layer_chunk_splits = 256;
+    ASSERT_TRUE(encode(input, options, layered).is_ok());
+    std::string message;
+    ASSERT_TRUE(validate(layered, &message)) << message;
+    ASSERT_EQ(layered.splits.size(), plain.splits.size());
+    expect_same_arrays(extract_level(layered, layered.splits.size()), input);
+    std::size_t level = 0;
+    for (uint32_t size : chunk_plan(static_cast<uint32_t>(plain.splits.size()), 256)) {
+      level += size;
+      EXPECT_EQ(layered.splits[level - size].error, plain.splits[level - size].error);
+      if (level < plain.splits.size()) {
+        EXPECT_EQ(layered.splits[level].error, plain.splits[level].error);
+      }
+      const Mesh a = extract_level(plain, level), b = extract_level(layered, level);
+      EXPECT_EQ(a.face_count(), b.face_count());
+      EXPECT_EQ(sorted_triangles(a), sorted_triangles(b));
+    }
+    expect_identical(with_sorted_moves(read(write(layered))), with_sorted_moves(layered));
+    // Smaller (without the order, which the layers' u order makes dearer), by the u gaps.
+    for (ProgressiveMesh* pm : {&plain, &layered}) pm->input_vertices.clear(), pm->input_faces.clear();
+    WriteOptions q14;
+    q14.position_bits = 14;
+    const std::string with = write(layered, q14), without = write(plain, q14);
+    // (With texture coordinates, the corner codes' "latest id of any corner" predicts
+    // worse across a layer than along the simplifier's order: geometry only here.)
+    if (plain.splits.size() > 1000 && !plain.has_uvs() && !plain.has_normals()) {
+      EXPECT_LT(with.size(), without.size() * 97 / 100);
+    }
   }
 }
 
