@@ -53,6 +53,17 @@ class RangeEncoder {
     }
   }
 
+  // `count` (1..16) equiprobable bits of `value` at once, without a model (LZMA's direct
+  // bits, several per step): the range is divided into 2^count equal parts.
+  void raw_bits(uint32_t value, int count) {
+    range_ >>= count;
+    low_ += uint64_t{value} * range_;
+    while (range_ < kTopValue) {
+      range_ <<= 8;
+      shift_low();
+    }
+  }
+
   // Ends the code: afterwards the decoder has read exactly the bytes written.
   void finish() {
     for (int i = 0; i < 5; ++i) shift_low();
@@ -110,6 +121,23 @@ class RangeDecoder {
     return bit;
   }
 
+  // `count` (1..16) equiprobable bits (RangeEncoder::raw_bits). A part beyond the last is
+  // damage: it is clamped, and the code marked bad.
+  uint32_t raw_bits(int count) {
+    range_ >>= count;
+    uint32_t value = code_ / range_;
+    if (value >= (1u << count)) {
+      bad_ = true;
+      value = (1u << count) - 1;
+    }
+    code_ -= value * range_;
+    while (range_ < kTopValue) {
+      range_ <<= 8;
+      code_ = (code_ << 8) | next_byte();
+    }
+    return value;
+  }
+
   // Whether the code was well formed so far: its first byte 0, no byte read past the end.
   bool ok() const { return !bad_; }
   // Whether every byte was read (a stream with bytes left over is corrupt).
@@ -136,14 +164,14 @@ class RangeDecoder {
 // 2003, §III.A): n = bit length of x + 1, minus one, as n ones and a zero (the i-th with
 // model prefix[min(i, kEgPrefixModels - 1)]), then the n bits of x + 1 below its top bit,
 // most significant first; the first two of them with a model per n and position (they carry
-// the shape of the distribution), the rest with a model per n.
+// the shape of the distribution), the rest as equiprobable bits, up to 16 at a time (they
+// are close to uniform, and decode several to a division).
 constexpr int kMaxEgBits = 40;  // residuals of u32 values need 33 bits
 constexpr int kEgPrefixModels = 24;
 
 struct EgModels {
   BitModel prefix[kEgPrefixModels];
   BitModel top[kMaxEgBits][3];  // [n][0]: first suffix bit; [n][1 + first]: second
-  BitModel rest[kMaxEgBits];
 };
 
 inline void put_eg(RangeEncoder& rc, EgModels& m, uint64_t x) {
@@ -152,17 +180,15 @@ inline void put_eg(RangeEncoder& rc, EgModels& m, uint64_t x) {
   while ((y >> (n + 1)) != 0) ++n;
   for (int i = 0; i < n; ++i) rc.bit(m.prefix[i < kEgPrefixModels ? i : kEgPrefixModels - 1], 1);
   rc.bit(m.prefix[n < kEgPrefixModels ? n : kEgPrefixModels - 1], 0);
-  unsigned first = 0;
-  for (int k = n - 1; k >= 0; --k) {
-    const unsigned b = static_cast<unsigned>((y >> k) & 1);
-    if (k == n - 1) {
-      rc.bit(m.top[n][0], b);
-      first = b;
-    } else if (k == n - 2) {
-      rc.bit(m.top[n][1 + first], b);
-    } else {
-      rc.bit(m.rest[n], b);
-    }
+  if (n == 0) return;
+  const unsigned first = static_cast<unsigned>((y >> (n - 1)) & 1);
+  rc.bit(m.top[n][0], first);
+  if (n == 1) return;
+  rc.bit(m.top[n][1 + first], static_cast<unsigned>((y >> (n - 2)) & 1));
+  for (int k = n - 2; k > 0;) {  // bits k-1 .. 0, 16 at most at a time
+    const int count = k < 16 ? k : 16;
+    k -= count;
+    rc.raw_bits(static_cast<uint32_t>((y >> k) & ((1u << count) - 1)), count);
   }
 }
 
@@ -173,18 +199,15 @@ inline bool get_eg(RangeDecoder& rc, EgModels& m, uint64_t& x) {
     if (++n >= kMaxEgBits) return false;
   }
   uint64_t y = 1;
-  unsigned first = 0;
-  for (int k = n - 1; k >= 0; --k) {
-    unsigned b;
-    if (k == n - 1) {
-      b = rc.bit(m.top[n][0]);
-      first = b;
-    } else if (k == n - 2) {
-      b = rc.bit(m.top[n][1 + first]);
-    } else {
-      b = rc.bit(m.rest[n]);
+  if (n >= 1) {
+    const unsigned first = rc.bit(m.top[n][0]);
+    y = (y << 1) | first;
+    if (n >= 2) y = (y << 1) | rc.bit(m.top[n][1 + first]);
+    for (int k = n - 2; k > 0;) {
+      const int count = k < 16 ? k : 16;
+      k -= count;
+      y = (y << count) | rc.raw_bits(count);
     }
-    y = (y << 1) | b;
   }
   x = y - 1;
   return true;

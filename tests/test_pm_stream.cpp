@@ -16,6 +16,7 @@
 
 #include "../formats/byte_io.h"
 #include "../formats/pm_layout.h"
+#include "../formats/range_coder.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
@@ -644,6 +645,61 @@ std::vector<std::vector<uint32_t>> sorted_triangles(const Mesh& mesh) {
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// The range coder itself (formats/range_coder.h, §5.10): decisions, exp-Golomb values up to
+// its limit, trees, round trips that read exactly the bytes written; cut codes are refused.
+TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
+  std::vector<uint64_t> values;
+  uint64_t state = 7;
+  for (int i = 0; i < 3000; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const int bits = static_cast<int>((state >> 59) % 40);  // 0 .. 39 bits
+    values.push_back(((state >> 7) & ((uint64_t{1} << bits) - 1)) + (i % 3 == 0 ? 0 : 1));
+  }
+  values.push_back((uint64_t{1} << detail::kMaxEgBits) - 2);  // the largest value
+  std::string bytes;
+  {
+    detail::RangeEncoder rc(bytes);
+    detail::EgModels eg;
+    detail::TreeModels tree;
+    detail::BitModel bit;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      detail::put_eg(rc, eg, values[i]);
+      detail::put_tree(rc, tree, 5, static_cast<uint32_t>(values[i] & 31));
+      rc.bit(bit, i % 7 == 0);
+    }
+    rc.finish();
+  }
+  const auto decode = [&](const std::string& code, bool& all_equal) {
+    detail::RangeDecoder rc(code);
+    detail::EgModels eg;
+    detail::TreeModels tree;
+    detail::BitModel bit;
+    all_equal = true;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      uint64_t x = 0;
+      if (!detail::get_eg(rc, eg, x)) return false;
+      all_equal = all_equal && x == values[i] && detail::get_tree(rc, tree, 5) == (values[i] & 31) &&
+                  rc.bit(bit) == (i % 7 == 0);
+    }
+    return rc.ok() && rc.at_end();
+  };
+  bool equal = false;
+  EXPECT_TRUE(decode(bytes, equal));
+  EXPECT_TRUE(equal);
+  EXPECT_FALSE(decode(bytes.substr(0, bytes.size() - 1), equal));  // cut: reads past the end
+  EXPECT_FALSE(decode(bytes + "x", equal));                         // a byte left over
+  std::string first = bytes;
+  first[0] = 1;  // the first byte of a range code is 0
+  EXPECT_FALSE(decode(first, equal));
+  // A prefix of 40 ones is refused, not read on.
+  detail::RangeDecoder ones(std::string(1, '\0') + std::string(64, '\xFF').substr(0, 4) + std::string(64, '\xFE'));
+  detail::EgModels eg;
+  uint64_t x = 0;
+  bool refused = false;
+  for (int i = 0; i < 100 && !refused; ++i) refused = !detail::get_eg(ones, eg, x);
+  EXPECT_TRUE(refused || !ones.ok());
 }
 
 // The encoder's layers (layer_splits): the same mesh at every chunk's end, full detail the
