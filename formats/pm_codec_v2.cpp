@@ -383,7 +383,7 @@ struct ChunkModels {
   EgModels vl_large, vr_large;             // rings of 63 faces or more
   // |residual| and sign, by the spread of the neighbours; [1]: the normal coordinate (§5.10)
   EgModels position[2][kSpreadContexts];
-  BitModel sign[2][kSpreadContexts];
+  BitModel sign[2][kSpreadContexts][3];  // and the side of the prediction from u: -, 0, +
 };
 
 uint32_t bit_length(uint64_t x) {
@@ -931,7 +931,8 @@ struct Writer {
             // |residual| and its sign, with the models of its neighbours' spread (§5.10).
             const uint32_t context = positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
             put_eg(position_rc, models->position[along_normal][context], static_cast<uint64_t>(residual < 0 ? -residual : residual));
-            if (residual != 0) position_rc.bit(models->sign[along_normal][context], residual < 0 ? 1 : 0);
+            const int side = d[c] < 0 ? 0 : d[c] == 0 ? 1 : 2;
+            if (residual != 0) position_rc.bit(models->sign[along_normal][context][side], residual < 0 ? 1 : 0);
           } else {
             position_codes.push_back(zigzag(residual));
           }
@@ -1724,7 +1725,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         if (!get_eg(*position_rc, models->position[along_normal][context], magnitude)) return range_failed("positions");
         if (magnitude > 0xFFFFFFFFu) return bad(v, "has a position beyond the grid");
         residual = static_cast<int64_t>(magnitude);
-        if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context]) != 0) residual = -residual;
+        const int side = d[c] < 0 ? 0 : d[c] == 0 ? 1 : 2;
+        if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context][side]) != 0) residual = -residual;
         if (!position_rc->ok()) return range_failed("positions");
         if (along_normal) residual += normal_offset(frame, d, r);  // r of the other two: checked
       } else if (!residual_of(position_codes[next_position++], residual)) {
