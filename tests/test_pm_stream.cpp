@@ -734,6 +734,23 @@ TEST(PmStream, LayeredSplitsKeepEveryChunksMesh) {
       EXPECT_EQ(sorted_triangles(a), sorted_triangles(b));
     }
     expect_identical(with_sorted_moves(read(write(layered))), with_sorted_moves(layered));
+    // The written stream's index describes each chunk's level; every split inside a chunk is
+    // a valid level too (extract_level validates), with a non-increasing error.
+    WriteOptions chunked;
+    chunked.chunk_splits = 256;
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(write(layered, chunked), info).is_ok());
+    std::size_t end = 0;
+    for (const PmInfo::Chunk& chunk : info.chunks) {
+      end += chunk.splits;
+      EXPECT_EQ(chunk.faces_after, faces_at_level(plain, end));
+      EXPECT_EQ(chunk.vertices_after, vertices_at_level(plain, end));
+      EXPECT_EQ(chunk.error_after, error_at_level(plain, end));
+    }
+    for (std::size_t level = 1; level < layered.splits.size(); level += 97) {
+      EXPECT_LE(layered.splits[level].error, layered.splits[level - 1].error);
+      EXPECT_EQ(extract_level(layered, level).face_count(), faces_at_level(layered, level));
+    }
     // Smaller (without the order, which the layers' u order makes dearer), by the u gaps.
     for (ProgressiveMesh* pm : {&plain, &layered}) pm->input_vertices.clear(), pm->input_faces.clear();
     WriteOptions q14;
