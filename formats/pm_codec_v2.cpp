@@ -56,7 +56,7 @@ namespace detail {
 namespace {
 
 constexpr uint16_t kMajor2 = 2;
-constexpr uint16_t kMinor2 = 1;  // the newest minor this reader knows (2.1)
+constexpr uint16_t kMinor2 = 1;             // the newest minor this reader knows (2.1)
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 
@@ -374,13 +374,13 @@ bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid) {
 // 2.1 (§5.10): the adaptive models of the chunks' range-coded streams, set up before the
 // first chunk and carried from chunk to chunk (a reader decodes the chunks in order: each
 // needs the mesh of the ones before; learning them afresh cost 1-3% more).
-constexpr uint32_t kRingContexts = 21;     // ring sizes 1..19 apart, 20 and more together
-constexpr uint32_t kSpreadContexts = 33;   // bit lengths 0..32 of the neighbours' spread
+constexpr uint32_t kRingContexts = 21;    // ring sizes 1..19 apart, 20 and more together
+constexpr uint32_t kSpreadContexts = 33;  // bit lengths 0..32 of the neighbours' spread
 struct ChunkModels {
-  BitModel restart;                        // u: a new layer starts here
-  EgModels u_gap[2];                       // u: [0] a layer's first, [1] the others
+  BitModel restart;   // u: a new layer starts here
+  EgModels u_gap[2];  // u: [0] a layer's first, [1] the others
   TreeModels vl[kRingContexts], vr[kRingContexts];
-  EgModels vl_large, vr_large;             // rings of 63 faces or more
+  EgModels vl_large, vr_large;  // rings of 63 faces or more
   // |residual| and sign, by the spread of the neighbours; [1]: the normal coordinate (§5.10)
   EgModels position[2][kSpreadContexts];
   BitModel sign[2][kSpreadContexts][3];  // and the side of the prediction from u: -, 0, +
@@ -395,7 +395,8 @@ uint32_t bit_length(uint64_t x) {
 // A ring code (vl's or vr's, 0 .. n + 1 for a fan of n faces): a binary tree of
 // bit_length(n + 1) bits with the models of its ring size, or exp-Golomb for rings of 63
 // faces or more.
-void put_ring_code(RangeEncoder& rc, TreeModels* trees, EgModels& large, std::size_t n, uint32_t code) {
+void put_ring_code(RangeEncoder& rc, TreeModels* trees, EgModels& large, std::size_t n,
+                   uint32_t code) {
   const uint32_t bits = bit_length(uint64_t{n} + 1);
   if (bits <= kTreeBits) {
     put_tree(rc, trees[std::min<std::size_t>(n, kRingContexts - 1)], static_cast<int>(bits), code);
@@ -404,7 +405,8 @@ void put_ring_code(RangeEncoder& rc, TreeModels* trees, EgModels& large, std::si
   }
 }
 
-bool get_ring_code(RangeDecoder& rc, TreeModels* trees, EgModels& large, std::size_t n, uint32_t& code) {
+bool get_ring_code(RangeDecoder& rc, TreeModels* trees, EgModels& large, std::size_t n,
+                   uint32_t& code) {
   const uint32_t bits = bit_length(uint64_t{n} + 1);
   if (bits <= kTreeBits) {
     code = get_tree(rc, trees[std::min<std::size_t>(n, kRingContexts - 1)], static_cast<int>(bits));
@@ -483,9 +485,12 @@ struct NormalFrame {
 
 constexpr std::size_t kMaxNormalFan = 1024;  // larger fans (none in practice) go without
 
-bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan, NormalFrame& out) {
+bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
+                  NormalFrame& out) {
   if (fan.faces.empty() || fan.faces.size() > kMaxNormalFan) return false;
-  const auto at = [&](uint32_t w, int c) { return int64_t{positions.units[3 * std::size_t{w} + c]}; };
+  const auto at = [&](uint32_t w, int c) {
+    return int64_t{positions.units[3 * std::size_t{w} + c]};
+  };
   int64_t n[3] = {0, 0, 0};
   for (std::size_t k = 0; k < fan.faces.size(); ++k) {
     int64_t e1[3], e2[3];
@@ -521,7 +526,8 @@ bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fa
 int64_t normal_offset(const NormalFrame& f, const int64_t* d, const int64_t* r) {
   const int a = f.order[0], b = f.order[1], c = f.order[2];
   // |d|, |r| < 2^24 and |n| < 2^15: every term below 2^43.
-  int64_t num = -(3 * (d[0] * f.n[0] + d[1] * f.n[1] + d[2] * f.n[2]) + 4 * (f.n[a] * r[a] + f.n[b] * r[b]));
+  int64_t num =
+      -(3 * (d[0] * f.n[0] + d[1] * f.n[1] + d[2] * f.n[2]) + 4 * (f.n[a] * r[a] + f.n[b] * r[b]));
   int64_t den = 4 * f.n[c];
   if (den < 0) num = -num, den = -den;
   const int64_t twice = 2 * num + den, q = twice / (2 * den);
@@ -541,7 +547,9 @@ std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const Spli
   if (n > kMaxNormalFan) return 0;
   const int64_t divisor = positions.grid != nullptr ? 1 : 256;
   const auto diff = [&](uint32_t w, int c) {
-    return (int64_t{positions.units[3 * std::size_t{w} + c]} - int64_t{positions.units[3 * std::size_t{u} + c]}) / divisor;
+    return (int64_t{positions.units[3 * std::size_t{w} + c]} -
+            int64_t{positions.units[3 * std::size_t{u} + c]}) /
+           divisor;
   };
   int64_t direction[3] = {0, 0, 0};  // below 2^34
   for (std::size_t k = 0; k < n; ++k) {
@@ -578,8 +586,6 @@ enum ChunkStream {
 constexpr const char* kStreamNames[kChunkStreams] = {
     "u", "vl", "vr", "explicit splits", "errors", "positions", "colours", "materials",
     "texture coordinate ids", "normal ids"};
-
-
 
 // The known sections of a stream with this header, in the order it must hold them (§4.3):
 // each is present exactly when it has entries.
@@ -667,12 +673,11 @@ MemoryPlan plan_memory(const Header2& h) {
                (h.material_ids() ? 4 * T : 0);
   // The fans (3 corners and 3 links per face, a first corner per vertex), the values the
   // residuals are taken against, the corner-id predictors, the chunk index, zstd.
-  plan.decoding = 24 * split_faces + 4 * h.split_vertices() +
-                  4 * (3 + uint64_t{h.color_components}) * V +
-                  (h.uv_ids() ? 4 * h.split_vertices() : 0) +
-                  (h.normal_ids() ? 4 * h.split_vertices() : 0) +
-                  sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536 +
-                  sizeof(ChunkModels);
+  plan.decoding =
+      24 * split_faces + 4 * h.split_vertices() + 4 * (3 + uint64_t{h.color_components}) * V +
+      (h.uv_ids() ? 4 * h.split_vertices() : 0) + (h.normal_ids() ? 4 * h.split_vertices() : 0) +
+      sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536 +
+      sizeof(ChunkModels);
   if ((h.options & kOptionKeepsOrder) != 0) plan.mesh += 4 * (V + T);
   plan.validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64) +
                     ((h.options & kOptionKeepsOrder) != 0 ? (V + T) / 8 + 16 : 0);
@@ -847,7 +852,8 @@ struct Writer {
           const bool restart = !first && int64_t{split.u} <= previous_u;
           if (!first) u_rc.bit(models->restart, restart ? 1 : 0);
           if (first || restart) previous_u = -1;
-          put_eg(u_rc, models->u_gap[previous_u < 0 ? 0 : 1], static_cast<uint64_t>(split.u - previous_u - 1));
+          put_eg(u_rc, models->u_gap[previous_u < 0 ? 0 : 1],
+                 static_cast<uint64_t>(split.u - previous_u - 1));
           previous_u = split.u;
         } else {
           u_out.put_varint(v - 1 - split.u);
@@ -882,12 +888,15 @@ struct Writer {
         neighbours.assign(1, split.u);
         if (coded) {
           uint32_t vl_code = split.vl == kNoVertex ? 0 : static_cast<uint32_t>(place_l) + 1;
-          const uint32_t vr_code = split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1;
+          const uint32_t vr_code =
+              split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1;
           if (ranged) {
             // 2.1: a closed fan's places counted from its lopsided place (§5.10).
             if (fan.closed) {
               const std::size_t n = fan.faces.size();
-              vl_code = static_cast<uint32_t>((place_l + n - lopsided_place(positions, split.u, fan)) % n) + 1;
+              vl_code = static_cast<uint32_t>(
+                            (place_l + n - lopsided_place(positions, split.u, fan)) % n) +
+                        1;
             }
             put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code);
             put_ring_code(vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code);
@@ -917,7 +926,8 @@ struct Writer {
         positions.predict(neighbours.data(), neighbours.size(), predicted.data());
         // On a grid, in 2.1, the coordinate along u's normal last, predicted from the others.
         NormalFrame frame;
-        const bool framed = ranged && position_grid.bits != 0 && has_fan && normal_frame(positions, split.u, fan, frame);
+        const bool framed = ranged && position_grid.bits != 0 && has_fan &&
+                            normal_frame(positions, split.u, fan, frame);
         int64_t r[3], d[3];
         for (int c = 0; c < 3; ++c) {
           r[c] = int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c];
@@ -929,10 +939,13 @@ struct Writer {
           const int64_t residual = r[c] - (along_normal ? normal_offset(frame, d, r) : 0);
           if (ranged) {
             // |residual| and its sign, with the models of its neighbours' spread (§5.10).
-            const uint32_t context = positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
-            put_eg(position_rc, models->position[along_normal][context], static_cast<uint64_t>(residual < 0 ? -residual : residual));
+            const uint32_t context =
+                positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
+            put_eg(position_rc, models->position[along_normal][context],
+                   static_cast<uint64_t>(residual < 0 ? -residual : residual));
             const int side = d[c] < 0 ? 0 : d[c] == 0 ? 1 : 2;
-            if (residual != 0) position_rc.bit(models->sign[along_normal][context][side], residual < 0 ? 1 : 0);
+            if (residual != 0)
+              position_rc.bit(models->sign[along_normal][context][side], residual < 0 ? 1 : 0);
           } else {
             position_codes.push_back(zigzag(residual));
           }
@@ -1602,7 +1615,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   }
   int64_t previous_u = -1;
   const auto range_failed = [&](const char* stream) {
-    return in.fail(ErrorCode::kCorruptStream, where + " (" + stream + "): the range code is corrupt or ends early");
+    return in.fail(ErrorCode::kCorruptStream,
+                   where + " (" + stream + "): the range code is corrupt or ends early");
   };
   if (!read_planes(color_in, std::size_t{h.color_components} * entry.splits, color_codes)) {
     return failed(color_in);
@@ -1616,7 +1630,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (j > 0 && u_rc->bit(models->restart) != 0) previous_u = -1;
       if (j == 0) previous_u = -1;
       uint64_t gap = 0;
-      if (!get_eg(*u_rc, models->u_gap[previous_u < 0 ? 0 : 1], gap) || !u_rc->ok()) return range_failed("u");
+      if (!get_eg(*u_rc, models->u_gap[previous_u < 0 ? 0 : 1], gap) || !u_rc->ok())
+        return range_failed("u");
       if (gap >= uint64_t{v} || previous_u + 1 + static_cast<int64_t>(gap) >= int64_t{v}) {
         return bad(v, "names u beyond the vertices before it");
       }
@@ -1624,7 +1639,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       previous_u = split.u;
     } else {
       if (!u_in.read_varint(u_offset)) return failed(u_in);
-      if (u_offset >= v) return bad(v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
+      if (u_offset >= v)
+        return bad(
+            v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
       split.u = v - 1 - u_offset;
     }
     uint64_t error_code;
@@ -1645,10 +1662,12 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       // The ring codes exist only when u has a fan (§5.10); without one the split is explicit.
       has_fan = fans.fan(split.u, fan);
       if (has_fan) {
-        if (!get_ring_code(*vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code) || !vl_rc->ok()) {
+        if (!get_ring_code(*vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code) ||
+            !vl_rc->ok()) {
           return range_failed("vl");
         }
-        if (!get_ring_code(*vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code) || !vr_rc->ok()) {
+        if (!get_ring_code(*vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code) ||
+            !vr_rc->ok()) {
           return range_failed("vr");
         }
       }
@@ -1681,7 +1700,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         arc.push_back(f);
       }
     } else {
-      if (!has_fan && !fans.fan(split.u, fan)) return bad(v, "names places around u, whose faces are not a fan");
+      if (!has_fan && !fans.fan(split.u, fan))
+        return bad(v, "names places around u, whose faces are not a fan");
       const std::size_t n = fan.faces.size();
       std::size_t i = 0, end = n;
       if (vl_code != 0) {
@@ -1712,21 +1732,26 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     // The position and colour: the neighbours' mean plus the residual.
     positions.predict(neighbours.data(), neighbours.size(), predicted);
     NormalFrame frame;
-    const bool framed = ranged && h.position_bits != 0 && has_fan && normal_frame(positions, split.u, fan, frame);
+    const bool framed =
+        ranged && h.position_bits != 0 && has_fan && normal_frame(positions, split.u, fan, frame);
     int64_t r[3] = {0, 0, 0}, d[3], units[3] = {0, 0, 0};
-    for (int c = 0; c < 3; ++c) d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
+    for (int c = 0; c < 3; ++c)
+      d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
     for (int k = 0; k < 3; ++k) {
       const int c = frame.order[k];
       const bool along_normal = framed && k == 2;
       int64_t residual = 0;
       if (ranged) {
-        const uint32_t context = positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
+        const uint32_t context =
+            positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
         uint64_t magnitude = 0;
-        if (!get_eg(*position_rc, models->position[along_normal][context], magnitude)) return range_failed("positions");
+        if (!get_eg(*position_rc, models->position[along_normal][context], magnitude))
+          return range_failed("positions");
         if (magnitude > 0xFFFFFFFFu) return bad(v, "has a position beyond the grid");
         residual = static_cast<int64_t>(magnitude);
         const int side = d[c] < 0 ? 0 : d[c] == 0 ? 1 : 2;
-        if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context][side]) != 0) residual = -residual;
+        if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context][side]) != 0)
+          residual = -residual;
         if (!position_rc->ok()) return range_failed("positions");
         if (along_normal) residual += normal_offset(frame, d, r);  // r of the other two: checked
       } else if (!residual_of(position_codes[next_position++], residual)) {
@@ -1803,10 +1828,13 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   if (ranged) {
     for (auto* rc : {&u_rc, &vl_rc, &vr_rc, &position_rc}) {
       if (!(*rc)->ok() || !(*rc)->at_end()) {
-        return in.fail(ErrorCode::kCorruptStream, where + ": a range-coded stream is corrupt, ends early or has bytes left over");
+        return in.fail(
+            ErrorCode::kCorruptStream,
+            where + ": a range-coded stream is corrupt, ends early or has bytes left over");
       }
     }
-    for (int k : {kStreamU, kStreamVl, kStreamVr, kStreamPositions}) streams[k].skip(streams[k].remaining());
+    for (int k : {kStreamU, kStreamVl, kStreamVr, kStreamPositions})
+      streams[k].skip(streams[k].remaining());
   }
   for (ByteReader& stream : streams) {
     if (!stream.at_end()) {

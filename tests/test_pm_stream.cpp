@@ -392,7 +392,7 @@ TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
   EXPECT_EQ(with_header_byte(87, 1), ErrorCode::kCorruptStream);  // reserved byte
   EXPECT_EQ(with_header_byte(88, 2), ErrorCode::kCorruptStream);  // an unknown option
   EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
-  EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kOk);             // minor 2.2: may-ignore fields only
+  EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kOk);  // minor 2.2: may-ignore fields only
   EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
 }
 
@@ -468,31 +468,38 @@ TEST(PmStream, HostileResidualsAndPlanesAreRefused) {
 TEST(PmStream, HostileRangeCodesAreRefused) {
   WriteOptions quantized;
   quantized.position_bits = 12;  // with the normal coordinate's prediction
-  for (const std::string& bytes : {write(with_attributes(generated_mesh(600))), write(generated_mesh(600), quantized)}) {
-  ProgressiveMesh pm;
-  for (int k : {0, 1, 2, 5}) {
-    SCOPED_TRACE("stream " + std::to_string(k));
-    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, ""), pm).code(), ErrorCode::kCorruptStream);
-    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(5, '\0')), pm).code(), ErrorCode::kCorruptStream);
-    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, "\x01" + std::string(40, '\0')), pm).code(),
-              ErrorCode::kCorruptStream);  // first byte not 0
-    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4, '\xFF')), pm).code(),
-              ErrorCode::kCorruptStream);  // code = range
-    // All ones: endless exp-Golomb prefixes, u beyond v, ring codes beyond the ring.
-    EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4000, '\xFE')), pm).code(),
-              ErrorCode::kCorruptStream);
-    // Random bytes: never a crash; an error, or (rarely) a valid mesh.
-    uint32_t seed = 12345u + static_cast<uint32_t>(k);
-    for (int trial = 0; trial < 200; ++trial) {
-      std::string noise(1 + trial % 300, '\0');
-      for (std::size_t b = 1; b < noise.size(); ++b) {
-        seed = seed * 1664525u + 1013904223u;
-        noise[b] = static_cast<char>(seed >> 24);
+  for (const std::string& bytes :
+       {write(with_attributes(generated_mesh(600))), write(generated_mesh(600), quantized)}) {
+    ProgressiveMesh pm;
+    for (int k : {0, 1, 2, 5}) {
+      SCOPED_TRACE("stream " + std::to_string(k));
+      EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, ""), pm).code(), ErrorCode::kCorruptStream);
+      EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(5, '\0')), pm).code(),
+                ErrorCode::kCorruptStream);
+      EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, "\x01" + std::string(40, '\0')), pm).code(),
+                ErrorCode::kCorruptStream);  // first byte not 0
+      EXPECT_EQ(
+          read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4, '\xFF')), pm)
+              .code(),
+          ErrorCode::kCorruptStream);  // code = range
+      // All ones: endless exp-Golomb prefixes, u beyond v, ring codes beyond the ring.
+      EXPECT_EQ(
+          read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4000, '\xFE')), pm)
+              .code(),
+          ErrorCode::kCorruptStream);
+      // Random bytes: never a crash; an error, or (rarely) a valid mesh.
+      uint32_t seed = 12345u + static_cast<uint32_t>(k);
+      for (int trial = 0; trial < 200; ++trial) {
+        std::string noise(1 + trial % 300, '\0');
+        for (std::size_t b = 1; b < noise.size(); ++b) {
+          seed = seed * 1664525u + 1013904223u;
+          noise[b] = static_cast<char>(seed >> 24);
+        }
+        const Status status = read_pm(with_chunk_stream(bytes, k, noise), pm);
+        EXPECT_TRUE(status.is_ok() || status.code() == ErrorCode::kCorruptStream)
+            << status.message();
       }
-      const Status status = read_pm(with_chunk_stream(bytes, k, noise), pm);
-      EXPECT_TRUE(status.is_ok() || status.code() == ErrorCode::kCorruptStream) << status.message();
     }
-  }
   }
 }
 
@@ -567,7 +574,8 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     quantized.minor_version = 0;
     const std::string path = dir + "quantized-v2.1.pm";
     ASSERT_TRUE(test::file_exists(path)) << path;
-    expect_identical(with_sorted_moves(read(test::read_file(path))), with_sorted_moves(read(write(surface, quantized))));
+    expect_identical(with_sorted_moves(read(test::read_file(path))),
+                     with_sorted_moves(read(write(surface, quantized))));
   }
   for (const Golden& g : goldens) {
     for (const char* version : {"v1.1", "v2.0", "v2.1"}) {
@@ -640,7 +648,9 @@ std::vector<std::vector<uint32_t>> sorted_triangles(const Mesh& mesh) {
     }
     const int first = static_cast<int>(std::min_element(corners, corners + 3) - corners);
     std::vector<uint32_t> triangle;
-    for (int c = 0; c < 3; ++c) triangle.insert(triangle.end(), corners[(first + c) % 3].begin(), corners[(first + c) % 3].end());
+    for (int c = 0; c < 3; ++c)
+      triangle.insert(triangle.end(), corners[(first + c) % 3].begin(),
+                      corners[(first + c) % 3].end());
     out.push_back(triangle);
   }
   std::sort(out.begin(), out.end());
@@ -680,8 +690,8 @@ TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
     for (std::size_t i = 0; i < values.size(); ++i) {
       uint64_t x = 0;
       if (!detail::get_eg(rc, eg, x)) return false;
-      all_equal = all_equal && x == values[i] && detail::get_tree(rc, tree, 5) == (values[i] & 31) &&
-                  rc.bit(bit) == (i % 7 == 0);
+      all_equal = all_equal && x == values[i] &&
+                  detail::get_tree(rc, tree, 5) == (values[i] & 31) && rc.bit(bit) == (i % 7 == 0);
     }
     return rc.ok() && rc.at_end();
   };
@@ -689,12 +699,13 @@ TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
   EXPECT_TRUE(decode(bytes, equal));
   EXPECT_TRUE(equal);
   EXPECT_FALSE(decode(bytes.substr(0, bytes.size() - 1), equal));  // cut: reads past the end
-  EXPECT_FALSE(decode(bytes + "x", equal));                         // a byte left over
+  EXPECT_FALSE(decode(bytes + "x", equal));                        // a byte left over
   std::string first = bytes;
   first[0] = 1;  // the first byte of a range code is 0
   EXPECT_FALSE(decode(first, equal));
   // A prefix of 40 ones is refused, not read on.
-  detail::RangeDecoder ones(std::string(1, '\0') + std::string(64, '\xFF').substr(0, 4) + std::string(64, '\xFE'));
+  detail::RangeDecoder ones(std::string(1, '\0') + std::string(64, '\xFF').substr(0, 4) +
+                            std::string(64, '\xFE'));
   detail::EgModels eg;
   uint64_t x = 0;
   bool refused = false;
@@ -752,7 +763,8 @@ TEST(PmStream, LayeredSplitsKeepEveryChunksMesh) {
       EXPECT_EQ(extract_level(layered, level).face_count(), faces_at_level(layered, level));
     }
     // Smaller (without the order, which the layers' u order makes dearer), by the u gaps.
-    for (ProgressiveMesh* pm : {&plain, &layered}) pm->input_vertices.clear(), pm->input_faces.clear();
+    for (ProgressiveMesh* pm : {&plain, &layered})
+      pm->input_vertices.clear(), pm->input_faces.clear();
     WriteOptions q14;
     q14.position_bits = 14;
     const std::string with = write(layered, q14), without = write(plain, q14);

@@ -140,7 +140,8 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk) {
         const std::size_t i = order[k];
         vertex_map[B + i] = next_vertex++;
         std::size_t f = first_face[i];
-        for (uint32_t n = 0; n < pm.splits[i].new_face_count(); ++n) face_map[f++] = static_cast<uint32_t>(next_face++);
+        for (uint32_t n = 0; n < pm.splits[i].new_face_count(); ++n)
+          face_map[f++] = static_cast<uint32_t>(next_face++);
       }
       at = stop;
     }
@@ -155,7 +156,8 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk) {
       const std::size_t i = order[k];
       const VertexSplit& s = pm.splits[i];
       VertexSplit& t = new_splits[begin + k];
-      const uint32_t old_v = B + static_cast<uint32_t>(i), new_v = B + static_cast<uint32_t>(begin + k);
+      const uint32_t old_v = B + static_cast<uint32_t>(i),
+                     new_v = B + static_cast<uint32_t>(begin + k);
       t.u = vertex_map[s.u];
       t.vl = s.vl == kNoVertex ? kNoVertex : vertex_map[s.vl];
       t.vr = s.vr == kNoVertex ? kNoVertex : vertex_map[s.vr];
@@ -166,12 +168,15 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk) {
         if (!pm.moved_uvs.empty()) new_moved_uvs.push_back(pm.moved_uvs[m]);
         if (!pm.moved_normals.empty()) new_moved_normals.push_back(pm.moved_normals[m]);
       }
-      std::copy_n(pm.positions.begin() + 3 * std::size_t{old_v}, 3, new_positions.begin() + 3 * std::size_t{new_v});
+      std::copy_n(pm.positions.begin() + 3 * std::size_t{old_v}, 3,
+                  new_positions.begin() + 3 * std::size_t{new_v});
       if (cc != 0) std::copy_n(pm.colors.begin() + cc * old_v, cc, new_colors.begin() + cc * new_v);
       for (uint32_t n = 0; n < s.new_face_count(); ++n) {
         const std::size_t from = first_face[i] + n, to = face_map[from];
-        if (!pm.face_uvs.empty()) std::copy_n(pm.face_uvs.begin() + 3 * from, 3, new_face_uvs.begin() + 3 * to);
-        if (!pm.face_normals.empty()) std::copy_n(pm.face_normals.begin() + 3 * from, 3, new_face_normals.begin() + 3 * to);
+        if (!pm.face_uvs.empty())
+          std::copy_n(pm.face_uvs.begin() + 3 * from, 3, new_face_uvs.begin() + 3 * to);
+        if (!pm.face_normals.empty())
+          std::copy_n(pm.face_normals.begin() + 3 * from, 3, new_face_normals.begin() + 3 * to);
         if (!pm.face_materials.empty()) new_face_materials[to] = pm.face_materials[from];
       }
     }

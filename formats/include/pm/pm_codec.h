@@ -35,11 +35,11 @@ struct WriteOptions {
   uint16_t minor_version = kFormatMinor;
 };
 
-// Serializes pm (which must be valid) to bytes, as format 2.1 (or 2.0, WriteOptions::minor_version). Errors: kInvalidArgument
-// when validate(pm) fails, a material name or library holds a NUL, an option is out of
-// range, or positions to quantize are not finite; kResourceLimit when a count exceeds the
-// format's limits (2^30; 2^20 materials and libraries) or a string is longer than 4096
-// bytes. `bytes` is untouched on error.
+// Serializes pm (which must be valid) to bytes, as format 2.1 (or 2.0,
+// WriteOptions::minor_version). Errors: kInvalidArgument when validate(pm) fails, a material name
+// or library holds a NUL, an option is out of range, or positions to quantize are not finite;
+// kResourceLimit when a count exceeds the format's limits (2^30; 2^20 materials and libraries) or a
+// string is longer than 4096 bytes. `bytes` is untouched on error.
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
 
 // Whether the stream can hold these material names and libraries (§5.9, §7.2: at most 2^20
