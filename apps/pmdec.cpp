@@ -387,7 +387,7 @@ pm::Status select_level(const LevelRequest& request, const pm::ProgressiveMesh& 
   return pm::Status::ok();
 }
 
-// The splits a request needs, from a 2.0 stream's chunk index (Hoppe 1996, §3: a level
+// The splits a request needs, from a 2.x stream's chunk index (Hoppe 1996, §3: a level
 // needs only the splits before it): the end of the first chunk whose level has the faces or
 // vertices asked for. Full detail and error bounds need every split (an error bound is a
 // share of the whole mesh's bounding box).
@@ -475,7 +475,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   std::string bytes;
   if (pm::Status s = pm::cli::read_whole_input(input, bytes, settings.read.max_memory); !s)
     return failed(s);
-  // A 2.0 stream's index says which chunks the requested levels need: only those are
+  // A 2.x stream's index says which chunks the requested levels need: only those are
   // decompressed. A stream cut short decodes to the finest level it holds, with a warning.
   pm::ReadOptions read_options = settings.read;
   read_options.allow_truncated = true;

@@ -97,6 +97,8 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                   " polygons split into triangles");
 
   pm::EncodeOptions options = settings.encode;
+  // The layers of independent splits follow the stream's chunks (--chunk-splits).
+  options.layer_chunk_splits = settings.write.chunk_splits;
   options.progress = [&progress](double fraction) { progress.set_fraction(fraction); };
   pm::ProgressiveMesh progressive;
   pm::EncodeStats stats;

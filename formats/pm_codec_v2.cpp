@@ -19,6 +19,14 @@
 // Each field is a stream of its own in the chunk, which zstd compresses better than
 // interleaved records.
 //
+// 2.1 (§5.10) codes four of those streams with an adaptive binary range coder
+// (range_coder.h) instead of leaving them to zstd: u as the gap from the previous u of its
+// layer (the encoder orders each chunk in layers of independent splits, by u: Pajarola and
+// Rossignac 2000, "Compressed progressive meshes", §3), vl and vr with models per ring size,
+// and the position residuals with models per neighbourhood spread, on a grid in u's normal
+// frame (the coordinate along the normal predicted from the other two): zstd sees bytes,
+// not the distributions these fields have. 2.0 streams are still read (and written on request).
+//
 // The reader trusts nothing, as the 1.x reader: every count is capped, every section header
 // is checked before its payload is decompressed, the memory a decode needs is computed from
 // checked numbers before it is allocated, and the decoded mesh goes through validate().
@@ -30,6 +38,7 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -39,6 +48,7 @@
 #include "corner_codes.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
+#include "range_coder.h"
 #include "split_fans.h"
 
 namespace pm {
@@ -46,7 +56,7 @@ namespace detail {
 namespace {
 
 constexpr uint16_t kMajor2 = 2;
-constexpr uint16_t kMinor2 = 0;
+constexpr uint16_t kMinor2 = 1;             // the newest minor this reader knows (2.1)
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 
@@ -361,6 +371,53 @@ bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid) {
   return true;
 }
 
+// 2.1 (§5.10): the adaptive models of the chunks' range-coded streams, set up before the
+// first chunk and carried from chunk to chunk (a reader decodes the chunks in order: each
+// needs the mesh of the ones before; learning them afresh cost 1-3% more).
+constexpr uint32_t kRingContexts = 21;    // ring sizes 1..19 apart, 20 and more together
+constexpr uint32_t kSpreadContexts = 33;  // bit lengths 0..32 of the neighbours' spread
+struct ChunkModels {
+  BitModel restart;   // u: a new layer starts here
+  EgModels u_gap[2];  // u: [0] a layer's first, [1] the others
+  TreeModels vl[kRingContexts], vr[kRingContexts];
+  EgModels vl_large, vr_large;  // rings of 63 faces or more
+  // |residual| and sign, by the spread of the neighbours; [1]: the normal coordinate (§5.10)
+  EgModels position[2][kSpreadContexts];
+  BitModel sign[2][kSpreadContexts][3];  // and the side of the prediction from u: -, 0, +
+};
+
+uint32_t bit_length(uint64_t x) {
+  uint32_t n = 0;
+  while ((x >> n) != 0) ++n;
+  return n;
+}
+
+// A ring code (vl's or vr's, 0 .. n + 1 for a fan of n faces): a binary tree of
+// bit_length(n + 1) bits with the models of its ring size, or exp-Golomb for rings of 63
+// faces or more.
+void put_ring_code(RangeEncoder& rc, TreeModels* trees, EgModels& large, std::size_t n,
+                   uint32_t code) {
+  const uint32_t bits = bit_length(uint64_t{n} + 1);
+  if (bits <= kTreeBits) {
+    put_tree(rc, trees[std::min<std::size_t>(n, kRingContexts - 1)], static_cast<int>(bits), code);
+  } else {
+    put_eg(rc, large, code);
+  }
+}
+
+bool get_ring_code(RangeDecoder& rc, TreeModels* trees, EgModels& large, std::size_t n,
+                   uint32_t& code) {
+  const uint32_t bits = bit_length(uint64_t{n} + 1);
+  if (bits <= kTreeBits) {
+    code = get_tree(rc, trees[std::min<std::size_t>(n, kRingContexts - 1)], static_cast<int>(bits));
+    return true;
+  }
+  uint64_t value = 0;
+  if (!get_eg(rc, large, value) || value > 0xFFFFFFFFu) return false;
+  code = static_cast<uint32_t>(value);
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Values per vertex (positions, colours) in the integers their residuals are taken in
 // (§5.6): the ordered float bits when lossless, the grid index when quantized.
@@ -375,6 +432,19 @@ struct VertexValues {
   }
   uint32_t from_float(float x, std::size_t c) const {
     return grid != nullptr ? quantize(*grid, x, c) : ordered_from_float(x);
+  }
+
+  // 2.1 (§5.10): the context of a residual, the bit length of the neighbours' mean absolute
+  // deviation from the prediction in that coordinate: where the ring is wide, residuals are
+  // large, so each scale of the surface gets its own statistics.
+  uint32_t spread_context(const uint32_t* neighbours, std::size_t count, uint32_t predicted,
+                          std::size_t c) const {
+    uint64_t sum = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const int64_t d = int64_t{units[components * neighbours[k] + c]} - int64_t{predicted};
+      sum += static_cast<uint64_t>(d < 0 ? -d : d);
+    }
+    return std::min<uint32_t>(bit_length(sum / count), kSpreadContexts - 1);
   }
 
   // The prediction of a new vertex from its neighbours in the refined mesh (Taubin et al.
@@ -399,20 +469,108 @@ struct VertexValues {
   }
 };
 
+// 2.1, positions on a grid (§5.10): u's normal, from its fan of faces in the grid's integers
+// (the sum of the faces' cross products at u, scaled down to 15 bits), and the coordinate
+// most along it. A split's new vertex lies close to the tangent plane at u, while the mean of
+// its neighbours lies off it where the surface is curved, so the residuals across the
+// surface are about three times those along the normal (measured on the bunny: 59 against
+// 20 grid steps at 14 bits). The two tangential coordinates are coded first; the normal one
+// is then predicted from them, so that the residual vector's normal component is a quarter
+// of the prediction's offset from u's plane, with the sign reversed (the least squares fit
+// on the shared meshes is -0.6 to -0.75). Integers only, so that every reader gets the same.
+struct NormalFrame {
+  int64_t n[3] = {0, 0, 0};
+  int order[3] = {0, 1, 2};  // tangential, tangential, normal
+};
+
+constexpr std::size_t kMaxNormalFan = 1024;  // larger fans (none in practice) go without
+
+bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
+                  NormalFrame& out) {
+  if (fan.faces.empty() || fan.faces.size() > kMaxNormalFan) return false;
+  const auto at = [&](uint32_t w, int c) {
+    return int64_t{positions.units[3 * std::size_t{w} + c]};
+  };
+  int64_t n[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < fan.faces.size(); ++k) {
+    int64_t e1[3], e2[3];
+    for (int c = 0; c < 3; ++c) {
+      e1[c] = at(fan.ring[k], c) - at(u, c);
+      e2[c] = at(fan.ring[k + 1], c) - at(u, c);
+    }
+    // Each product is below 2^48 (24-bit grids), each sum of 1024 below 2^60.
+    n[0] += e1[1] * e2[2] - e1[2] * e2[1];
+    n[1] += e1[2] * e2[0] - e1[0] * e2[2];
+    n[2] += e1[0] * e2[1] - e1[1] * e2[0];
+  }
+  const auto magnitude = [](int64_t x) { return x < 0 ? -x : x; };
+  while (magnitude(n[0]) >= (int64_t{1} << 15) || magnitude(n[1]) >= (int64_t{1} << 15) ||
+         magnitude(n[2]) >= (int64_t{1} << 15)) {
+    for (int64_t& x : n) x /= 2;
+  }
+  int normal = 0;
+  for (int c = 1; c < 3; ++c) {
+    if (magnitude(n[c]) > magnitude(n[normal])) normal = c;
+  }
+  if (n[normal] == 0) return false;
+  for (int c = 0; c < 3; ++c) out.n[c] = n[c];
+  out.order[0] = normal == 0 ? 1 : 0;
+  out.order[1] = normal == 2 ? 1 : 2;
+  out.order[2] = normal;
+  return true;
+}
+
+// The normal coordinate's prediction offset, from the tangential residuals r[order[0]],
+// r[order[1]] and d = prediction - u: the nearest integer to
+// -(3 (d . n) + 4 (n_a r_a + n_b r_b)) / (4 n_c), halves away from minus infinity.
+int64_t normal_offset(const NormalFrame& f, const int64_t* d, const int64_t* r) {
+  const int a = f.order[0], b = f.order[1], c = f.order[2];
+  // |d|, |r| < 2^24 and |n| < 2^15: every term below 2^43.
+  int64_t num =
+      -(3 * (d[0] * f.n[0] + d[1] * f.n[1] + d[2] * f.n[2]) + 4 * (f.n[a] * r[a] + f.n[b] * r[b]));
+  int64_t den = 4 * f.n[c];
+  if (den < 0) num = -num, den = -den;
+  const int64_t twice = 2 * num + den, q = twice / (2 * den);
+  const int64_t offset = (twice % (2 * den) != 0 && twice < 0) ? q - 1 : q;  // floor
+  constexpr int64_t kLimit = int64_t{1} << kMaxBits;  // beyond any grid: clamped
+  return std::clamp(offset, -kLimit, kLimit);
+}
+
+// 2.1 (§5.10): where a closed fan's places start. A collapse v -> u hands v's faces to u, so
+// u's ring is lopsided towards where v was: the ring vertex furthest along the mean of
+// (ring vertex - u) is near the middle of the arc the split takes back, and vl's place
+// counted from it is far from uniform (on the bunny at 14 bits, 2.4 bits instead of 2.9).
+// Integers only (differences of values, divided by 256 when lossless, where the values are
+// 32-bit), the first of equal scores.
+std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan) {
+  const std::size_t n = fan.faces.size();
+  if (n > kMaxNormalFan) return 0;
+  const int64_t divisor = positions.grid != nullptr ? 1 : 256;
+  const auto diff = [&](uint32_t w, int c) {
+    return (int64_t{positions.units[3 * std::size_t{w} + c]} -
+            int64_t{positions.units[3 * std::size_t{u} + c]}) /
+           divisor;
+  };
+  int64_t direction[3] = {0, 0, 0};  // below 2^34
+  for (std::size_t k = 0; k < n; ++k) {
+    for (int c = 0; c < 3; ++c) direction[c] += diff(fan.ring[k], c);
+  }
+  std::size_t best = 0;
+  int64_t best_score = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    int64_t score = 0;  // three products below 2^58
+    for (int c = 0; c < 3; ++c) score += diff(fan.ring[k], c) * direction[c];
+    if (k == 0 || score > best_score) best = k, best_score = score;
+  }
+  return best;
+}
+
 // ---------------------------------------------------------------------------------------
 // Chunk plan (§5.5): 256 splits, then doubling up to the writer's largest chunk, so that a
 // stream cut early still refines, and big meshes have few chunks.
 
 std::vector<uint32_t> plan_chunks(uint32_t splits, uint32_t largest) {
-  std::vector<uint32_t> sizes;
-  uint32_t size = std::min<uint32_t>(256, largest);
-  for (uint32_t done = 0; done < splits;) {
-    const uint32_t n = std::min(size, splits - done);
-    sizes.push_back(n);
-    done += n;
-    if (size < largest) size = std::min(largest, size * 2);
-  }
-  return sizes;
+  return chunk_plan(splits, largest);
 }
 
 struct ChunkEntry {
@@ -480,6 +638,13 @@ uint64_t raw_bound(const Header2& h, uint32_t tag) {
 
 uint64_t chunk_raw_bound(const Header2& h, const ChunkEntry& c) {
   const uint64_t n = c.splits, m = c.moved_faces, a = c.new_faces;
+  // 2.1: a range-coded decision costs at most 6.05 bits (probabilities stay within
+  // [31, 2017] / 2048), and u, vl, vr and each position take at most 66 decisions: 400 bytes
+  // per split cover them, and 30 the four codes' ends.
+  if (h.minor >= 1) {
+    return 5 * kChunkStreams + 30 + n * (400 + 10 * uint64_t{h.color_components}) +
+           (15 * n + 5 * m) + 5 * a + 2 * 5 * (m + 3 * a);
+  }
   return 5 * kChunkStreams + n * (15 + 10 + 30 + 10 * uint64_t{h.color_components}) +
          (15 * n + 5 * m) + 5 * a + 2 * 5 * (m + 3 * a);
 }
@@ -508,11 +673,11 @@ MemoryPlan plan_memory(const Header2& h) {
                (h.material_ids() ? 4 * T : 0);
   // The fans (3 corners and 3 links per face, a first corner per vertex), the values the
   // residuals are taken against, the corner-id predictors, the chunk index, zstd.
-  plan.decoding = 24 * split_faces + 4 * h.split_vertices() +
-                  4 * (3 + uint64_t{h.color_components}) * V +
-                  (h.uv_ids() ? 4 * h.split_vertices() : 0) +
-                  (h.normal_ids() ? 4 * h.split_vertices() : 0) +
-                  sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536;
+  plan.decoding =
+      24 * split_faces + 4 * h.split_vertices() + 4 * (3 + uint64_t{h.color_components}) * V +
+      (h.uv_ids() ? 4 * h.split_vertices() : 0) + (h.normal_ids() ? 4 * h.split_vertices() : 0) +
+      sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536 +
+      sizeof(ChunkModels);
   if ((h.options & kOptionKeepsOrder) != 0) plan.mesh += 4 * (V + T);
   plan.validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64) +
                     ((h.options & kOptionKeepsOrder) != 0 ? (V + T) / 8 + 16 : 0);
@@ -661,8 +826,14 @@ struct Writer {
     uint32_t next_face = static_cast<uint32_t>(pm.base_face_count());
     std::size_t i = 0;
     std::vector<uint64_t> position_codes, color_codes;
+    const bool ranged = h.minor >= 1;
+    // The models carry over from chunk to chunk (§5.10): chunks are decoded in order anyway.
+    auto models = std::make_unique<ChunkModels>();
     for (uint32_t size : plan_chunks(h.split_count, options.chunk_splits)) {
       std::string streams[kChunkStreams];
+      RangeEncoder u_rc(streams[kStreamU]), vl_rc(streams[kStreamVl]), vr_rc(streams[kStreamVr]),
+          position_rc(streams[kStreamPositions]);
+      int64_t previous_u = -1;
       position_codes.clear();
       color_codes.clear();
       ChunkEntry entry;
@@ -674,7 +845,19 @@ struct Writer {
       for (const std::size_t end = i + size; i < end; ++i) {
         const VertexSplit& split = pm.splits[i];
         const auto v = static_cast<uint32_t>(pm.base_vertex_count + i);
-        u_out.put_varint(v - 1 - split.u);
+        if (ranged) {
+          // u as the gap from the previous u of its layer (§5.10); a new layer starts
+          // wherever u does not grow.
+          const bool first = i + size == end;
+          const bool restart = !first && int64_t{split.u} <= previous_u;
+          if (!first) u_rc.bit(models->restart, restart ? 1 : 0);
+          if (first || restart) previous_u = -1;
+          put_eg(u_rc, models->u_gap[previous_u < 0 ? 0 : 1],
+                 static_cast<uint64_t>(split.u - previous_u - 1));
+          previous_u = split.u;
+        } else {
+          u_out.put_varint(v - 1 - split.u);
+        }
         const int64_t error_step = int64_t{ordered_from_float(previous_error)} -
                                    int64_t{ordered_from_float(split.error)};
         put_varint64(streams[kStreamErrors], zigzag(error_step));
@@ -684,7 +867,8 @@ struct Writer {
         // One-ring coding when the moved faces are the arc from vl to vr around u.
         bool coded = false;
         std::size_t place_l = 0, place_r = 0;
-        if (fans.fan(split.u, fan)) {
+        const bool has_fan = fans.fan(split.u, fan);
+        if (has_fan) {
           const std::size_t places = fan.closed ? fan.faces.size() : fan.ring.size();
           const auto place = [&](uint32_t vertex, std::size_t none) {
             if (vertex == kNoVertex) return fan.closed ? places : none;
@@ -703,15 +887,35 @@ struct Writer {
         }
         neighbours.assign(1, split.u);
         if (coded) {
-          vl_out.put_varint(split.vl == kNoVertex ? 0 : static_cast<uint32_t>(place_l) + 1);
-          vr_out.put_varint(split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1);
+          uint32_t vl_code = split.vl == kNoVertex ? 0 : static_cast<uint32_t>(place_l) + 1;
+          const uint32_t vr_code =
+              split.vr == kNoVertex ? 0 : static_cast<uint32_t>(arc.size()) + 1;
+          if (ranged) {
+            // 2.1: a closed fan's places counted from its lopsided place (§5.10).
+            if (fan.closed) {
+              const std::size_t n = fan.faces.size();
+              vl_code = static_cast<uint32_t>(
+                            (place_l + n - lopsided_place(positions, split.u, fan)) % n) +
+                        1;
+            }
+            put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code);
+            put_ring_code(vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code);
+          } else {
+            vl_out.put_varint(vl_code);
+            vr_out.put_varint(vr_code);
+          }
           const std::size_t n = fan.faces.size();
           for (std::size_t k = 0; k <= arc.size(); ++k) {
             neighbours.push_back(fan.ring[fan.closed ? (place_l + k) % n : place_l + k]);
           }
         } else {
-          vl_out.put_varint(0);
-          vr_out.put_varint(0);
+          if (!ranged) {
+            vl_out.put_varint(0);
+            vr_out.put_varint(0);
+          } else if (has_fan) {  // a fan, but not an arc of it: both codes 0
+            put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), 0);
+            put_ring_code(vr_rc, models->vr, models->vr_large, fan.faces.size(), 0);
+          }
           explicit_out.put_varint(split.vl == kNoVertex ? 0 : split.vl + 1);
           explicit_out.put_varint(split.vr == kNoVertex ? 0 : split.vr + 1);
           explicit_out.put_varint(split.moved_count);
@@ -720,8 +924,31 @@ struct Writer {
         }
         // The new vertex's position and colour, against the mean of its neighbours.
         positions.predict(neighbours.data(), neighbours.size(), predicted.data());
-        for (std::size_t c = 0; c < 3; ++c) {
-          position_codes.push_back(zigzag(int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c]));
+        // On a grid, in 2.1, the coordinate along u's normal last, predicted from the others.
+        NormalFrame frame;
+        const bool framed = ranged && position_grid.bits != 0 && has_fan &&
+                            normal_frame(positions, split.u, fan, frame);
+        int64_t r[3], d[3];
+        for (int c = 0; c < 3; ++c) {
+          r[c] = int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c];
+          d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
+        }
+        for (int k = 0; k < 3; ++k) {
+          const int c = frame.order[k];
+          const bool along_normal = framed && k == 2;
+          const int64_t residual = r[c] - (along_normal ? normal_offset(frame, d, r) : 0);
+          if (ranged) {
+            // |residual| and its sign, with the models of its neighbours' spread (§5.10).
+            const uint32_t context =
+                positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
+            put_eg(position_rc, models->position[along_normal][context],
+                   static_cast<uint64_t>(residual < 0 ? -residual : residual));
+            const int side = d[c] < 0 ? 0 : d[c] == 0 ? 1 : 2;
+            if (residual != 0)
+              position_rc.bit(models->sign[along_normal][context][side], residual < 0 ? 1 : 0);
+          } else {
+            position_codes.push_back(zigzag(residual));
+          }
         }
         if (colors.components != 0) {
           colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
@@ -753,7 +980,11 @@ struct Writer {
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
       index_out.put_f32(entry.error_after);
-      put_planes(streams[kStreamPositions], position_codes);
+      if (ranged) {
+        for (RangeEncoder* rc : {&u_rc, &vl_rc, &vr_rc, &position_rc}) rc->finish();
+      } else {
+        put_planes(streams[kStreamPositions], position_codes);
+      }
       put_planes(streams[kStreamColors], color_codes);
       std::string raw;
       for (const std::string& stream : streams) put_varint64(raw, stream.size());
@@ -792,6 +1023,10 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
                                                      " bits (0 for none, or 4 to 24)");
     }
   }
+  if (options.minor_version > kMinor2) {
+    return Status(ErrorCode::kInvalidArgument, "format 2." + std::to_string(options.minor_version) +
+                                                   " (this writer writes 2.0 and 2.1)");
+  }
   if (options.chunk_splits < 1 || options.chunk_splits > (1u << 20)) {
     return Status(ErrorCode::kInvalidArgument, "chunks of " + std::to_string(options.chunk_splits) +
                                                    " splits (1 to 1048576)");
@@ -816,6 +1051,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   h.moved_face_count = static_cast<uint32_t>(pm.moved_faces.size());
   for (const VertexSplit& split : pm.splits) h.split_face_count += split.new_face_count();
   h.chunk_count = static_cast<uint32_t>(plan_chunks(h.split_count, options.chunk_splits).size());
+  h.minor = options.minor_version;
   h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
   h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
                  (pm.has_materials() ? kAttributeMaterialIds : 0);
@@ -955,6 +1191,7 @@ struct PmStreamReader::State {
   VertexValues positions, colors;
   std::unique_ptr<CornerPredictor> uv_codes, normal_codes;
   SplitFans fans;
+  std::unique_ptr<ChunkModels> models;  // 2.1's range-coder models, from chunk to chunk
   std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> dctx{nullptr, ZSTD_freeDCtx};
   std::string raw;
 
@@ -1341,8 +1578,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   }
   std::vector<ByteReader> streams;
   streams.reserve(kChunkStreams);
+  std::string_view stream_bytes[kChunkStreams];
   for (int k = 0; k < kChunkStreams; ++k) {
-    std::string_view bytes;
+    std::string_view& bytes = stream_bytes[k];
     if (!in.read_bytes(sizes[k], bytes)) return false;
     streams.emplace_back(bytes, where + " (" + kStreamNames[k] + ")", ErrorCode::kCorruptStream);
   }
@@ -1363,7 +1601,23 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   std::vector<uint32_t> color_predicted(h.color_components);
   uint32_t new_faces = 0, moved_total = 0;
   std::vector<uint64_t> position_codes, color_codes;
-  if (!read_planes(position_in, 3 * std::size_t{entry.splits}, position_codes)) return failed(position_in);
+  // 2.1 (§5.10): u, vl, vr and the positions are range codes, with fresh models per chunk.
+  const bool ranged = h.minor >= 1;
+  std::optional<RangeDecoder> u_rc, vl_rc, vr_rc, position_rc;
+  if (ranged) {
+    if (!models) models = std::make_unique<ChunkModels>();  // kept from chunk to chunk
+    u_rc.emplace(stream_bytes[kStreamU]);
+    vl_rc.emplace(stream_bytes[kStreamVl]);
+    vr_rc.emplace(stream_bytes[kStreamVr]);
+    position_rc.emplace(stream_bytes[kStreamPositions]);
+  } else if (!read_planes(position_in, 3 * std::size_t{entry.splits}, position_codes)) {
+    return failed(position_in);
+  }
+  int64_t previous_u = -1;
+  const auto range_failed = [&](const char* stream) {
+    return in.fail(ErrorCode::kCorruptStream,
+                   where + " (" + stream + "): the range code is corrupt or ends early");
+  };
   if (!read_planes(color_in, std::size_t{h.color_components} * entry.splits, color_codes)) {
     return failed(color_in);
   }
@@ -1371,10 +1625,25 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   for (uint32_t j = 0; j < entry.splits; ++j) {
     const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size());
     VertexSplit split;
-    uint32_t u_offset, vl_code, vr_code;
-    if (!u_in.read_varint(u_offset)) return failed(u_in);
-    if (u_offset >= v) return bad(v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
-    split.u = v - 1 - u_offset;
+    uint32_t u_offset, vl_code = 0, vr_code = 0;
+    if (ranged) {
+      if (j > 0 && u_rc->bit(models->restart) != 0) previous_u = -1;
+      if (j == 0) previous_u = -1;
+      uint64_t gap = 0;
+      if (!get_eg(*u_rc, models->u_gap[previous_u < 0 ? 0 : 1], gap) || !u_rc->ok())
+        return range_failed("u");
+      if (gap >= uint64_t{v} || previous_u + 1 + static_cast<int64_t>(gap) >= int64_t{v}) {
+        return bad(v, "names u beyond the vertices before it");
+      }
+      split.u = static_cast<uint32_t>(previous_u + 1 + static_cast<int64_t>(gap));
+      previous_u = split.u;
+    } else {
+      if (!u_in.read_varint(u_offset)) return failed(u_in);
+      if (u_offset >= v)
+        return bad(
+            v, "names u " + std::to_string(u_offset) + " before itself, of " + std::to_string(v));
+      split.u = v - 1 - u_offset;
+    }
     uint64_t error_code;
     if (!read_varint64(error_in, error_code)) return failed(error_in);
     int64_t error_step = 0;
@@ -1388,8 +1657,24 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
                     "not the index's");
     }
     previous_error = split.error;
-    if (!vl_in.read_varint(vl_code)) return failed(vl_in);
-    if (!vr_in.read_varint(vr_code)) return failed(vr_in);
+    bool has_fan = false;
+    if (ranged) {
+      // The ring codes exist only when u has a fan (§5.10); without one the split is explicit.
+      has_fan = fans.fan(split.u, fan);
+      if (has_fan) {
+        if (!get_ring_code(*vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code) ||
+            !vl_rc->ok()) {
+          return range_failed("vl");
+        }
+        if (!get_ring_code(*vr_rc, models->vr, models->vr_large, fan.faces.size(), vr_code) ||
+            !vr_rc->ok()) {
+          return range_failed("vr");
+        }
+      }
+    } else {
+      if (!vl_in.read_varint(vl_code)) return failed(vl_in);
+      if (!vr_in.read_varint(vr_code)) return failed(vr_in);
+    }
     neighbours.assign(1, split.u);
     if (vl_code == 0 && vr_code == 0) {
       // An explicit split: vl, vr and the moved faces as ids (§5.5).
@@ -1415,12 +1700,14 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         arc.push_back(f);
       }
     } else {
-      if (!fans.fan(split.u, fan)) return bad(v, "names places around u, whose faces are not a fan");
+      if (!has_fan && !fans.fan(split.u, fan))
+        return bad(v, "names places around u, whose faces are not a fan");
       const std::size_t n = fan.faces.size();
       std::size_t i = 0, end = n;
       if (vl_code != 0) {
         i = vl_code - 1;
         if (i >= (fan.closed ? n : n + 1)) return bad(v, "names place " + std::to_string(i) + " of u's ring for vl");
+        if (ranged && fan.closed) i = (i + lopsided_place(positions, split.u, fan)) % n;  // §5.10
       } else if (fan.closed) {
         return bad(v, "has no vl on a closed fan");
       }
@@ -1444,14 +1731,41 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     pm.moved_faces.insert(pm.moved_faces.end(), arc.begin(), arc.end());
     // The position and colour: the neighbours' mean plus the residual.
     positions.predict(neighbours.data(), neighbours.size(), predicted);
-    for (std::size_t c = 0; c < 3; ++c) {
+    NormalFrame frame;
+    const bool framed =
+        ranged && h.position_bits != 0 && has_fan && normal_frame(positions, split.u, fan, frame);
+    int64_t r[3] = {0, 0, 0}, d[3], units[3] = {0, 0, 0};
+    for (int c = 0; c < 3; ++c)
+      d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
+    for (int k = 0; k < 3; ++k) {
+      const int c = frame.order[k];
+      const bool along_normal = framed && k == 2;
       int64_t residual = 0;
-      if (!residual_of(position_codes[next_position++], residual)) return bad(v, "has a position beyond the grid");
+      if (ranged) {
+        const uint32_t context =
+            positions.spread_context(neighbours.data(), neighbours.size(), predicted[c], c);
+        uint64_t magnitude = 0;
+        if (!get_eg(*position_rc, models->position[along_normal][context], magnitude))
+          return range_failed("positions");
+        if (magnitude > 0xFFFFFFFFu) return bad(v, "has a position beyond the grid");
+        residual = static_cast<int64_t>(magnitude);
+        const int side = d[c] < 0 ? 0 : d[c] == 0 ? 1 : 2;
+        if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context][side]) != 0)
+          residual = -residual;
+        if (!position_rc->ok()) return range_failed("positions");
+        if (along_normal) residual += normal_offset(frame, d, r);  // r of the other two: checked
+      } else if (!residual_of(position_codes[next_position++], residual)) {
+        return bad(v, "has a position beyond the grid");
+      }
       const int64_t unit = int64_t{predicted[c]} + residual;
       const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
       if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
-      positions.units.push_back(static_cast<uint32_t>(unit));
-      pm.positions.push_back(positions.to_float(static_cast<uint32_t>(unit), c));
+      r[c] = residual;
+      units[c] = unit;
+    }
+    for (int c = 0; c < 3; ++c) {
+      positions.units.push_back(static_cast<uint32_t>(units[c]));
+      pm.positions.push_back(positions.to_float(static_cast<uint32_t>(units[c]), c));
     }
     if (h.color_components != 0) {
       colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
@@ -1510,6 +1824,17 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   }
   if (ordered_from_float(previous_error) < ordered_from_float(entry.error_after)) {
     return in.fail(ErrorCode::kCorruptStream, where + ": the index's error after it is larger than its last");
+  }
+  if (ranged) {
+    for (auto* rc : {&u_rc, &vl_rc, &vr_rc, &position_rc}) {
+      if (!(*rc)->ok() || !(*rc)->at_end()) {
+        return in.fail(
+            ErrorCode::kCorruptStream,
+            where + ": a range-coded stream is corrupt, ends early or has bytes left over");
+      }
+    }
+    for (int k : {kStreamU, kStreamVl, kStreamVr, kStreamPositions})
+      streams[k].skip(streams[k].remaining());
   }
   for (ByteReader& stream : streams) {
     if (!stream.at_end()) {

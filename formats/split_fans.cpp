@@ -57,6 +57,7 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
   }
   const std::size_t n = wedges_.size();
   if (n == 0) return false;
+  if (n <= kSmallFan) return small_fan(out);
   // Sorted by a, each a and each b at most once: then every wedge has at most one
   // successor (the wedge whose a is its b), and the wedges form paths and cycles.
   std::sort(wedges_.begin(), wedges_.end(),
@@ -92,6 +93,41 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
     if (w == nullptr || w == start) return false;  // several fans
   }
   // All n wedges walked: a closed fan must come back to its start, an open one must not.
+  return out.closed == (out.ring.back() == out.ring.front());
+}
+
+// The same fan as below for a few wedges (nearly every vertex: valence 6 on average), by
+// linear scans instead of sorts and binary searches: the same ring, start and faces.
+bool SplitFans::small_fan(Fan& out) {
+  const std::size_t n = wedges_.size();
+  std::size_t start = n, smallest = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool is_second = false;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j != i && (wedges_[j].a == wedges_[i].a || wedges_[j].b == wedges_[i].b)) return false;
+      if (wedges_[j].b == wedges_[i].a) is_second = true;
+    }
+    if (!is_second) {
+      if (start != n) return false;  // two open fans: u is pinched
+      start = i;
+    }
+    if (wedges_[i].a < wedges_[smallest].a) smallest = i;
+  }
+  out.closed = start == n;
+  if (out.closed) start = smallest;  // the smallest neighbour first
+  std::size_t w = start;
+  out.ring.push_back(wedges_[w].a);
+  for (std::size_t k = 0; k < n; ++k) {
+    out.faces.push_back(wedges_[w].face);
+    out.ring.push_back(wedges_[w].b);
+    if (k + 1 == n) break;
+    std::size_t next = n;
+    for (std::size_t j = 0; j < n; ++j) {
+      if (wedges_[j].a == wedges_[w].b) next = j;
+    }
+    if (next == n || next == start) return false;  // several fans
+    w = next;
+  }
   return out.closed == (out.ring.back() == out.ring.front());
 }
 

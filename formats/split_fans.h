@@ -59,6 +59,8 @@ class SplitFans {
   std::size_t memory_bytes() const;
 
  private:
+  static constexpr std::size_t kSmallFan = 16;
+  bool small_fan(Fan& out);
   void link(uint32_t corner, uint32_t vertex);
   void unlink(uint32_t corner, uint32_t vertex);
 

@@ -64,7 +64,11 @@ TEST_P(MeasuredLevelOnRealMeshes, WithinToleranceAndWithinTwiceTheCoarsestFaces)
   // Measured again here, against the file itself rather than the stream's full detail.
   const double at_found = measured_hausdorff(original, pm, found.level);
   EXPECT_LE(at_found, e);
-  EXPECT_EQ(at_found, found.distance.hausdorff);  // same samples, same answer
+  // The same samples, up to rounding: the search measures against the stream's full detail,
+  // the same surface as the file but with its own vertex order and corner rotations (the
+  // encoder's split layers renumber vertices), so a sample's coordinates may differ in the
+  // last bit.
+  EXPECT_NEAR(at_found, found.distance.hausdorff, 1e-9 * e);
   EXPECT_LT(found.level, pm.splits.size());       // the tolerance is not met only by the input
 
   const std::size_t coarsest = coarsest_by_bisection(original, pm, e);

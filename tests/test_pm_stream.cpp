@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -15,6 +16,7 @@
 
 #include "../formats/byte_io.h"
 #include "../formats/pm_layout.h"
+#include "../formats/range_coder.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
@@ -86,10 +88,14 @@ std::vector<ProgressiveMesh> encoded_meshes() {
 TEST(PmStream, LiteralMeshesRoundTripWithEveryChunkSize) {
   for (const ProgressiveMesh& pm : literal_meshes()) {
     for (uint32_t chunk : {1u, 7u, 4096u}) {
-      SCOPED_TRACE("splits " + std::to_string(pm.splits.size()) + ", chunks of " + std::to_string(chunk));
-      WriteOptions options;
-      options.chunk_splits = chunk;
-      expect_round_trip(pm, options);
+      for (uint16_t minor : {0, 1}) {
+        SCOPED_TRACE("splits " + std::to_string(pm.splits.size()) + ", chunks of " +
+                     std::to_string(chunk) + ", 2." + std::to_string(minor));
+        WriteOptions options;
+        options.chunk_splits = chunk;
+        options.minor_version = minor;
+        expect_round_trip(pm, options);
+      }
     }
   }
 }
@@ -98,6 +104,17 @@ TEST(PmStream, EncodedMeshesRoundTripAndAreSmallerThanFormat1) {
   for (const ProgressiveMesh& pm : encoded_meshes()) {
     SCOPED_TRACE("splits " + std::to_string(pm.splits.size()));
     expect_round_trip(pm);
+    for (int bits : {0, 14}) {  // 2.0 too, lossless and quantized
+      WriteOptions options;
+      options.minor_version = 0;
+      options.position_bits = bits;
+      const std::string bytes = write(pm, options);
+      EXPECT_EQ(static_cast<uint8_t>(bytes[10]), 0);
+      if (bits == 0) expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(pm));
+      options.minor_version = 1;
+      const ProgressiveMesh v21 = read(write(pm, options)), v20 = read(bytes);
+      EXPECT_EQ(bits_of(v21.positions), bits_of(v20.positions));  // the same grid values
+    }
     // The one-ring coding leaves out the moved faces and the global ids of vl and vr, and
     // the positions are residuals: a 2.0 stream is much smaller than a 1.1 stream.
     std::string v1, v2;
@@ -375,7 +392,7 @@ TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
   EXPECT_EQ(with_header_byte(87, 1), ErrorCode::kCorruptStream);  // reserved byte
   EXPECT_EQ(with_header_byte(88, 2), ErrorCode::kCorruptStream);  // an unknown option
   EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
-  EXPECT_EQ(with_header_byte(10, 1), ErrorCode::kOk);             // minor 2.1: may-ignore fields only
+  EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kOk);  // minor 2.2: may-ignore fields only
   EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
 }
 
@@ -425,7 +442,9 @@ std::string with_chunk_stream(const std::string& bytes, int k, const std::string
 
 // Residuals at the edge of 64 bits, planes with a spare top byte: clean errors, no overflow.
 TEST(PmStream, HostileResidualsAndPlanesAreRefused) {
-  const std::string bytes = write(small_mesh());  // chunk 0: 2 splits, 6 position codes
+  WriteOptions v20;
+  v20.minor_version = 0;
+  const std::string bytes = write(small_mesh(), v20);  // chunk 0: 2 splits, 6 position codes
   ProgressiveMesh pm;
   // The stream rebuilt unchanged still decodes (the surgery itself is sound).
   {
@@ -442,6 +461,46 @@ TEST(PmStream, HostileResidualsAndPlanesAreRefused) {
   // Errors: a code beyond any difference of two floats' bits.
   EXPECT_EQ(read_pm(with_chunk_stream(bytes, 4, "\xff\xff\xff\xff\xff\xff\xff\xff\xff\x01\x00"), pm).code(),
             ErrorCode::kCorruptStream);
+}
+
+// 2.1's range codes (§5.10): every damaged, cut, lengthened or out-of-range code is a clean
+// kCorruptStream (or, where the damage still decodes to a valid mesh, harmless).
+TEST(PmStream, HostileRangeCodesAreRefused) {
+  WriteOptions quantized;
+  quantized.position_bits = 12;  // with the normal coordinate's prediction
+  for (const std::string& bytes :
+       {write(with_attributes(generated_mesh(600))), write(generated_mesh(600), quantized)}) {
+    ProgressiveMesh pm;
+    for (int k : {0, 1, 2, 5}) {
+      SCOPED_TRACE("stream " + std::to_string(k));
+      EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, ""), pm).code(), ErrorCode::kCorruptStream);
+      EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, std::string(5, '\0')), pm).code(),
+                ErrorCode::kCorruptStream);
+      EXPECT_EQ(read_pm(with_chunk_stream(bytes, k, "\x01" + std::string(40, '\0')), pm).code(),
+                ErrorCode::kCorruptStream);  // first byte not 0
+      EXPECT_EQ(
+          read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4, '\xFF')), pm)
+              .code(),
+          ErrorCode::kCorruptStream);  // code = range
+      // All ones: endless exp-Golomb prefixes, u beyond v, ring codes beyond the ring.
+      EXPECT_EQ(
+          read_pm(with_chunk_stream(bytes, k, std::string(1, '\0') + std::string(4000, '\xFE')), pm)
+              .code(),
+          ErrorCode::kCorruptStream);
+      // Random bytes: never a crash; an error, or (rarely) a valid mesh.
+      uint32_t seed = 12345u + static_cast<uint32_t>(k);
+      for (int trial = 0; trial < 200; ++trial) {
+        std::string noise(1 + trial % 300, '\0');
+        for (std::size_t b = 1; b < noise.size(); ++b) {
+          seed = seed * 1664525u + 1013904223u;
+          noise[b] = static_cast<char>(seed >> 24);
+        }
+        const Status status = read_pm(with_chunk_stream(bytes, k, noise), pm);
+        EXPECT_TRUE(status.is_ok() || status.code() == ErrorCode::kCorruptStream)
+            << status.message();
+      }
+    }
+  }
 }
 
 TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
@@ -478,11 +537,48 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
       if (!g.pm.keeps_order()) test::write_file(dir + g.name + "-v1.1.pm", v1);
       WriteOptions options;
       options.chunk_splits = 128;
-      test::write_file(dir + g.name + "-v2.0.pm", write(g.pm, options));
+      test::write_file(dir + g.name + "-v2.1.pm", write(g.pm, options));
     }
   }
+  // 2.1's normal-coordinate prediction works on grids only: a quantized golden file, whose
+  // decoded mesh is the 2.0 writer's (the same grid values, coded without it).
+  WriteOptions quantized;
+  quantized.chunk_splits = 128;
+  quantized.position_bits = 12;
+  const ProgressiveMesh surface = generated_mesh(600);
+  if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
+    test::write_file(dir + "quantized-v2.1.pm", write(surface, quantized));
+  }
+  // An encoded surface (the sphere sample: closed fans, layers, normals), quantized, in 2.0
+  // and 2.1 from the same progressive mesh: the two files decode to the same mesh. (Both
+  // committed, so that a change of the encoder does not change what is compared.)
+  if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
+    Mesh sphere;
+    ASSERT_TRUE(read_mesh(test::sample_mesh_path("sphere.obj"), sphere).is_ok());
+    ProgressiveMesh pm;
+    ASSERT_TRUE(encode(sphere, EncodeOptions{}, pm).is_ok());
+    WriteOptions options;
+    options.position_bits = 12;
+    options.chunk_splits = 512;
+    test::write_file(dir + "sphere-q12-v2.1.pm", write(pm, options));
+    options.minor_version = 0;
+    test::write_file(dir + "sphere-q12-v2.0.pm", write(pm, options));
+  }
+  {
+    const ProgressiveMesh v20 = read(test::read_file(dir + "sphere-q12-v2.0.pm"));
+    const ProgressiveMesh v21 = read(test::read_file(dir + "sphere-q12-v2.1.pm"));
+    EXPECT_GT(v21.splits.size(), 1000u);
+    expect_identical(with_sorted_moves(v21), with_sorted_moves(v20));
+  }
+  {
+    quantized.minor_version = 0;
+    const std::string path = dir + "quantized-v2.1.pm";
+    ASSERT_TRUE(test::file_exists(path)) << path;
+    expect_identical(with_sorted_moves(read(test::read_file(path))),
+                     with_sorted_moves(read(write(surface, quantized))));
+  }
   for (const Golden& g : goldens) {
-    for (const char* version : {"v1.1", "v2.0"}) {
+    for (const char* version : {"v1.1", "v2.0", "v2.1"}) {
       if (g.pm.keeps_order() && std::string(version) == "v1.1") continue;  // 1.x has no order
       SCOPED_TRACE(std::string(g.name) + "-" + version);
       const std::string path = dir + g.name + "-" + version + ".pm";
@@ -533,6 +629,150 @@ TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
     ReadOptions prefix;
     prefix.max_splits = half;
     EXPECT_FALSE(read(write(pm), prefix).keeps_order() && half < pm.splits.size());
+  }
+}
+
+// A level's triangles as position triples, each rotated to its smallest corner, sorted:
+// the same for two meshes that differ only in vertex and face order.
+std::vector<std::vector<uint32_t>> sorted_triangles(const Mesh& mesh) {
+  std::vector<std::vector<uint32_t>> out;
+  for (std::size_t t = 0; t < mesh.face_count(); ++t) {
+    std::vector<uint32_t> corners[3];
+    for (int c = 0; c < 3; ++c) {
+      for (int k = 0; k < 3; ++k) {
+        float x = mesh.positions[3 * std::size_t{mesh.triangles[3 * t + c]} + k];
+        uint32_t b;
+        std::memcpy(&b, &x, 4);
+        corners[c].push_back(b);
+      }
+    }
+    const int first = static_cast<int>(std::min_element(corners, corners + 3) - corners);
+    std::vector<uint32_t> triangle;
+    for (int c = 0; c < 3; ++c)
+      triangle.insert(triangle.end(), corners[(first + c) % 3].begin(),
+                      corners[(first + c) % 3].end());
+    out.push_back(triangle);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The range coder itself (formats/range_coder.h, §5.10): decisions, exp-Golomb values up to
+// its limit, trees, round trips that read exactly the bytes written; cut codes are refused.
+TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
+  std::vector<uint64_t> values;
+  uint64_t state = 7;
+  for (int i = 0; i < 3000; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const int bits = static_cast<int>((state >> 59) % 40);  // 0 .. 39 bits
+    values.push_back(((state >> 7) & ((uint64_t{1} << bits) - 1)) + (i % 3 == 0 ? 0 : 1));
+  }
+  values.push_back((uint64_t{1} << detail::kMaxEgBits) - 2);  // the largest value
+  std::string bytes;
+  {
+    detail::RangeEncoder rc(bytes);
+    detail::EgModels eg;
+    detail::TreeModels tree;
+    detail::BitModel bit;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      detail::put_eg(rc, eg, values[i]);
+      detail::put_tree(rc, tree, 5, static_cast<uint32_t>(values[i] & 31));
+      rc.bit(bit, i % 7 == 0);
+    }
+    rc.finish();
+  }
+  const auto decode = [&](const std::string& code, bool& all_equal) {
+    detail::RangeDecoder rc(code);
+    detail::EgModels eg;
+    detail::TreeModels tree;
+    detail::BitModel bit;
+    all_equal = true;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      uint64_t x = 0;
+      if (!detail::get_eg(rc, eg, x)) return false;
+      all_equal = all_equal && x == values[i] &&
+                  detail::get_tree(rc, tree, 5) == (values[i] & 31) && rc.bit(bit) == (i % 7 == 0);
+    }
+    return rc.ok() && rc.at_end();
+  };
+  bool equal = false;
+  EXPECT_TRUE(decode(bytes, equal));
+  EXPECT_TRUE(equal);
+  EXPECT_FALSE(decode(bytes.substr(0, bytes.size() - 1), equal));  // cut: reads past the end
+  EXPECT_FALSE(decode(bytes + "x", equal));                        // a byte left over
+  std::string first = bytes;
+  first[0] = 1;  // the first byte of a range code is 0
+  EXPECT_FALSE(decode(first, equal));
+  // A prefix of 40 ones is refused, not read on.
+  detail::RangeDecoder ones(std::string(1, '\0') + std::string(64, '\xFF').substr(0, 4) +
+                            std::string(64, '\xFE'));
+  detail::EgModels eg;
+  uint64_t x = 0;
+  bool refused = false;
+  for (int i = 0; i < 100 && !refused; ++i) refused = !detail::get_eg(ones, eg, x);
+  EXPECT_TRUE(refused || !ones.ok());
+}
+
+// The encoder's layers (layer_splits): the same mesh at every chunk's end, full detail the
+// input's arrays, a valid progressive mesh, and a smaller stream.
+TEST(PmStream, LayeredSplitsKeepEveryChunksMesh) {
+  std::vector<std::string> paths = test::sample_mesh_paths();
+  if (test::shared_meshes_available()) paths.push_back(test::shared_mesh_path("spot.obj"));
+  for (const std::string& path : paths) {
+    SCOPED_TRACE(path);
+    Mesh input;
+    ASSERT_TRUE(read_mesh(path, input).is_ok());
+    EncodeOptions options;
+    options.keep_order = true;
+    options.layer_chunk_splits = 0;
+    ProgressiveMesh plain, layered;
+    ASSERT_TRUE(encode(input, options, plain).is_ok());
+    options.layer_chunk_splits = 256;
+    ASSERT_TRUE(encode(input, options, layered).is_ok());
+    std::string message;
+    ASSERT_TRUE(validate(layered, &message)) << message;
+    ASSERT_EQ(layered.splits.size(), plain.splits.size());
+    expect_same_arrays(extract_level(layered, layered.splits.size()), input);
+    std::size_t level = 0;
+    for (uint32_t size : chunk_plan(static_cast<uint32_t>(plain.splits.size()), 256)) {
+      level += size;
+      EXPECT_EQ(layered.splits[level - size].error, plain.splits[level - size].error);
+      if (level < plain.splits.size()) {
+        EXPECT_EQ(layered.splits[level].error, plain.splits[level].error);
+      }
+      const Mesh a = extract_level(plain, level), b = extract_level(layered, level);
+      EXPECT_EQ(a.face_count(), b.face_count());
+      EXPECT_EQ(sorted_triangles(a), sorted_triangles(b));
+    }
+    expect_identical(with_sorted_moves(read(write(layered))), with_sorted_moves(layered));
+    // The written stream's index describes each chunk's level; every split inside a chunk is
+    // a valid level too (extract_level validates), with a non-increasing error.
+    WriteOptions chunked;
+    chunked.chunk_splits = 256;
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(write(layered, chunked), info).is_ok());
+    std::size_t end = 0;
+    for (const PmInfo::Chunk& chunk : info.chunks) {
+      end += chunk.splits;
+      EXPECT_EQ(chunk.faces_after, faces_at_level(plain, end));
+      EXPECT_EQ(chunk.vertices_after, vertices_at_level(plain, end));
+      EXPECT_EQ(chunk.error_after, error_at_level(plain, end));
+    }
+    for (std::size_t level = 1; level < layered.splits.size(); level += 97) {
+      EXPECT_LE(layered.splits[level].error, layered.splits[level - 1].error);
+      EXPECT_EQ(extract_level(layered, level).face_count(), faces_at_level(layered, level));
+    }
+    // Smaller (without the order, which the layers' u order makes dearer), by the u gaps.
+    for (ProgressiveMesh* pm : {&plain, &layered})
+      pm->input_vertices.clear(), pm->input_faces.clear();
+    WriteOptions q14;
+    q14.position_bits = 14;
+    const std::string with = write(layered, q14), without = write(plain, q14);
+    // (With texture coordinates, the corner codes' "latest id of any corner" predicts
+    // worse across a layer than along the simplifier's order: geometry only here.)
+    if (plain.splits.size() > 1000 && !plain.has_uvs() && !plain.has_normals()) {
+      EXPECT_LT(with.size(), without.size() * 97 / 100);
+    }
   }
 }
 

@@ -672,6 +672,7 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
 
   // Stage 3: the progressive mesh, checked as a decoder would check it.
   assemble(input, repaired, simplifier, !options.drop_attributes, options.keep_order, out);
+  if (options.layer_chunk_splits != 0) layer_splits(out, options.layer_chunk_splits);
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
 

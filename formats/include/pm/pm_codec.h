@@ -14,7 +14,8 @@ namespace pm {
 
 // The version write_pm writes. read_pm reads it and every 1.x stream (1.0, 1.1).
 inline constexpr uint16_t kFormatMajor = 2;
-inline constexpr uint16_t kFormatMinor = 0;  // 2.0: chunked splits, one-ring coding, quantization
+// 2.0: chunked splits, one-ring coding, quantization; 2.1: u, vl, vr and positions range-coded
+inline constexpr uint16_t kFormatMinor = 1;
 
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
@@ -29,13 +30,16 @@ struct WriteOptions {
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
   // smaller (256, 512, ...) so that a stream cut early still refines. 1..2^20.
   uint32_t chunk_splits = 4096;
+  // The minor version to write: 1 (2.1, the default) or 0 (2.0, for readers that predate
+  // 2.1; larger).
+  uint16_t minor_version = kFormatMinor;
 };
 
-// Serializes pm (which must be valid) to bytes, as format 2.0. Errors: kInvalidArgument
-// when validate(pm) fails, a material name or library holds a NUL, an option is out of
-// range, or positions to quantize are not finite; kResourceLimit when a count exceeds the
-// format's limits (2^30; 2^20 materials and libraries) or a string is longer than 4096
-// bytes. `bytes` is untouched on error.
+// Serializes pm (which must be valid) to bytes, as format 2.1 (or 2.0,
+// WriteOptions::minor_version). Errors: kInvalidArgument when validate(pm) fails, a material name
+// or library holds a NUL, an option is out of range, or positions to quantize are not finite;
+// kResourceLimit when a count exceeds the format's limits (2^30; 2^20 materials and libraries) or a
+// string is longer than 4096 bytes. `bytes` is untouched on error.
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
 
 // Whether the stream can hold these material names and libraries (§5.9, §7.2: at most 2^20
@@ -55,12 +59,12 @@ struct ReadOptions {
   // bytes, the corner-id predictor, the zstd context) and validate()'s, plus 4 KiB. The
   // header and the section headers give every term, so the check comes first.
   uint64_t max_memory = 0;
-  // A 2.0 stream cut short (a download in progress, `head -c`) decodes to the finest level
+  // A 2.x stream cut short (a download in progress, `head -c`) decodes to the finest level
   // it holds whole, when this is set and the cut falls after the base mesh (the header,
   // BASE, WELD, CARY, TABL and INDX sections); ReadResult says so. Otherwise, and for 1.x
   // streams, a cut stream is kTruncatedStream.
   bool allow_truncated = false;
-  // Decode only the splits up to this level (2.0 streams: the chunks that hold them; the
+  // Decode only the splits up to this level (2.x streams: the chunks that hold them; the
   // rest of the stream is neither decompressed nor checked beyond its section headers).
   // The mesh may hold more splits (the rest of the last chunk needed), never fewer; without
   // all splits, it has no loose vertices and no stored order (they belong to full detail).
@@ -71,7 +75,7 @@ struct ReadOptions {
 struct ReadResult {
   bool truncated = false;    // the stream ended early (allow_truncated)
   bool partial = false;      // the mesh holds fewer splits than the stream (truncated or max_splits)
-  uint32_t chunks_decoded = 0, chunk_count = 0;  // 2.0 streams
+  uint32_t chunks_decoded = 0, chunk_count = 0;  // 2.x streams
   std::string warning;       // one line when truncated: where the stream ends
 };
 
@@ -82,7 +86,7 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& o
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options);
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm);  // default ReadOptions
 
-// Decodes a 2.0 stream as it arrives (Hoppe 1996, §3: progressive transmission): feed it
+// Decodes a 2.x stream as it arrives (Hoppe 1996, §3: progressive transmission): feed it
 // bytes in order, in pieces of any size; every section that is complete is decoded at
 // once, so mesh() refines chunk by chunk. Streams of version 1.x are decoded whole, when
 // they have fully arrived.
@@ -154,7 +158,7 @@ struct PmInfo {
   std::vector<Chunk> chunks;
 };
 // Reads and checks the header (magic, checksum, version, count limits, and that the stream
-// is long enough for the counts) and, in a 2.0 stream, the chunk index (the sections before
+// is long enough for the counts) and, in a 2.x stream, the chunk index (the sections before
 // it are skipped, not decompressed); `bytes` may be a prefix of the stream that holds them.
 // Same errors as read_pm.
 Status read_pm_info(std::string_view bytes, PmInfo& info);

@@ -35,6 +35,11 @@ struct EncodeOptions {
   // (pmenc --keep-order; ProgressiveMesh::input_vertices, input_faces). It costs about
   // log2(n) bits per vertex and per face in the .pm.
   bool keep_order = false;
+  // Reorder the splits within each chunk of the .pm stream (chunks of up to this many
+  // splits, WriteOptions::chunk_splits) into batches of independent splits, which the .pm
+  // stream codes more compactly (layer_splits in progressive_mesh.h). 0: keep the
+  // simplifier's order.
+  uint32_t layer_chunk_splits = 4096;
   // Stop when the mesh would go below either count (0: no limit).
   std::size_t min_faces = 0;
   std::size_t min_vertices = 0;

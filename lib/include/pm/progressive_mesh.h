@@ -115,4 +115,15 @@ struct ProgressiveMesh {
 // non-increasing errors, ...). Returns false and a message on the first violation.
 bool validate(const ProgressiveMesh& pm, std::string* message);
 
+// The .pm stream's chunks (pm-format.md §5.6): 256 splits, then doubling up to `largest`,
+// the rest in the last. Sizes, in order.
+std::vector<uint32_t> chunk_plan(uint32_t splits, uint32_t largest);
+
+// Reorders the splits of each chunk of chunk_plan(splits, largest_chunk) into layers of
+// splits that do not depend on each other, each layer by u's id (Pajarola and Rossignac
+// 2000, "Compressed progressive meshes", §3), renumbering vertex and face ids to match; the
+// mesh at the end of every chunk is unchanged. A split's error becomes the largest original
+// error from it to the end of its chunk. pm must be valid; it stays valid.
+void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk);
+
 }  // namespace pm
