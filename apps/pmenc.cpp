@@ -21,6 +21,7 @@ struct Settings {
   std::string input_format;  // --format, or empty
   bool skip_existing = false;
   bool create_directories = false;  // --out-dir: the mirrored tree is made as needed
+  bool layered = false;             // --layered
 };
 
 std::string repairs_note(const std::string& input, const pm::RepairReport& r) {
@@ -97,8 +98,8 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                   " polygons split into triangles");
 
   pm::EncodeOptions options = settings.encode;
-  // The layers of independent splits follow the stream's chunks (--chunk-splits).
-  options.layer_chunk_splits = settings.write.chunk_splits;
+  // --layered: the layers of independent splits follow the stream's chunks (--chunk-splits).
+  options.layer_chunk_splits = settings.layered ? settings.write.chunk_splits : 0;
   options.progress = [&progress](double fraction) { progress.set_fraction(fraction); };
   pm::ProgressiveMesh progressive;
   pm::EncodeStats stats;
@@ -187,6 +188,10 @@ int main(int argc, char** argv) {
                  "Store normals on a grid of 2^BITS steps (lossy; 0: lossless)")
       ->capture_default_str()
       ->check(CLI::IsMember({0}) | CLI::Range(4, 24));
+  app.add_flag("--layered", settings.layered,
+               "Reorder the splits within each chunk into layers of independent splits: a "
+               "smaller .pm, but levels inside a chunk are coarser than the greedy order's "
+               "(the levels at chunk ends are the same)");
   app.add_option("--chunk-splits", settings.write.chunk_splits,
                  "Largest chunk of vertex splits (each chunk is compressed on its own)")
       ->capture_default_str()
