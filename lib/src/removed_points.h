@@ -61,8 +61,12 @@ class RemovedPoints {
   // Fills sampled_: v, then every stride-th of v's faces' points, stride set by their count.
   void sample_points(HalfEdgeMesh::HalfedgeHandle h) const;
 
-  // The input faces around the sampled points and the corners of the fan, each once.
-  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const;
+  // The input faces around the corners of the fan and, with_samples, around the sampled
+  // points, each once, into region_.
+  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan,
+                           bool with_samples) const;
+  // region_triangles_: region_'s faces.
+  void build_region() const;
 
   const HalfEdgeMesh& mesh_;
   std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
@@ -79,6 +83,7 @@ class RemovedPoints {
   // Scratch, kept to avoid reallocation: the points that move, and those measured.
   mutable std::vector<uint32_t> moving_, sampled_;
   mutable std::vector<Vec3> measured_midpoints_;  // of the current query's fan
+  mutable std::vector<Vec3> pending_;  // those not settled by the input near the fan's corners
 };
 
 }  // namespace pm

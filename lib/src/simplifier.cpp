@@ -177,12 +177,50 @@ class SchroederSimplifier {
     return true;
   }
 
+  static constexpr int kMaxValence = 64;  // a vertex of larger valence is never cheap: it stays
+
   // Finds how v would be removed now and queues it; a stale entry is dropped by version.
   void evaluate(VertexHandle v) {
     ++version_[v.idx()];
     if (mesh_.status(v).deleted()) return;
-    VertexClass vertex_class =
-        classify_vertex(mesh_, faces_, v, cos_feature_angle_, pinned_[v.idx()]);
+    // One walk around v finds each edge's kind once, for v's classification
+    // (classify_vertex's rules, the same answers) and for its options.
+    struct Option {
+      bool special;
+      double length;
+      HalfedgeHandle h;
+    };
+    Option options[kMaxValence];
+    int count = 0;
+    VertexClass vertex_class;  // complex until classified
+    if (!pinned_[v.idx()]) {
+      int boundary_edges = 0, feature_edges = 0;
+      bool manifold = true;  // OpenMesh's is_manifold: no boundary half-edge out but the first
+      for (auto h : mesh_.voh_range(v)) {
+        if (count == kMaxValence) return;
+        if (count > 0 && mesh_.is_boundary(h)) manifold = false;
+        const auto e = mesh_.edge_handle(h);
+        const bool boundary = mesh_.is_boundary(e);
+        const bool feature = !boundary && is_feature_edge(mesh_, faces_, e, cos_feature_angle_);
+        if (boundary || feature) {
+          const int special = boundary_edges + feature_edges;
+          if (special < 2) vertex_class.line_ends[special] = mesh_.to_vertex_handle(h);
+          boundary_edges += boundary;
+          feature_edges += feature;
+        }
+        options[count++] = {boundary || feature, 0.0, h};
+      }
+      if (count > 0 && manifold) {  // count == 0: isolated
+        if (boundary_edges == 0 && feature_edges == 0)
+          vertex_class.kind = VertexKind::kSimple;
+        else if (boundary_edges == 2 && feature_edges == 0)
+          vertex_class.kind = VertexKind::kBoundary;
+        else if (boundary_edges == 0 && feature_edges == 2)
+          vertex_class.kind = VertexKind::kInteriorEdge;
+        else
+          vertex_class.kind = VertexKind::kCorner;
+      }
+    }
     // A corner of the input stays one: collapses around it can wear its feature edges
     // down to fewer than three, but the shape's extremity it marks is still there.
     if (input_corner_[v.idx()] && vertex_class.kind != VertexKind::kComplex)
@@ -191,20 +229,11 @@ class SchroederSimplifier {
     if (vertex_class.kind == VertexKind::kCorner && options_.keep_corners)
       edges = CollapseEdges::kNone;
     if (edges == CollapseEdges::kNone) return;
-
-    struct Option {
-      bool special;
-      double length;
-      HalfedgeHandle h;
-    };
-    Option options[64];
-    int count = 0;
-    for (auto h : mesh_.voh_range(v)) {
-      if (count == 64) return;  // a vertex of valence > 64 stays: it is never cheap
-      const bool special = is_special_edge(mesh_, faces_, mesh_.edge_handle(h), cos_feature_angle_);
-      if (edges == CollapseEdges::kSpecialOnly && !special) continue;
-      options[count++] = {special, mesh_.calc_edge_sqr_length(h), h};
-    }
+    if (edges == CollapseEdges::kSpecialOnly)
+      count = static_cast<int>(std::remove_if(options, options + count,
+                                              [](const Option& o) { return !o.special; }) -
+                               options);
+    for (int i = 0; i < count; ++i) options[i].length = mesh_.calc_edge_sqr_length(options[i].h);
     // Shortest legal edge first (Schroeder 1997, §3.2); corners try their special edges
     // first and take the one of least true error.
     std::sort(options, options + count, [](const Option& a, const Option& b) {
