@@ -126,8 +126,15 @@ void RemovedPoints::sample_points(HalfEdgeMesh::HalfedgeHandle h) const {
 }
 
 double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
+  const double lower = removed_distance(h);
+  return lower < 0 ? 0 : collapse_distance_from(h, lower);
+}
+
+double RemovedPoints::removed_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   Fan& fan = fan_;
-  if (!make_fan(h, fan)) return 0;
+  fan_of_ = -1;
+  if (!make_fan(h, fan)) return -1;
+  fan_of_ = h.idx();
   sample_points(h);
   // The largest over points of the distance to the nearest face: a point already nearer
   // than the worst so far to some face cannot raise it, so its search stops there.
@@ -138,6 +145,13 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
         fan.triangles.nearest_distance(point_of(mesh_, mesh_.vertex_handle(p)), worst, &hint);
     if (nearest > worst) worst = nearest;
   }
+  return worst;
+}
+
+double RemovedPoints::collapse_distance_from(HalfEdgeMesh::HalfedgeHandle h, double worst) const {
+  if (fan_of_ != h.idx()) return collapse_distance(h);  // not right after removed_distance(h)
+  const Fan& fan = fan_;
+  int hint = -1;
 
   // The fan's points (centroids and edge midpoints of the faces that change) to the input.
   // Neighbouring faces of the fan share their edge to u, so most midpoints come twice. A
@@ -198,6 +212,7 @@ void RemovedPoints::build_region() const {
 
 double RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
   Fan& fan = fan_;
+  fan_of_ = -1;  // the mesh changes next
   if (!make_fan(h, fan)) return 0;
   double farthest = 0;
   moving_.assign(1, uint32_t(mesh_.from_vertex_handle(h).idx()));  // v, then its faces' points

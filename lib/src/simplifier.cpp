@@ -42,7 +42,8 @@ struct Collapse {
 // kind; once simple vertices ran out, that removed corners at any cost: 4.6% of the
 // diagonal on rocker-arm at 10% of the faces, against 0.29% now.)
 struct Candidate {
-  float priority;
+  float priority;  // a lower bound of the cost until measured
+  float local;     // the local cost alone (quadric or Schroeder's)
   float distance;  // the error in model units, for the record
   uint32_t vertex;
   uint32_t halfedge;
@@ -129,6 +130,7 @@ class SchroederSimplifier {
           sharp_corner_[v.idx()] = 1;
     }
     version_.assign(n_vertices, 0);
+    keyed_by_measure_.assign(n_vertices, 0);
     faces_alive_ = n_faces;
     vertices_alive_ = n_vertices;
 
@@ -182,6 +184,7 @@ class SchroederSimplifier {
   // Finds how v would be removed now and queues it; a stale entry is dropped by version.
   void evaluate(VertexHandle v) {
     ++version_[v.idx()];
+    keyed_by_measure_[v.idx()] = 0;
     if (mesh_.status(v).deleted()) return;
     // One walk around v finds each edge's kind once, for v's classification
     // (classify_vertex's rules, the same answers) and for its options.
@@ -282,9 +285,9 @@ class SchroederSimplifier {
       }
       if (!best) return;
       chosen = options[best->option].h;
-      queue_.push({static_cast<float>(best->cost), static_cast<float>(std::sqrt(best->geometric)),
-                   static_cast<uint32_t>(v.idx()), static_cast<uint32_t>(chosen.idx()),
-                   version_[v.idx()]});
+      queue_.push({static_cast<float>(best->cost), static_cast<float>(best->cost),
+                   static_cast<float>(std::sqrt(best->geometric)), static_cast<uint32_t>(v.idx()),
+                   static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
       return;
     }
     if (vertex_class.kind == VertexKind::kCorner) {
@@ -307,8 +310,16 @@ class SchroederSimplifier {
     const double local = std::max(error, std::sqrt(attribute_cost(chosen)));
     const float priority =
         static_cast<float>(sharp_corner_[v.idx()] ? kSharpCornerWeight * local : local);
-    queue_.push({priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
+    queue_.push({priority, priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
                  static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
+  }
+
+  // The priority of a candidate whose local cost is `local` and whose removed points and
+  // fan lie up to `worst` from the input or the surface they move to (remeasure()).
+  float combined(float local, double worst) const {
+    return static_cast<float>(options_.metric == Metric::kQuadric
+                                  ? local + kWorstCaseWeight * worst * worst
+                                  : std::max<double>(local, worst));
   }
 
   double attribute_cost(HalfedgeHandle h) const {
@@ -338,17 +349,31 @@ class SchroederSimplifier {
   bool remeasure(const Candidate& top) {
     const HalfedgeHandle h = mesh_.halfedge_handle(top.halfedge);
     if (mesh_.status(h).deleted()) return false;  // apply() re-evaluates it
-    const double worst = removed_->collapse_distance(h);
+    // First the removed points alone (no input region to gather): their worst distance is
+    // a lower bound of the whole measure. When that bound already puts the candidate
+    // behind the next one, it goes back with the bound as its key, which keeps the greedy
+    // order exact (a key never exceeds the cost) and skips the dearer half of the measure,
+    // often for good: most candidates sent back are re-evaluated before they come up again.
+    const double lower = removed_->removed_distance(h);
+    if (lower > 0) {
+      Candidate bounded = top;
+      bounded.priority = combined(top.local, lower);
+      if (!queue_.empty() && bounded > queue_.top()) {
+        keyed_by_measure_[top.vertex] = 1;
+        queue_.push(bounded);
+        return true;
+      }
+    }
+    const double worst = lower < 0 ? 0 : removed_->collapse_distance_from(h, lower);
     Candidate measured = top;
     measured.measured = true;
-    measured.priority = static_cast<float>(options_.metric == Metric::kQuadric
-                                               ? top.priority + kWorstCaseWeight * worst * worst
-                                               : std::max<double>(top.priority, worst));
+    measured.priority = combined(top.local, worst);
     measured.distance = static_cast<float>(std::max<double>(top.distance, worst));
     if (queue_.empty() || !(measured > queue_.top())) {
       apply(measured);
       return true;
     }
+    keyed_by_measure_[top.vertex] = 1;
     queue_.push(measured);
     return true;
   }
@@ -395,6 +420,10 @@ class SchroederSimplifier {
     c.bound = static_cast<float>(bound_);
     collapses.push_back(c);
 
+    VertexHandle ring[kMaxValence];  // v's neighbours (evaluate() refuses larger valences)
+    int ring_count = 0;
+    for (auto w : mesh_.vv_range(v))
+      if (ring_count < kMaxValence) ring[ring_count++] = w;
     mesh_.collapse(h);
     faces_alive_ -= removed_faces;
     --vertices_alive_;
@@ -404,8 +433,16 @@ class SchroederSimplifier {
       quadrics_[u.idx()] += quadrics_[v.idx()];  // Garland and Heckbert 1997, §4: Q = Q1 + Q2
     ++version_[v.idx()];
 
+    // Re-evaluated: u and v's other neighbours, whose one-rings changed. u's other
+    // neighbours keep their faces, so their classification, their options' costs and the
+    // geometry of their own faces are as they were, and their links can only have grown
+    // (u, next to them, is next to more vertices now), so their queued collapse is still
+    // their best unless it became illegal, which apply() finds when it is popped. Unless
+    // its key holds a measure: points may have moved onto their faces that touch u.
     evaluate(u);
-    for (auto w : mesh_.vv_range(u)) evaluate(w);
+    for (auto w : mesh_.vv_range(u))
+      if (keyed_by_measure_[w.idx()] || std::find(ring, ring + ring_count, w) != ring + ring_count)
+        evaluate(w);
     report_progress();
   }
 
@@ -462,6 +499,7 @@ class SchroederSimplifier {
   std::unique_ptr<CornerAttributes> attributes_;  // null: geometry only
   uint32_t new_faces_recorded_ = 0;
   std::vector<uint32_t> version_;
+  std::vector<uint8_t> keyed_by_measure_;  // per vertex: its queued key includes a measure
   std::vector<uint8_t> input_corner_;  // classified a corner on the input
   std::vector<uint8_t> sharp_corner_;  // ... with a feature edge sharper than kSharpCornerDeg
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
