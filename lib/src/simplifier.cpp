@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <queue>
 #include <set>
 #include <string>
 
@@ -41,15 +40,24 @@ struct Collapse {
 // charge what they carried. (An earlier version removed corners only after every other
 // kind; once simple vertices ran out, that removed corners at any cost: 4.6% of the
 // diagonal on rocker-arm at 10% of the faces, against 0.29% now.)
+//
+// Equal keys go by vertex id: the order of the collapses is then a function of the keys
+// alone, not of the order the heap received them in, so that work may be reordered or
+// skipped (remeasure(), compact(), apply()'s re-evaluations) without changing the output.
+// Flat regions, whose quadric errors are all zero, are made of ties.
+constexpr uint32_t kVersionMask = 0x7fffffffu;
+
 struct Candidate {
   float priority;  // a lower bound of the cost until measured
   float local;     // the local cost alone (quadric or Schroeder's)
   float distance;  // the error in model units, for the record
   uint32_t vertex;
   uint32_t halfedge;
-  uint32_t version;
-  bool measured = false;  // the priority includes the removed points' distance
-  bool operator>(const Candidate& o) const { return priority > o.priority; }
+  uint32_t version : 31;  // version_'s low 31 bits (kVersionMask)
+  uint32_t measured : 1;  // the priority includes the removed points' distance
+  bool operator>(const Candidate& o) const {
+    return priority != o.priority ? priority > o.priority : vertex > o.vertex;
+  }
 };
 
 // The distinct vertex pairs of the carried faces, smaller id first.
@@ -137,18 +145,35 @@ class SchroederSimplifier {
     // Collapses change the neighbourhood of the vertices around them only; legality
     // further out is re-checked when a candidate is popped. A final sweep re-evaluates
     // every vertex, so the loop ends only when no legal collapse remains.
+    //
+    // The heap's array holds at most a quarter more entries than there are vertices:
+    // when full, its stale entries (older versions) are dropped (compact()) instead of
+    // letting it double. That changes no pop: the keys order every entry, ties included.
+    queue_.reserve(n_vertices + n_vertices / 4 + 64);
+    collapses.reserve(n_vertices);  // at most one per vertex: no doubling on the way
     for (;;) {
       for (auto v : mesh_.vertices()) evaluate(v);
       const std::size_t before = collapses.size();
       while (!queue_.empty() && !stopped_) {
-        const Candidate top = queue_.top();
-        queue_.pop();
-        if (top.version != version_[top.vertex]) continue;
+        std::pop_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+        const Candidate top = queue_.back();
+        queue_.pop_back();
+        if (top.version != (version_[top.vertex] & kVersionMask)) continue;
         if (removed_ && !top.measured && remeasure(top)) continue;
         apply(top);
       }
       if (stopped_ || collapses.size() == before) break;
     }
+    // Only the loop needed these: free them before assemble() builds the output, which is
+    // where the encoder's memory peaked (issue 9).
+    std::vector<Candidate>().swap(queue_);
+    std::vector<Quadric>().swap(quadrics_);
+    removed_.reset();
+    faces_ = FaceGeometry{};
+    std::vector<uint32_t>().swap(version_);
+    std::vector<uint8_t>().swap(keyed_by_measure_);
+    std::vector<uint8_t>().swap(input_corner_);
+    std::vector<uint8_t>().swap(sharp_corner_);
   }
 
   std::vector<Collapse> collapses;
@@ -285,9 +310,9 @@ class SchroederSimplifier {
       }
       if (!best) return;
       chosen = options[best->option].h;
-      queue_.push({static_cast<float>(best->cost), static_cast<float>(best->cost),
+      push({static_cast<float>(best->cost), static_cast<float>(best->cost),
                    static_cast<float>(std::sqrt(best->geometric)), static_cast<uint32_t>(v.idx()),
-                   static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
+                   static_cast<uint32_t>(chosen.idx()), version_[v.idx()] & kVersionMask, 0});
       return;
     }
     if (vertex_class.kind == VertexKind::kCorner) {
@@ -310,8 +335,8 @@ class SchroederSimplifier {
     const double local = std::max(error, std::sqrt(attribute_cost(chosen)));
     const float priority =
         static_cast<float>(sharp_corner_[v.idx()] ? kSharpCornerWeight * local : local);
-    queue_.push({priority, priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
-                 static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
+    push({priority, priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
+                 static_cast<uint32_t>(chosen.idx()), version_[v.idx()] & kVersionMask, 0});
   }
 
   // The priority of a candidate whose local cost is `local` and whose removed points and
@@ -358,23 +383,23 @@ class SchroederSimplifier {
     if (lower > 0) {
       Candidate bounded = top;
       bounded.priority = combined(top.local, lower);
-      if (!queue_.empty() && bounded > queue_.top()) {
+      if (!queue_.empty() && bounded > least()) {
         keyed_by_measure_[top.vertex] = 1;
-        queue_.push(bounded);
+        push(bounded);
         return true;
       }
     }
     const double worst = lower < 0 ? 0 : removed_->collapse_distance_from(h, lower);
     Candidate measured = top;
-    measured.measured = true;
+    measured.measured = 1;
     measured.priority = combined(top.local, worst);
     measured.distance = static_cast<float>(std::max<double>(top.distance, worst));
-    if (queue_.empty() || !(measured > queue_.top())) {
+    if (queue_.empty() || !(measured > least())) {
       apply(measured);
       return true;
     }
     keyed_by_measure_[top.vertex] = 1;
-    queue_.push(measured);
+    push(measured);
     return true;
   }
 
@@ -502,7 +527,21 @@ class SchroederSimplifier {
   std::vector<uint8_t> keyed_by_measure_;  // per vertex: its queued key includes a measure
   std::vector<uint8_t> input_corner_;  // classified a corner on the input
   std::vector<uint8_t> sharp_corner_;  // ... with a feature edge sharper than kSharpCornerDeg
-  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+  // A binary heap, least key on top (std::push_heap and std::pop_heap with greater).
+  std::vector<Candidate> queue_;
+  const Candidate& least() const { return queue_.front(); }
+  void push(const Candidate& c) {
+    if (queue_.size() == queue_.capacity()) compact();
+    queue_.push_back(c);
+    std::push_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+  }
+  // Drops the entries of older versions: at most one entry per vertex is current.
+  void compact() {
+    queue_.erase(std::remove_if(queue_.begin(), queue_.end(),
+                                [&](const Candidate& c) { return c.version != (version_[c.vertex] & kVersionMask); }),
+                 queue_.end());
+    std::make_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+  }
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
   double bound_ = 0;
   bool stopped_ = false;
