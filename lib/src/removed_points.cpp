@@ -54,11 +54,13 @@ RemovedPoints::RemovedPoints(const HalfEdgeMesh& mesh, double slack)
   }
 }
 
-void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const {
+void RemovedPoints::collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan,
+                                        bool with_samples) const {
   // The vertices whose input faces make the region, then the faces, each once: a small
   // open-addressing set of face ids (it stays in cache, where a mark per input face would
   // be a scattered load per face on a large input), in the order first met.
-  region_vertices_.assign(sampled_.begin(), sampled_.end());
+  region_vertices_.clear();
+  if (with_samples) region_vertices_.assign(sampled_.begin(), sampled_.end());
   for (int i = 0; i < fan.moved; ++i)
     for (auto w : mesh_.fv_range(mesh_.face_handle(fan.face[i])))
       region_vertices_.push_back(uint32_t(w.idx()));
@@ -124,8 +126,15 @@ void RemovedPoints::sample_points(HalfEdgeMesh::HalfedgeHandle h) const {
 }
 
 double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
+  const double lower = removed_distance(h);
+  return lower < 0 ? 0 : collapse_distance_from(h, lower);
+}
+
+double RemovedPoints::removed_distance(HalfEdgeMesh::HalfedgeHandle h) const {
   Fan& fan = fan_;
-  if (!make_fan(h, fan)) return 0;
+  fan_of_ = -1;
+  if (!make_fan(h, fan)) return -1;
+  fan_of_ = h.idx();
   sample_points(h);
   // The largest over points of the distance to the nearest face: a point already nearer
   // than the worst so far to some face cannot raise it, so its search stops there.
@@ -136,8 +145,53 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
         fan.triangles.nearest_distance(point_of(mesh_, mesh_.vertex_handle(p)), worst, &hint);
     if (nearest > worst) worst = nearest;
   }
+  return worst;
+}
 
-  collect_input_faces(h, fan);
+double RemovedPoints::collapse_distance_from(HalfEdgeMesh::HalfedgeHandle h, double worst) const {
+  if (fan_of_ != h.idx()) return collapse_distance(h);  // not right after removed_distance(h)
+  const Fan& fan = fan_;
+  int hint = -1;
+
+  // The fan's points (centroids and edge midpoints of the faces that change) to the input.
+  // Neighbouring faces of the fan share their edge to u, so most midpoints come twice. A
+  // point measured again cannot raise `worst` (its distance is at most `worst` already), so
+  // it is measured once; the same sum in either order is the same point, bit for bit.
+  measured_midpoints_.clear();
+  for (int i = 0; i < fan.moved; ++i) {  // the faces that change
+    const Vec3 a = fan.triangles.corner(i, 0), b = fan.triangles.corner(i, 1),
+               c = fan.triangles.corner(i, 2);
+    measured_midpoints_.push_back((a + b + c) / 3.0);
+    for (const Vec3& x : {(a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5}) {
+      if (std::find(measured_midpoints_.begin(), measured_midpoints_.end(), x) !=
+          measured_midpoints_.end())
+        continue;
+      measured_midpoints_.push_back(x);
+    }
+  }
+  // First against the input faces around the fan's corners alone, a part of the region:
+  // a point that far from the input is at most `worst` away cannot raise it, since the
+  // whole region is nearer still. Most points settle there; the whole region (the input
+  // faces around the removed points too, often many more) is gathered only for the rest.
+  // The result is the same: the largest of `worst` and the points' distances to the region.
+  collect_input_faces(h, fan, false);
+  build_region();
+  hint = -1;  // the last point's nearest face is a guess for the next
+  pending_.clear();
+  for (const Vec3& x : measured_midpoints_)
+    if (region_triangles_.nearest_distance(x, worst, &hint) > worst) pending_.push_back(x);
+  if (pending_.empty()) return worst;
+  collect_input_faces(h, fan, true);
+  build_region();
+  hint = -1;
+  for (const Vec3& x : pending_) {
+    const double nearest = region_triangles_.nearest_distance(x, worst, &hint);
+    if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
+  }
+  return worst;
+}
+
+void RemovedPoints::build_region() const {
   region_triangles_.clear(region_.size());
   // The corners are scattered over the input: their loads are asked for (prefetched) a few
   // faces ahead.
@@ -154,32 +208,11 @@ double RemovedPoints::collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const {
     region_triangles_.add(to_vec3(points[corner[0]]), to_vec3(points[corner[1]]),
                           to_vec3(points[corner[2]]), thin_input_face_[region_[k]]);
   }
-  hint = -1;  // the last sample's nearest face is a guess for the next
-  // Neighbouring faces of the fan share their edge to u, so most midpoints come twice. A
-  // point measured again cannot raise `worst` (its distance is at most `worst` already), so
-  // it is measured once; the same sum in either order is the same point, bit for bit.
-  measured_midpoints_.clear();
-  auto measure = [&](const Vec3& x) {
-    const double nearest = region_triangles_.nearest_distance(x, worst, &hint);
-    if (nearest > worst && nearest != std::numeric_limits<double>::infinity()) worst = nearest;
-  };
-  for (int i = 0; i < fan.moved; ++i) {  // the faces that change
-    const Vec3 a = fan.triangles.corner(i, 0), b = fan.triangles.corner(i, 1),
-               c = fan.triangles.corner(i, 2);
-    measure((a + b + c) / 3.0);
-    for (const Vec3& x : {(a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5}) {
-      if (std::find(measured_midpoints_.begin(), measured_midpoints_.end(), x) !=
-          measured_midpoints_.end())
-        continue;
-      measured_midpoints_.push_back(x);
-      measure(x);
-    }
-  }
-  return worst;
 }
 
 double RemovedPoints::collapse(HalfEdgeMesh::HalfedgeHandle h) {
   Fan& fan = fan_;
+  fan_of_ = -1;  // the mesh changes next
   if (!make_fan(h, fan)) return 0;
   double farthest = 0;
   moving_.assign(1, uint32_t(mesh_.from_vertex_handle(h).idx()));  // v, then its faces' points

@@ -28,6 +28,14 @@ class RemovedPoints {
   // centroid and edge midpoints of those faces to the input faces around the region.
   double collapse_distance(HalfEdgeMesh::HalfedgeHandle h) const;
 
+  // The same in two steps, the first a lower bound of the result and much cheaper:
+  // removed_distance(h) is the largest distance of v and the points of v's faces alone
+  // (negative when there is no fan: then collapse_distance is 0); right after it, on the
+  // same mesh, collapse_distance_from(h, that) adds the fan's points and returns what
+  // collapse_distance(h) would, bit for bit.
+  double removed_distance(HalfEdgeMesh::HalfedgeHandle h) const;
+  double collapse_distance_from(HalfEdgeMesh::HalfedgeHandle h, double lower) const;
+
   // Hands v and the points of its faces to the nearest replacing face, and returns the
   // largest distance of a point to its new face (every point, not a subset). Call just
   // before the mesh collapses h. The running maximum of these bounds the distance from
@@ -61,8 +69,12 @@ class RemovedPoints {
   // Fills sampled_: v, then every stride-th of v's faces' points, stride set by their count.
   void sample_points(HalfEdgeMesh::HalfedgeHandle h) const;
 
-  // The input faces around the sampled points and the corners of the fan, each once.
-  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan) const;
+  // The input faces around the corners of the fan and, with_samples, around the sampled
+  // points, each once, into region_.
+  void collect_input_faces(HalfEdgeMesh::HalfedgeHandle h, const Fan& fan,
+                           bool with_samples) const;
+  // region_triangles_: region_'s faces.
+  void build_region() const;
 
   const HalfEdgeMesh& mesh_;
   std::vector<uint32_t> input_corners_;      // the input's triangles, three vertex ids each
@@ -74,11 +86,13 @@ class RemovedPoints {
   mutable std::vector<uint32_t> region_;     // scratch: input faces of the current query
   mutable BoxedTriangles region_triangles_;  // scratch: their corners
   mutable Fan fan_;                          // scratch: the current query's fan
+  mutable int fan_of_ = -1;                  // the half-edge whose fan fan_ holds, or -1
   std::vector<uint32_t> first_;  // per face: first point of its list, kNone if empty
   std::vector<uint32_t> next_;   // per vertex: the next point in its face's list
   // Scratch, kept to avoid reallocation: the points that move, and those measured.
   mutable std::vector<uint32_t> moving_, sampled_;
   mutable std::vector<Vec3> measured_midpoints_;  // of the current query's fan
+  mutable std::vector<Vec3> pending_;  // those not settled by the input near the fan's corners
 };
 
 }  // namespace pm

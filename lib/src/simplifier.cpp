@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <queue>
 #include <set>
 #include <string>
 
@@ -42,14 +41,27 @@ struct Collapse {
 // charge what they carried. (An earlier version removed corners only after every other
 // kind; once simple vertices ran out, that removed corners at any cost: 4.6% of the
 // diagonal on rocker-arm at 10% of the faces, against 0.29% now.)
+//
+// Equal keys go oldest first, by a push counter. Flat regions, whose quadric errors are
+// all zero, are made of ties, and how they are broken shows in the streams' sizes: of
+// the orders tried (by vertex id, newest first, oldest first), oldest first kept the 2.0
+// stream of samples/block_features.obj under 60% of its 1.1 stream. Every entry has its
+// own key, so the order of the collapses does not depend on how the heap stores them
+// (compact() rebuilds it freely).
+constexpr uint32_t kVersionMask = 0x7fffffffu;
+
 struct Candidate {
-  float priority;
+  float priority;  // a lower bound of the cost until measured
+  float local;     // the local cost alone (quadric or Schroeder's)
   float distance;  // the error in model units, for the record
   uint32_t vertex;
   uint32_t halfedge;
-  uint32_t version;
-  bool measured = false;  // the priority includes the removed points' distance
-  bool operator>(const Candidate& o) const { return priority > o.priority; }
+  uint32_t version : 31;  // version_'s low 31 bits (kVersionMask)
+  uint32_t measured : 1;  // the priority includes the removed points' distance
+  uint32_t sequence = 0;  // when it was pushed (SchroederSimplifier::push)
+  bool operator>(const Candidate& o) const {
+    return priority != o.priority ? priority > o.priority : sequence > o.sequence;
+  }
 };
 
 // The distinct vertex pairs of the carried faces, smaller id first.
@@ -137,24 +149,43 @@ class SchroederSimplifier {
           sharp_corner_[v.idx()] = 1;
     }
     version_.assign(n_vertices, 0);
+    keyed_by_measure_.assign(n_vertices, 0);
     faces_alive_ = n_faces;
     vertices_alive_ = n_vertices;
 
     // Collapses change the neighbourhood of the vertices around them only; legality
     // further out is re-checked when a candidate is popped. A final sweep re-evaluates
     // every vertex, so the loop ends only when no legal collapse remains.
+    //
+    // The heap's array holds at most a quarter more entries than there are vertices:
+    // when full, its stale entries (older versions) are dropped (compact()) instead of
+    // letting it double. That changes no pop: the keys order every entry, ties included.
+    queue_.reserve(n_vertices + n_vertices / 4 + 64);
+    collapses.reserve(n_vertices);  // at most one per vertex: no doubling on the way
     for (;;) {
       for (auto v : mesh_.vertices()) evaluate(v);
       const std::size_t before = collapses.size();
       while (!queue_.empty() && !stopped_) {
-        const Candidate top = queue_.top();
-        queue_.pop();
-        if (top.version != version_[top.vertex]) continue;
+        std::pop_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+        const Candidate top = queue_.back();
+        queue_.pop_back();
+        if (top.version != (version_[top.vertex] & kVersionMask)) continue;
         if (removed_ && !top.measured && remeasure(top)) continue;
         apply(top);
       }
       if (stopped_ || collapses.size() == before) break;
     }
+    // Only the loop needed these: free them before assemble() builds the output, which is
+    // where the encoder's memory peaked (issue 9).
+    std::vector<Candidate>().swap(queue_);
+    std::vector<Quadric>().swap(quadrics_);
+    removed_.reset();
+    seam_drift_.reset();
+    faces_ = FaceGeometry{};
+    std::vector<uint32_t>().swap(version_);
+    std::vector<uint8_t>().swap(keyed_by_measure_);
+    std::vector<uint8_t>().swap(input_corner_);
+    std::vector<uint8_t>().swap(sharp_corner_);
   }
 
   std::vector<Collapse> collapses;
@@ -185,12 +216,51 @@ class SchroederSimplifier {
     return true;
   }
 
+  static constexpr int kMaxValence = 64;  // a vertex of larger valence is never cheap: it stays
+
   // Finds how v would be removed now and queues it; a stale entry is dropped by version.
   void evaluate(VertexHandle v) {
     ++version_[v.idx()];
+    keyed_by_measure_[v.idx()] = 0;
     if (mesh_.status(v).deleted()) return;
-    VertexClass vertex_class =
-        classify_vertex(mesh_, faces_, v, cos_feature_angle_, pinned_[v.idx()]);
+    // One walk around v finds each edge's kind once, for v's classification
+    // (classify_vertex's rules, the same answers) and for its options.
+    struct Option {
+      bool special;
+      double length;
+      HalfedgeHandle h;
+    };
+    Option options[kMaxValence];
+    int count = 0;
+    VertexClass vertex_class;  // complex until classified
+    if (!pinned_[v.idx()]) {
+      int boundary_edges = 0, feature_edges = 0;
+      bool manifold = true;  // OpenMesh's is_manifold: no boundary half-edge out but the first
+      for (auto h : mesh_.voh_range(v)) {
+        if (count == kMaxValence) return;
+        if (count > 0 && mesh_.is_boundary(h)) manifold = false;
+        const auto e = mesh_.edge_handle(h);
+        const bool boundary = mesh_.is_boundary(e);
+        const bool feature = !boundary && is_feature_edge(mesh_, faces_, e, cos_feature_angle_);
+        if (boundary || feature) {
+          const int special = boundary_edges + feature_edges;
+          if (special < 2) vertex_class.line_ends[special] = mesh_.to_vertex_handle(h);
+          boundary_edges += boundary;
+          feature_edges += feature;
+        }
+        options[count++] = {boundary || feature, 0.0, h};
+      }
+      if (count > 0 && manifold) {  // count == 0: isolated
+        if (boundary_edges == 0 && feature_edges == 0)
+          vertex_class.kind = VertexKind::kSimple;
+        else if (boundary_edges == 2 && feature_edges == 0)
+          vertex_class.kind = VertexKind::kBoundary;
+        else if (boundary_edges == 0 && feature_edges == 2)
+          vertex_class.kind = VertexKind::kInteriorEdge;
+        else
+          vertex_class.kind = VertexKind::kCorner;
+      }
+    }
     // A corner of the input stays one: collapses around it can wear its feature edges
     // down to fewer than three, but the shape's extremity it marks is still there.
     if (input_corner_[v.idx()] && vertex_class.kind != VertexKind::kComplex)
@@ -199,20 +269,11 @@ class SchroederSimplifier {
     if (vertex_class.kind == VertexKind::kCorner && options_.keep_corners)
       edges = CollapseEdges::kNone;
     if (edges == CollapseEdges::kNone) return;
-
-    struct Option {
-      bool special;
-      double length;
-      HalfedgeHandle h;
-    };
-    Option options[64];
-    int count = 0;
-    for (auto h : mesh_.voh_range(v)) {
-      if (count == 64) return;  // a vertex of valence > 64 stays: it is never cheap
-      const bool special = is_special_edge(mesh_, faces_, mesh_.edge_handle(h), cos_feature_angle_);
-      if (edges == CollapseEdges::kSpecialOnly && !special) continue;
-      options[count++] = {special, mesh_.calc_edge_sqr_length(h), h};
-    }
+    if (edges == CollapseEdges::kSpecialOnly)
+      count = static_cast<int>(std::remove_if(options, options + count,
+                                              [](const Option& o) { return !o.special; }) -
+                               options);
+    for (int i = 0; i < count; ++i) options[i].length = mesh_.calc_edge_sqr_length(options[i].h);
     // Shortest legal edge first (Schroeder 1997, §3.2); corners try their special edges
     // first and take the one of least true error.
     std::sort(options, options + count, [](const Option& a, const Option& b) {
@@ -261,9 +322,9 @@ class SchroederSimplifier {
       }
       if (!best) return;
       chosen = options[best->option].h;
-      queue_.push({static_cast<float>(best->cost), static_cast<float>(std::sqrt(best->geometric)),
-                   static_cast<uint32_t>(v.idx()), static_cast<uint32_t>(chosen.idx()),
-                   version_[v.idx()]});
+      push({static_cast<float>(best->cost), static_cast<float>(best->cost),
+                   static_cast<float>(std::sqrt(best->geometric)), static_cast<uint32_t>(v.idx()),
+                   static_cast<uint32_t>(chosen.idx()), version_[v.idx()] & kVersionMask, 0});
       return;
     }
     if (vertex_class.kind == VertexKind::kCorner) {
@@ -286,8 +347,16 @@ class SchroederSimplifier {
     const double local = std::max(error, std::sqrt(attribute_cost(chosen)));
     const float priority =
         static_cast<float>(sharp_corner_[v.idx()] ? kSharpCornerWeight * local : local);
-    queue_.push({priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
-                 static_cast<uint32_t>(chosen.idx()), version_[v.idx()]});
+    push({priority, priority, static_cast<float>(error), static_cast<uint32_t>(v.idx()),
+                 static_cast<uint32_t>(chosen.idx()), version_[v.idx()] & kVersionMask, 0});
+  }
+
+  // The priority of a candidate whose local cost is `local` and whose removed points and
+  // fan lie up to `worst` from the input or the surface they move to (remeasure()).
+  float combined(float local, double worst) const {
+    return static_cast<float>(options_.metric == Metric::kQuadric
+                                  ? local + kWorstCaseWeight * worst * worst
+                                  : std::max<double>(local, worst));
   }
 
   double attribute_cost(HalfedgeHandle h) const {
@@ -320,21 +389,36 @@ class SchroederSimplifier {
   bool remeasure(const Candidate& top) {
     const HalfedgeHandle h = mesh_.halfedge_handle(top.halfedge);
     if (mesh_.status(h).deleted()) return false;  // apply() re-evaluates it
-    const double worst = removed_->collapse_distance(h);
+    // First the removed points alone (no input region to gather): their worst distance is
+    // a lower bound of the whole measure, and so is the seam's drift. When that bound
+    // already puts the candidate behind the next one, it goes back with the bound as its
+    // key, which keeps the greedy order exact (a key never exceeds the cost) and skips the
+    // dearer half of the measure, often for good: most candidates sent back are
+    // re-evaluated before they come up again.
     const double drift = seam_drift_ ? kSeamDriftScale * seam_drift_->collapse_drift(h) : 0.0;
-    const double charged = std::max(worst, drift);
+    const double lower = removed_->removed_distance(h);
+    const double bound = std::max(lower, drift);
+    if (bound > 0) {
+      Candidate bounded = top;
+      bounded.priority = combined(top.local, bound);
+      if (!queue_.empty() && bounded > least()) {
+        keyed_by_measure_[top.vertex] = 1;
+        push(bounded);
+        return true;
+      }
+    }
+    const double worst = lower < 0 ? 0 : removed_->collapse_distance_from(h, lower);
     Candidate measured = top;
-    measured.measured = true;
-    measured.priority = static_cast<float>(options_.metric == Metric::kQuadric
-                                               ? top.priority + kWorstCaseWeight * charged * charged
-                                               : std::max<double>(top.priority, charged));
+    measured.measured = 1;
+    measured.priority = combined(top.local, std::max(worst, drift));
     // The record's error stays a distance to the surface (pmdec --error): no drift in it.
     measured.distance = static_cast<float>(std::max<double>(top.distance, worst));
-    if (queue_.empty() || !(measured > queue_.top())) {
+    if (queue_.empty() || !(measured > least())) {
       apply(measured);
       return true;
     }
-    queue_.push(measured);
+    keyed_by_measure_[top.vertex] = 1;
+    push(measured);
     return true;
   }
 
@@ -381,6 +465,10 @@ class SchroederSimplifier {
     c.bound = static_cast<float>(bound_);
     collapses.push_back(c);
 
+    VertexHandle ring[kMaxValence];  // v's neighbours (evaluate() refuses larger valences)
+    int ring_count = 0;
+    for (auto w : mesh_.vv_range(v))
+      if (ring_count < kMaxValence) ring[ring_count++] = w;
     mesh_.collapse(h);
     faces_alive_ -= removed_faces;
     --vertices_alive_;
@@ -390,8 +478,16 @@ class SchroederSimplifier {
       quadrics_[u.idx()] += quadrics_[v.idx()];  // Garland and Heckbert 1997, §4: Q = Q1 + Q2
     ++version_[v.idx()];
 
+    // Re-evaluated: u and v's other neighbours, whose one-rings changed. u's other
+    // neighbours keep their faces, so their classification, their options' costs and the
+    // geometry of their own faces are as they were, and their links can only have grown
+    // (u, next to them, is next to more vertices now), so their queued collapse is still
+    // their best unless it became illegal, which apply() finds when it is popped. Unless
+    // its key holds a measure: points may have moved onto their faces that touch u.
     evaluate(u);
-    for (auto w : mesh_.vv_range(u)) evaluate(w);
+    for (auto w : mesh_.vv_range(u))
+      if (keyed_by_measure_[w.idx()] || std::find(ring, ring + ring_count, w) != ring + ring_count)
+        evaluate(w);
     report_progress();
   }
 
@@ -449,9 +545,26 @@ class SchroederSimplifier {
   std::unique_ptr<CornerAttributes> attributes_;  // null: geometry only
   uint32_t new_faces_recorded_ = 0;
   std::vector<uint32_t> version_;
+  std::vector<uint8_t> keyed_by_measure_;  // per vertex: its queued key includes a measure
   std::vector<uint8_t> input_corner_;  // classified a corner on the input
   std::vector<uint8_t> sharp_corner_;  // ... with a feature edge sharper than kSharpCornerDeg
-  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+  // A binary heap, least key on top (std::push_heap and std::pop_heap with greater).
+  std::vector<Candidate> queue_;
+  uint32_t pushes_ = 0;
+  const Candidate& least() const { return queue_.front(); }
+  void push(const Candidate& c) {
+    if (queue_.size() == queue_.capacity()) compact();
+    queue_.push_back(c);
+    queue_.back().sequence = ++pushes_;  // wraps after 2^32 pushes: ties only, still deterministic
+    std::push_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+  }
+  // Drops the entries of older versions: at most one entry per vertex is current.
+  void compact() {
+    queue_.erase(std::remove_if(queue_.begin(), queue_.end(),
+                                [&](const Candidate& c) { return c.version != (version_[c.vertex] & kVersionMask); }),
+                 queue_.end());
+    std::make_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+  }
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
   double bound_ = 0;
   bool stopped_ = false;

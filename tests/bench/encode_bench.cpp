@@ -1,0 +1,81 @@
+// pm_bench_encode: the in-process time of pm::encode on one mesh (issue 10), for iterating
+// on the encoder's speed: user CPU and wall seconds of encode() alone (not reading nor
+// writing), and an FNV-1a hash of the written .pm, so that two builds' outputs can be
+// compared without keeping the files.
+//
+//   pm_bench_encode MESH [--metric quadric|schroeder] [--runs N] [--out FILE.pm]
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "pm/encoder.h"
+#include "pm/mesh_io.h"
+#include "pm/pm_codec.h"
+
+namespace {
+
+double user_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec) + 1e-6 * double(usage.ru_utime.tv_usec);
+}
+
+[[noreturn]] void die(const std::string& message) {
+  std::fprintf(stderr, "pm_bench_encode: %s\n", message.c_str());
+  std::exit(1);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string path, out;
+  pm::EncodeOptions options;
+  int runs = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--metric" && i + 1 < argc) {
+      const std::string m = argv[++i];
+      if (m == "quadric") options.metric = pm::Metric::kQuadric;
+      else if (m == "schroeder") options.metric = pm::Metric::kSchroeder;
+      else die("unknown metric " + m);
+    } else if (arg == "--runs" && i + 1 < argc) {
+      runs = std::max(1, std::atoi(argv[++i]));
+    } else if (arg == "--out" && i + 1 < argc) {
+      out = argv[++i];
+    } else if (path.empty()) {
+      path = arg;
+    } else {
+      die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N] [--out FILE]");
+    }
+  }
+  if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");
+  pm::Mesh mesh;
+  if (pm::Status s = pm::read_mesh(path, mesh); !s) die("reading " + path + ": " + s.message());
+  std::vector<double> users, walls;
+  std::string bytes;
+  pm::ProgressiveMesh progressive;
+  for (int r = 0; r < runs; ++r) {
+    const double user0 = user_seconds();
+    const auto wall0 = std::chrono::steady_clock::now();
+    if (pm::Status s = pm::encode(mesh, options, progressive); !s) die("encode: " + s.message());
+    walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    users.push_back(user_seconds() - user0);
+  }
+  if (pm::Status s = pm::write_pm(progressive, pm::WriteOptions{}, bytes); !s)
+    die("write: " + s.message());
+  uint64_t hash = 1469598103934665603ull;
+  for (unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;
+  if (!out.empty()) std::ofstream(out, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+  std::sort(users.begin(), users.end());
+  std::sort(walls.begin(), walls.end());
+  std::printf("%s faces %zu splits %zu user %.3f wall %.3f (median of %d) bytes %zu hash %016llx\n",
+              path.c_str(), mesh.face_count(), progressive.splits.size(), users[users.size() / 2],
+              walls[walls.size() / 2], runs, bytes.size(), static_cast<unsigned long long>(hash));
+  return 0;
+}
