@@ -121,14 +121,16 @@ TEST(PmStream, EncodedMeshesRoundTripAndAreSmallerThanFormat1) {
     ASSERT_TRUE(detail::write_pm_v1(pm, 19, v1).is_ok());
     WriteOptions options;
     ASSERT_TRUE(write_pm(pm, options, v2).is_ok());
-    // Attribute tables are stored as in 1.1, so the gain shows on the geometry. Where the
-    // tables are most of the stream (samples/textured.obj), the two sizes are within 1%,
-    // and which is smaller depends on the order of the collapses (zstd finds more or less
-    // to share in 1.1's global ids): the encoder's order changed with issue 10's speed work
-    // and 2.0 went from 0.5% smaller to 0.8% larger there, so within 1% is what is checked.
+    // Attribute tables and the splits' corner codes are stored as in 1.1 (zstd, no model of
+    // their own yet: issue 5), so the gain shows on the geometry. Where they are most of the
+    // stream (samples/textured.obj: TABL 10 kB, the chunks 37 kB of 48 kB), the two sizes
+    // are within a few per mille, and which is smaller depends on the order of the
+    // collapses (zstd finds more or less to share in 1.1's global ids): 2.0 went from 0.5%
+    // smaller to 0.8% larger with issue 10's tie order, 2.1 is 1.006 times 1.1 with the seam
+    // drift's. Within 2% is what is checked there.
     const bool geometry_only = !pm.has_uvs() && !pm.has_normals();
     if (pm.splits.size() > 1000) {
-      EXPECT_LT(v2.size(), geometry_only ? v1.size() * 6 / 10 : v1.size() * 101 / 100)
+      EXPECT_LT(v2.size(), geometry_only ? v1.size() * 6 / 10 : v1.size() * 102 / 100)
           << v2.size() << " vs " << v1.size();
     }
   }
