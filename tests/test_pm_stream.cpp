@@ -711,8 +711,10 @@ TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
   first[0] = 1;  // the first byte of a range code is 0
   EXPECT_FALSE(decode(first, equal));
   // A prefix of 40 ones is refused, not read on.
-  detail::RangeDecoder ones(std::string(1, '\0') + std::string(64, '\xFF').substr(0, 4) +
-                            std::string(64, '\xFE'));
+  // The decoder views its bytes: they must outlive it.
+  const std::string ones_code =
+      std::string(1, '\0') + std::string(4, '\xFF') + std::string(64, '\xFE');
+  detail::RangeDecoder ones(ones_code);
   detail::EgModels eg;
   uint64_t x = 0;
   bool refused = false;
