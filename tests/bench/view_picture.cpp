@@ -4,7 +4,7 @@
 //
 //   pm_view_picture FILE.pm --eye X,Y,Z --target X,Y,Z [--fov DEG] [--height PX]
 //                   [--pixel-error P] [--up x|y|z] [--no-culling] [--wire] -o OUT.png
-//                   [--size PX]
+//                   [--size PX] [--views AZ:EL[,AZ:EL...]] [--mark-eye]
 //
 // --no-culling turns off frustum and back-face culling, so that only the distance to the eye
 // (the screen-space error) sets the detail.
@@ -14,7 +14,9 @@
 // hide the falloff), each face coloured by its level: blue for base-mesh faces, through green,
 // to red for the deepest (the depth in the vertex hierarchy of the last split that made or
 // changed the face, stretched between the shallowest and deepest such depth in the mesh), with
-// the edges drawn under --wire.
+// the edges drawn under --wire. --views sets the overviews (azimuth:elevation in degrees
+// around the up axis; 89 looks straight down on a height field); --mark-eye adds a black
+// arrow at the eye, pointing where it looks.
 // The counts on stderr.
 #include <algorithm>
 #include <cmath>
@@ -35,7 +37,7 @@ int usage() {
   std::fprintf(stderr,
                "usage: pm_view_picture FILE.pm --eye X,Y,Z --target X,Y,Z [--fov DEG] [--height PX]\n"
                "                       [--pixel-error P] [--up x|y|z] [--no-culling] [--wire] -o OUT.png\n"
-               "                       [--size PX]\n");
+               "                       [--size PX] [--views AZ:EL[,AZ:EL...]] [--mark-eye]\n");
   return 2;
 }
 
@@ -50,6 +52,38 @@ pm::bench::Rgb level_color(double t) {
   return {float(2 * (t - 0.5) * 0.85 + 0.15), float(0.9 - 1.4 * (t - 0.5)), 0.3f};
 }
 
+// A flat arrow at the eye, along the view direction, 4% of the box's diagonal long: two
+// triangles (both windings, so that it shows from either side), appended to `mesh`.
+void add_eye_arrow(const pm::ViewCamera& camera, const pm::bench::Box& box, pm::Mesh& mesh) {
+  double diagonal = 0, f[3], length = 0;
+  for (int i = 0; i < 3; ++i) {
+    diagonal += (box.hi[i] - box.lo[i]) * (box.hi[i] - box.lo[i]);
+    f[i] = camera.target[i] - camera.eye[i];
+    length += f[i] * f[i];
+  }
+  diagonal = std::sqrt(diagonal);
+  length = std::sqrt(length);
+  const double scale = 0.04 * diagonal;
+  for (double& x : f) x /= length;
+  // The side direction: forward x up.
+  double s[3] = {f[1] * camera.up[2] - f[2] * camera.up[1], f[2] * camera.up[0] - f[0] * camera.up[2],
+                 f[0] * camera.up[1] - f[1] * camera.up[0]};
+  const double sl = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  for (double& x : s) x /= sl > 0 ? sl : 1;
+  // Faces are coloured by level alone: the attributes, per vertex or corner, are dropped
+  // rather than extended to the arrow.
+  const pm::Mesh lod = mesh;
+  mesh = pm::Mesh{};
+  mesh.positions = lod.positions;
+  mesh.triangles = lod.triangles;
+  const auto first = static_cast<uint32_t>(mesh.positions.size() / 3);
+  const double corners[3][2] = {{1, 0}, {-0.3, 0.5}, {-0.3, -0.5}};  // along f, along s
+  for (const auto& c : corners)
+    for (int i = 0; i < 3; ++i)
+      mesh.positions.push_back(static_cast<float>(camera.eye[i] + scale * (c[0] * f[i] + c[1] * s[i])));
+  for (uint32_t v : {0u, 1u, 2u, 0u, 2u, 1u}) mesh.triangles.push_back(first + v);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -57,7 +91,8 @@ int main(int argc, char** argv) {
   pm::ViewCamera camera;
   pm::ViewOptions options;
   int up_axis = 1, size = 512;
-  bool has_eye = false, has_target = false, wire = false;
+  bool has_eye = false, has_target = false, wire = false, mark_eye = false;
+  std::vector<std::pair<double, double>> views = {{0, 20}, {90, 20}, {200, 20}};
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool more = i + 1 < argc;
@@ -83,6 +118,21 @@ int main(int argc, char** argv) {
       options.frustum_culling = options.backface_culling = false;
     } else if (arg == "--wire") {
       wire = true;
+    } else if (arg == "--mark-eye") {
+      mark_eye = true;
+    } else if (arg == "--views" && more) {
+      views.clear();
+      const std::string list = argv[++i];
+      for (std::size_t at = 0; at < list.size();) {
+        std::size_t end = list.find(',', at);
+        if (end == std::string::npos) end = list.size();
+        double azimuth = 0, elevation = 0;
+        if (std::sscanf(list.substr(at, end - at).c_str(), "%lf:%lf", &azimuth, &elevation) != 2)
+          return usage();
+        views.emplace_back(azimuth, elevation);
+        at = end + 1;
+      }
+      if (views.empty()) return usage();
     } else if (arg == "-o" && more) {
       output = argv[++i];
     } else if (!arg.empty() && arg[0] != '-' && input.empty()) {
@@ -108,9 +158,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<uint32_t> levels;
-  const pm::Mesh mesh = refinement.to_mesh(&levels);
+  pm::Mesh mesh = refinement.to_mesh(&levels);
+  const std::size_t lod_faces = mesh.face_count();
   std::fprintf(stderr, "%s: %zu of %zu splits applied, %zu faces (full detail %zu)\n", input.c_str(),
-               refinement.applied_count(), refinement.split_count(), mesh.face_count(),
+               refinement.applied_count(), refinement.split_count(), lod_faces,
                pm.total_face_count());
 
   pm::bench::RenderOptions render;
@@ -135,20 +186,23 @@ int main(int argc, char** argv) {
   for (uint32_t level : levels)
     if (level > 0) shallowest = std::min(shallowest, depth[level - 1]);
   const double span = std::max<double>(1, deepest - shallowest);
-  render.face_color = [&](std::size_t face) {
+  if (mark_eye) add_eye_arrow(camera, pm::bench::bounding_box(mesh), mesh);
+  render.face_color = [&](std::size_t face) -> pm::bench::Rgb {
+    if (face >= lod_faces) return {0, 0, 0};  // the eye's arrow
     return level_color(levels[face] == 0 ? 0.0 : (depth[levels[face] - 1] - shallowest) / span);
   };
   // The overviews: the model framed by its own box from three sides.
   const pm::bench::Box frame = pm::bench::bounding_box(mesh);
   std::vector<pm::bench::Image> panels;
-  for (double azimuth : {0.0, 90.0, 200.0}) {
+  for (const auto& [azimuth, elevation] : views) {
     pm::bench::View view;
     view.azimuth_deg = azimuth;
-    view.elevation_deg = 20;
+    view.elevation_deg = elevation;
     view.up_axis = up_axis;
     panels.push_back(pm::bench::render_mesh(mesh, frame, view, render));
   }
-  const pm::bench::Image image = pm::bench::tile(panels, 3, 8, render.background);
+  const pm::bench::Image image =
+      pm::bench::tile(panels, static_cast<int>(panels.size()), 8, render.background);
   std::string message;
   if (!pm::bench::write_png(output, image, &message)) {
     std::fprintf(stderr, "pm_view_picture: %s\n", message.c_str());
