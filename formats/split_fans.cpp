@@ -97,17 +97,37 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
 }
 
 // The same fan as below for a few wedges (nearly every vertex: valence 6 on average), by
-// linear scans instead of sorts and binary searches: the same ring, start and faces.
+// linear scans instead of sorts and binary searches: the same ring, start and faces. One
+// pass over the pairs checks that each a and each b is unique and links each wedge to its
+// successor (the wedge whose a is its b), so the walk needs no second scan.
 bool SplitFans::small_fan(Fan& out) {
   const std::size_t n = wedges_.size();
+  uint8_t next[kSmallFan];
+  bool is_second[kSmallFan] = {};
+  std::fill(next, next + n, static_cast<uint8_t>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Wedge& wi = wedges_[i];
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const Wedge& wj = wedges_[j];
+      if (wj.a == wi.a || wj.b == wi.b) return false;
+      if (wj.b == wi.a) {
+        next[j] = static_cast<uint8_t>(i);
+        is_second[i] = true;
+      }
+      if (wi.b == wj.a) {
+        next[i] = static_cast<uint8_t>(j);
+        is_second[j] = true;
+      }
+    }
+    // A wedge whose b is its own a: (u, a, a) is not a face of a fan.
+    if (wi.b == wi.a) {
+      next[i] = static_cast<uint8_t>(i);
+      is_second[i] = true;
+    }
+  }
   std::size_t start = n, smallest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    bool is_second = false;
-    for (std::size_t j = 0; j < n; ++j) {
-      if (j != i && (wedges_[j].a == wedges_[i].a || wedges_[j].b == wedges_[i].b)) return false;
-      if (wedges_[j].b == wedges_[i].a) is_second = true;
-    }
-    if (!is_second) {
+    if (!is_second[i]) {
       if (start != n) return false;  // two open fans: u is pinched
       start = i;
     }
@@ -121,12 +141,9 @@ bool SplitFans::small_fan(Fan& out) {
     out.faces.push_back(wedges_[w].face);
     out.ring.push_back(wedges_[w].b);
     if (k + 1 == n) break;
-    std::size_t next = n;
-    for (std::size_t j = 0; j < n; ++j) {
-      if (wedges_[j].a == wedges_[w].b) next = j;
-    }
-    if (next == n || next == start) return false;  // several fans
-    w = next;
+    const std::size_t following = next[w];
+    if (following == n || following == start) return false;  // several fans
+    w = following;
   }
   return out.closed == (out.ring.back() == out.ring.front());
 }

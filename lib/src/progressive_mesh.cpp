@@ -78,34 +78,35 @@ bool check_base_faces(const ProgressiveMesh& pm, std::string* message) {
 // The split's own fields, before its faces are looked at.
 bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vertex_count,
                           std::string* message) {
-  const std::string where = "split " + std::to_string(i);
+  // Built only on failure: this runs once per split of every stream read.
+  const auto where = [i] { return "split " + std::to_string(i); };
   if (split.u >= vertex_count) {
-    return fail(message, where + " has u " + std::to_string(split.u) + " of " +
+    return fail(message, where() + " has u " + std::to_string(split.u) + " of " +
                              std::to_string(vertex_count) + " vertices");
   }
   if (split.vl != kNoVertex && split.vl >= vertex_count) {
-    return fail(message, where + " has vl " + std::to_string(split.vl) + " of " +
+    return fail(message, where() + " has vl " + std::to_string(split.vl) + " of " +
                              std::to_string(vertex_count) + " vertices");
   }
   if (split.vr != kNoVertex && split.vr >= vertex_count) {
-    return fail(message, where + " has vr " + std::to_string(split.vr) + " of " +
+    return fail(message, where() + " has vr " + std::to_string(split.vr) + " of " +
                              std::to_string(vertex_count) + " vertices");
   }
   if (split.vl == kNoVertex && split.vr == kNoVertex) {
-    return fail(message, where + " has neither vl nor vr");
+    return fail(message, where() + " has neither vl nor vr");
   }
   // These also guarantee that the new faces (v, u, vl) and (u, v, vr) repeat no index:
   // v is new, so it differs from u, vl and vr.
   if (split.u == split.vl || split.u == split.vr) {
-    return fail(message, where + " has u " + std::to_string(split.u) + " equal to " +
+    return fail(message, where() + " has u " + std::to_string(split.u) + " equal to " +
                              (split.u == split.vl ? "vl" : "vr"));
   }
   if (split.vl == split.vr) {
-    return fail(message, where + " has vl equal to vr (" + std::to_string(split.vl) + ")");
+    return fail(message, where() + " has vl equal to vr (" + std::to_string(split.vl) + ")");
   }
   if (!std::isfinite(split.error) || split.error < 0.0f) {
     return fail(message,
-                where + " has error " + std::to_string(split.error) + ", not a finite value >= 0");
+                where() + " has error " + std::to_string(split.error) + ", not a finite value >= 0");
   }
   return true;
 }
@@ -125,21 +126,22 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
   uint64_t next_moved = 0;  // where the next split's moved range must begin
   for (std::size_t i = 0; i < pm.splits.size(); ++i) {
     const VertexSplit& split = pm.splits[i];
-    const std::string where = "split " + std::to_string(i);
+    // Built only on failure: this runs once per split of every stream read.
+  const auto where = [i] { return "split " + std::to_string(i); };
     const uint32_t v = static_cast<uint32_t>(pm.base_vertex_count + i);
     if (!check_split_vertices(split, i, v, message)) return false;
     if (i > 0 && split.error > pm.splits[i - 1].error) {
-      return fail(message, where + " has error " + std::to_string(split.error) +
+      return fail(message, where() + " has error " + std::to_string(split.error) +
                                " above the previous split's " +
                                std::to_string(pm.splits[i - 1].error));
     }
     if (split.moved_begin != next_moved) {
-      return fail(message, where + " moved faces begin at " + std::to_string(split.moved_begin) +
+      return fail(message, where() + " moved faces begin at " + std::to_string(split.moved_begin) +
                                ", expected " + std::to_string(next_moved));
     }
     const uint64_t moved_end = uint64_t{split.moved_begin} + split.moved_count;
     if (moved_end > pm.moved_faces.size()) {
-      return fail(message, where + " moved faces end at " + std::to_string(moved_end) + " of " +
+      return fail(message, where() + " moved faces end at " + std::to_string(moved_end) + " of " +
                                std::to_string(pm.moved_faces.size()));
     }
     next_moved = moved_end;
@@ -148,17 +150,17 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
     for (uint64_t k = split.moved_begin; k < moved_end; ++k) {
       const uint32_t f = pm.moved_faces[k];
       if (f >= face_count) {
-        return fail(message, where + " moves face " + std::to_string(f) + " of " +
+        return fail(message, where() + " moves face " + std::to_string(f) + " of " +
                                  std::to_string(face_count));
       }
       if (last_split_moving[f] == i) {
-        return fail(message, where + " moves face " + std::to_string(f) + " twice");
+        return fail(message, where() + " moves face " + std::to_string(f) + " twice");
       }
       last_split_moving[f] = static_cast<uint32_t>(i);
       uint32_t* face = &faces[3 * std::size_t{f}];
       const int u_corners = (face[0] == split.u) + (face[1] == split.u) + (face[2] == split.u);
       if (u_corners != 1) {
-        return fail(message, where + " moves face " + std::to_string(f) + " " + face_text(face) +
+        return fail(message, where() + " moves face " + std::to_string(f) + " " + face_text(face) +
                                  ", which does not hold u " + std::to_string(split.u) +
                                  " exactly once");
       }
