@@ -105,8 +105,8 @@ bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vert
     return fail(message, where() + " has vl equal to vr (" + std::to_string(split.vl) + ")");
   }
   if (!std::isfinite(split.error) || split.error < 0.0f) {
-    return fail(message,
-                where() + " has error " + std::to_string(split.error) + ", not a finite value >= 0");
+    return fail(message, where() + " has error " + std::to_string(split.error) +
+                             ", not a finite value >= 0");
   }
   return true;
 }
@@ -127,7 +127,7 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
   for (std::size_t i = 0; i < pm.splits.size(); ++i) {
     const VertexSplit& split = pm.splits[i];
     // Built only on failure: this runs once per split of every stream read.
-  const auto where = [i] { return "split " + std::to_string(i); };
+    const auto where = [i] { return "split " + std::to_string(i); };
     const uint32_t v = static_cast<uint32_t>(pm.base_vertex_count + i);
     if (!check_split_vertices(split, i, v, message)) return false;
     if (i > 0 && split.error > pm.splits[i - 1].error) {
