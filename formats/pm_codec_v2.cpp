@@ -504,10 +504,12 @@ bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fa
     n[2] += e1[0] * e2[1] - e1[1] * e2[0];
   }
   const auto magnitude = [](int64_t x) { return x < 0 ? -x : x; };
-  while (magnitude(n[0]) >= (int64_t{1} << 15) || magnitude(n[1]) >= (int64_t{1} << 15) ||
-         magnitude(n[2]) >= (int64_t{1} << 15)) {
-    for (int64_t& x : n) x /= 2;
-  }
+  // Halved until each is below 2^15, truncating toward zero: k halvings are one division by
+  // 2^k (truncation composes), and the largest magnitude says how many.
+  const int64_t largest = std::max({magnitude(n[0]), magnitude(n[1]), magnitude(n[2])});
+  int halvings = 0;
+  while ((largest >> halvings) >= (int64_t{1} << 15)) ++halvings;
+  for (int64_t& x : n) x = x < 0 ? -(-x >> halvings) : x >> halvings;
   int normal = 0;
   for (int c = 1; c < 3; ++c) {
     if (magnitude(n[c]) > magnitude(n[normal])) normal = c;
@@ -545,11 +547,13 @@ int64_t normal_offset(const NormalFrame& f, const int64_t* d, const int64_t* r) 
 std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan) {
   const std::size_t n = fan.faces.size();
   if (n > kMaxNormalFan) return 0;
-  const int64_t divisor = positions.grid != nullptr ? 1 : 256;
+  // The divisor a constant in each branch: a division by a variable is a slow instruction,
+  // by 256 a shift.
+  const bool on_grid = positions.grid != nullptr;
   const auto diff = [&](uint32_t w, int c) {
-    return (int64_t{positions.units[3 * std::size_t{w} + c]} -
-            int64_t{positions.units[3 * std::size_t{u} + c]}) /
-           divisor;
+    const int64_t d = int64_t{positions.units[3 * std::size_t{w} + c]} -
+                      int64_t{positions.units[3 * std::size_t{u} + c]};
+    return on_grid ? d : d / 256;
   };
   int64_t direction[3] = {0, 0, 0};  // below 2^34
   for (std::size_t k = 0; k < n; ++k) {
