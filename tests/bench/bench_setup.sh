@@ -3,6 +3,8 @@
 #   bench_install TOOL [EXTRA_PACKAGE...]  installs the missing Debian packages the benchmarks
 #                                          build with, plus the script's own extras
 #   bench_configure REPO BUILD             configures BUILD for the benchmarks (tests off)
+#   bench_big_and_runs TOOL ARGS...        parses [--big] [--runs N] into $big (kept when
+#                                          not given) and $runs (7 unless given, at least 5)
 
 bench_install() {
   local tool=$1
@@ -23,4 +25,22 @@ bench_install() {
 
 bench_configure() {
   cmake -S "$1" -B "$2" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON -DPM_BUILD_TESTS=OFF >/dev/null
+}
+
+bench_big_and_runs() {
+  local tool=$1
+  shift
+  runs=7
+  while (($#)); do
+    case "$1" in
+      --big) big=1 ;;
+      --runs) runs="${2:-}"; shift ;;
+      *) echo "usage: $tool [--big] [--runs N]" >&2; exit 2 ;;
+    esac
+    shift
+  done
+  if ! [[ "$runs" =~ ^[0-9]+$ ]] || ((runs < 5)); then
+    echo "$tool: --runs must be at least 5 (each row is a median)" >&2
+    exit 2
+  fi
 }

@@ -22,22 +22,9 @@ meshes="$repo/../shared/meshes"
 report="$repo/tests/bench/decode.md"
 
 big="${PM_DECODE_BIG:-0}"
-runs=7
-while (($#)); do
-  case "$1" in
-    --big) big=1 ;;
-    --runs) runs="$2"; shift ;;
-    *) echo "usage: run_decode.sh [--big] [--runs N]" >&2; exit 2 ;;
-  esac
-  shift
-done
-if ! [[ "$runs" =~ ^[0-9]+$ ]] || ((runs < 5)); then
-  echo "run_decode.sh: --runs must be at least 5 (each row is a median)" >&2
-  exit 2
-fi
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_big_and_runs run_decode.sh "$@"
 bench_install run_decode.sh draco
 
 for source in nefertiti.obj stanford-bunny.obj; do
