@@ -567,6 +567,10 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   for (std::size_t i = 0; i < settings.levels.size(); ++i) {
     const std::size_t level = levels[i];
     last = std::move(meshes[i]);
+    // One group per material, unless this is the input's own order (--keep-order at full
+    // detail), which the output must keep.
+    if (!(progressive.keeps_order() && level == progressive.splits.size()))
+      pm::group_faces_by_material(last);
     if (!written[i].output.empty()) {
       const std::string& output = written[i].output;
       const pm::MeshFormat format = output_format_for(output, settings.output_format);
@@ -652,7 +656,9 @@ int decode_progressively(const Settings& settings, uint64_t every, const std::st
   options.allow_truncated = true;
   pm::PmStreamReader reader(options);
   const auto write_level = [&](uint64_t name_faces, std::size_t level) {
-    const pm::Mesh mesh = pm::extract_level(reader.mesh(), level);
+    pm::Mesh mesh = pm::extract_level(reader.mesh(), level);
+    if (!(reader.mesh().keeps_order() && level == reader.mesh().splits.size()))
+      pm::group_faces_by_material(mesh);
     std::string path = output;
     path.replace(path.find("{faces}"), 7, std::to_string(name_faces));
     const pm::MeshFormat format = output_format_for(path, settings.output_format);

@@ -1019,5 +1019,43 @@ TEST(AttributeStl, WritesGeometryOnly) {
   EXPECT_EQ(with, write_ok(plain, MeshFormat::kStl));
 }
 
+// group_faces_by_material: groups in the order of their first face, each stable, corners
+// and their attributes moved with their faces, vertices untouched.
+TEST(GroupFacesByMaterial, GroupsInFirstUseOrderStablyWithTheirCorners) {
+  Mesh mesh;
+  mesh.positions.assign(3 * 7, 0.0f);
+  // Five faces: materials 1, 0, none, 1, 0.
+  mesh.triangles = {0, 1, 2, 1, 2, 3, 2, 3, 4, 3, 4, 5, 4, 5, 6};
+  mesh.uvs.assign(2 * 15, 0.0f);
+  mesh.uv_indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14};
+  mesh.normals.assign(3 * 15, 0.0f);
+  mesh.normal_indices = {14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0};
+  mesh.material_names = {"a", "b"};
+  mesh.face_materials = {1, 0, kNoAttribute, 1, 0};
+  const std::vector<float> positions = mesh.positions;
+  group_faces_by_material(mesh);
+  // Faces 0, 3 (b), then 1, 4 (a), then 2 (none).
+  EXPECT_EQ(mesh.triangles, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 1, 2, 3, 4, 5, 6, 2, 3, 4}));
+  EXPECT_EQ(mesh.uv_indices,
+            (std::vector<uint32_t>{0, 1, 2, 9, 10, 11, 3, 4, 5, 12, 13, 14, 6, 7, 8}));
+  EXPECT_EQ(mesh.normal_indices,
+            (std::vector<uint32_t>{14, 13, 12, 5, 4, 3, 11, 10, 9, 2, 1, 0, 8, 7, 6}));
+  EXPECT_EQ(mesh.face_materials, (std::vector<uint32_t>{1, 1, 0, 0, kNoAttribute}));
+  EXPECT_EQ(mesh.positions, positions);
+  EXPECT_TRUE(validate_attributes(mesh, nullptr));
+
+  // Already grouped, one material, or none: unchanged.
+  for (const std::vector<uint32_t>& materials :
+       {std::vector<uint32_t>{1, 1, 0, 0, kNoAttribute}, std::vector<uint32_t>(5, 0),
+        std::vector<uint32_t>{}}) {
+    Mesh same = mesh;
+    same.face_materials = materials;
+    group_faces_by_material(same);
+    EXPECT_EQ(same.triangles, mesh.triangles);
+    EXPECT_EQ(same.uv_indices, mesh.uv_indices);
+    EXPECT_EQ(same.face_materials, materials);
+  }
+}
+
 }  // namespace
 }  // namespace pm

@@ -162,6 +162,50 @@ TEST(Cli, InfoListsTheAttributes) {
             std::string::npos);
 }
 
+// A level lists its faces as the splits made them, materials interleaved; pmdec writes one
+// usemtl group per material (the sample has two), the same faces, and with --keep-order the
+// input's own order at full detail.
+std::size_t count_lines_starting(const std::string& text, const std::string& prefix) {
+  std::size_t count = 0;
+  for (std::size_t at = 0; at < text.size();) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    count += text.compare(at, prefix.size(), prefix) == 0;
+    at = end + 1;
+  }
+  return count;
+}
+
+TEST(Cli, LevelsHaveOneMaterialGroupPerMaterial) {
+  TempDir dir;
+  const std::string input = test::sample_mesh_path("textured.obj");
+  ASSERT_EQ(count_lines_starting(test::read_file(input), "usemtl "), 2u);
+  ASSERT_EQ(pmenc({input, "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({input, "--keep-order", "-o", dir.file("k.pm"), "-q"}).exit_code, 0);
+  ProgressiveMesh progressive;
+  ASSERT_TRUE(read_pm(test::read_file(dir.file("t.pm")), progressive).ok());
+  for (const char* ratio : {"0.02", "0.1", "0.5", "1"}) {
+    SCOPED_TRACE(ratio);
+    ASSERT_EQ(pmdec({dir.file("t.pm"), "--ratio", ratio, "-o", dir.file("l.obj"), "-q"}).exit_code,
+              0);
+    const std::string text = test::read_file(dir.file("l.obj"));
+    EXPECT_EQ(count_lines_starting(text, "usemtl "), 2u);
+    const Mesh level = read_or_fail(dir.file("l.obj"));
+    EXPECT_TRUE(test::same_attributed_faces(
+        level, extract_level(progressive, level_for_faces(progressive, level.face_count()))));
+  }
+  // Without grouping the interleaving is real: the library's level has many more switches.
+  const Mesh half = extract_level(progressive, progressive.splits.size() / 2);
+  std::size_t switches = 0;
+  for (std::size_t f = 1; f < half.face_count(); ++f)
+    switches += half.face_materials[f] != half.face_materials[f - 1];
+  EXPECT_GT(switches, 10u);
+  ASSERT_EQ(pmdec({dir.file("k.pm"), "-o", dir.file("k.obj"), "-q"}).exit_code, 0);
+  const Mesh original = read_or_fail(input), kept = read_or_fail(dir.file("k.obj"));
+  EXPECT_EQ(kept.triangles, original.triangles);
+  EXPECT_EQ(kept.face_materials, original.face_materials);
+}
+
 TEST(Cli, MorphEndsAreTheTwoLevelsAndFramesRunBetweenThem) {
   TempDir dir;
   const std::string pm = dir.file("t.pm");

@@ -1,6 +1,8 @@
-// Mesh's attribute invariants, checked once where a mesh enters the encoder.
+// Mesh's attribute invariants, checked once where a mesh enters the encoder; faces grouped
+// by material for writing.
 #include "pm/mesh.h"
 
+#include <algorithm>
 #include <string>
 #include <utility>
 
@@ -43,6 +45,37 @@ bool validate_attributes(const Mesh& mesh, std::string* message) {
                        "normal index", message) &&
          check_indices(mesh.face_materials, mesh.face_count(), mesh.material_names.size(),
                        "face material", message);
+}
+
+void group_faces_by_material(Mesh& mesh) {
+  const std::size_t faces = mesh.face_count();
+  if (mesh.face_materials.size() != faces || faces == 0) return;
+  // Each group's rank: the order of its first face (kNoAttribute is a group too).
+  std::vector<uint32_t> rank_of(mesh.material_names.size() + 1, kNoAttribute);
+  std::vector<uint32_t> rank(faces);
+  uint32_t groups = 0;
+  for (std::size_t f = 0; f < faces; ++f) {
+    const uint32_t m = mesh.face_materials[f];
+    uint32_t& r = rank_of[m == kNoAttribute ? mesh.material_names.size() : m];
+    if (r == kNoAttribute) r = groups++;
+    rank[f] = r;
+  }
+  if (groups < 2) return;
+  std::vector<uint32_t> order(faces);
+  for (std::size_t f = 0; f < faces; ++f) order[f] = static_cast<uint32_t>(f);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](uint32_t a, uint32_t b) { return rank[a] < rank[b]; });
+  const auto permute = [&](std::vector<uint32_t>& values, std::size_t per_face) {
+    if (values.size() != per_face * faces) return;
+    std::vector<uint32_t> out(values.size());
+    for (std::size_t k = 0; k < faces; ++k)
+      std::copy_n(&values[per_face * order[k]], per_face, &out[per_face * k]);
+    values = std::move(out);
+  };
+  permute(mesh.triangles, 3);
+  permute(mesh.uv_indices, 3);
+  permute(mesh.normal_indices, 3);
+  permute(mesh.face_materials, 1);
 }
 
 }  // namespace pm

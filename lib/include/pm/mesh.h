@@ -60,4 +60,13 @@ struct Mesh {
 // violation. Readers produce valid meshes; encode() refuses an invalid one.
 bool validate_attributes(const Mesh& mesh, std::string* message);
 
+// Reorders the faces so that each material's faces are contiguous: materials in the order
+// of their first face, faces without a material where their first one stood, each group's
+// faces in their order (a stable sort). Corners and attributes travel with their faces;
+// vertices are not touched. A level of a progressive mesh lists its faces as the splits
+// made them, so its materials interleave (hundreds of `usemtl` switches, and as many draw
+// calls in a renderer that makes one per group); grouped, an OBJ has one `usemtl` per
+// material. Without materials, nothing changes.
+void group_faces_by_material(Mesh& mesh);
+
 }  // namespace pm
