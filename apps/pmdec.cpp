@@ -449,6 +449,15 @@ std::string json_members(const std::vector<WrittenLevel>& levels, const StreamCo
   return json;
 }
 
+// Faces grouped by material for writing (one usemtl per material), unless the mesh is
+// the input's own order, which the output keeps: a level from extract_level at full detail
+// of a stream made with --keep-order (a selective mesh or a geomorph never is).
+void group_materials_for_output(const pm::ProgressiveMesh& progressive, bool extracted,
+                                std::size_t level, pm::Mesh& mesh) {
+  if (!(extracted && progressive.keeps_order() && level == progressive.splits.size()))
+    pm::group_faces_by_material(mesh);
+}
+
 pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& progress,
                              const Settings& settings) {
   const auto start = std::chrono::steady_clock::now();
@@ -567,10 +576,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   for (std::size_t i = 0; i < settings.levels.size(); ++i) {
     const std::size_t level = levels[i];
     last = std::move(meshes[i]);
-    // One group per material, unless this is the input's own order (--keep-order at full
-    // detail), which the output must keep.
-    if (!(progressive.keeps_order() && level == progressive.splits.size()))
-      pm::group_faces_by_material(last);
+    group_materials_for_output(progressive, !selective && !settings.morph, level, last);
     if (!written[i].output.empty()) {
       const std::string& output = written[i].output;
       const pm::MeshFormat format = output_format_for(output, settings.output_format);
@@ -657,8 +663,7 @@ int decode_progressively(const Settings& settings, uint64_t every, const std::st
   pm::PmStreamReader reader(options);
   const auto write_level = [&](uint64_t name_faces, std::size_t level) {
     pm::Mesh mesh = pm::extract_level(reader.mesh(), level);
-    if (!(reader.mesh().keeps_order() && level == reader.mesh().splits.size()))
-      pm::group_faces_by_material(mesh);
+    group_materials_for_output(reader.mesh(), true, level, mesh);
     std::string path = output;
     path.replace(path.find("{faces}"), 7, std::to_string(name_faces));
     const pm::MeshFormat format = output_format_for(path, settings.output_format);

@@ -204,6 +204,13 @@ TEST(Cli, LevelsHaveOneMaterialGroupPerMaterial) {
   const Mesh original = read_or_fail(input), kept = read_or_fail(dir.file("k.obj"));
   EXPECT_EQ(kept.triangles, original.triangles);
   EXPECT_EQ(kept.face_materials, original.face_materials);
+  // A selective mesh with every split applied is not the input's order: grouped.
+  ASSERT_EQ(
+      pmdec({dir.file("k.pm"), "--region", "sphere:0,0,0,1000", "-o", dir.file("r.obj"), "-q"})
+          .exit_code,
+      0);
+  EXPECT_EQ(read_or_fail(dir.file("r.obj")).face_count(), original.face_count());
+  EXPECT_EQ(count_lines_starting(test::read_file(dir.file("r.obj")), "usemtl "), 2u);
 }
 
 TEST(Cli, MorphEndsAreTheTwoLevelsAndFramesRunBetweenThem) {

@@ -56,6 +56,7 @@ void group_faces_by_material(Mesh& mesh) {
   uint32_t groups = 0;
   for (std::size_t f = 0; f < faces; ++f) {
     const uint32_t m = mesh.face_materials[f];
+    if (m != kNoAttribute && m >= mesh.material_names.size()) return;  // invalid: left as is
     uint32_t& r = rank_of[m == kNoAttribute ? mesh.material_names.size() : m];
     if (r == kNoAttribute) r = groups++;
     rank[f] = r;

@@ -18,6 +18,7 @@
 // around the up axis; 89 looks straight down on a height field); --mark-eye adds a black
 // arrow at the eye, pointing where it looks.
 // The counts on stderr.
+#include <OpenMesh/Core/Geometry/VectorT.hh>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -53,34 +54,25 @@ pm::bench::Rgb level_color(double t) {
 }
 
 // A flat arrow at the eye, along the view direction, 4% of the box's diagonal long: two
-// triangles (both windings, so that it shows from either side), appended to `mesh`.
+// triangles (both windings, so that it shows from either side), appended to `mesh`. Faces
+// are coloured by level alone, so the attributes (per vertex or corner) are dropped rather
+// than extended to the arrow.
 void add_eye_arrow(const pm::ViewCamera& camera, const pm::bench::Box& box, pm::Mesh& mesh) {
-  double diagonal = 0, f[3], length = 0;
-  for (int i = 0; i < 3; ++i) {
-    diagonal += (box.hi[i] - box.lo[i]) * (box.hi[i] - box.lo[i]);
-    f[i] = camera.target[i] - camera.eye[i];
-    length += f[i] * f[i];
-  }
-  diagonal = std::sqrt(diagonal);
-  length = std::sqrt(length);
-  const double scale = 0.04 * diagonal;
-  for (double& x : f) x /= length;
-  // The side direction: forward x up.
-  double s[3] = {f[1] * camera.up[2] - f[2] * camera.up[1], f[2] * camera.up[0] - f[0] * camera.up[2],
-                 f[0] * camera.up[1] - f[1] * camera.up[0]};
-  const double sl = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-  for (double& x : s) x /= sl > 0 ? sl : 1;
-  // Faces are coloured by level alone: the attributes, per vertex or corner, are dropped
-  // rather than extended to the arrow.
-  const pm::Mesh lod = mesh;
-  mesh = pm::Mesh{};
-  mesh.positions = lod.positions;
-  mesh.triangles = lod.triangles;
-  const auto first = static_cast<uint32_t>(mesh.positions.size() / 3);
-  const double corners[3][2] = {{1, 0}, {-0.3, 0.5}, {-0.3, -0.5}};  // along f, along s
-  for (const auto& c : corners)
-    for (int i = 0; i < 3; ++i)
-      mesh.positions.push_back(static_cast<float>(camera.eye[i] + scale * (c[0] * f[i] + c[1] * s[i])));
+  using Vec = OpenMesh::Vec3d;
+  const Vec eye(camera.eye[0], camera.eye[1], camera.eye[2]);
+  const Vec forward = (Vec(camera.target[0], camera.target[1], camera.target[2]) - eye).normalize();
+  Vec side = forward % Vec(camera.up[0], camera.up[1], camera.up[2]);
+  if (side.norm() > 0) side.normalize();
+  const double scale =
+      0.04 * (Vec(box.hi[0], box.hi[1], box.hi[2]) - Vec(box.lo[0], box.lo[1], box.lo[2])).norm();
+  pm::Mesh shown;
+  shown.positions = std::move(mesh.positions);
+  shown.triangles = std::move(mesh.triangles);
+  mesh = std::move(shown);
+  const auto first = static_cast<uint32_t>(mesh.vertex_count());
+  for (const Vec& corner : {eye + scale * forward, eye + scale * (-0.3 * forward + 0.5 * side),
+                            eye + scale * (-0.3 * forward - 0.5 * side)})
+    for (int i = 0; i < 3; ++i) mesh.positions.push_back(static_cast<float>(corner[i]));
   for (uint32_t v : {0u, 1u, 2u, 0u, 2u, 1u}) mesh.triangles.push_back(first + v);
 }
 

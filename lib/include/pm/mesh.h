@@ -66,7 +66,7 @@ bool validate_attributes(const Mesh& mesh, std::string* message);
 // vertices are not touched. A level of a progressive mesh lists its faces as the splits
 // made them, so its materials interleave (hundreds of `usemtl` switches, and as many draw
 // calls in a renderer that makes one per group); grouped, an OBJ has one `usemtl` per
-// material. Without materials, nothing changes.
+// material. Without materials, or with a material index out of range, nothing changes.
 void group_faces_by_material(Mesh& mesh);
 
 }  // namespace pm
