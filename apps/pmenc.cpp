@@ -106,6 +106,13 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   if (pm::Status s = pm::encode(mesh, options, progressive, &stats); !s) return failed(s);
   mesh = pm::Mesh();
   if (stats.repair.any()) progress.note(repairs_note(input, stats.repair));
+  if (options.fast && !stats.fast)
+    progress.note(input + ": --fast: " +
+                  (options.metric != pm::Metric::kQuadric
+                       ? std::string("the schroeder metric has no fast loop")
+                       : std::string("the mesh has texture coordinates, normals or materials "
+                                     "(--drop-attributes to encode geometry only)")) +
+                  "; the default loop ran");
 
   std::string encoded;
   if (pm::Status s = pm::write_pm(progressive, settings.write, encoded); !s) return failed(s);
@@ -165,6 +172,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 180.0));
   app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
+  app.add_flag("--fast", settings.encode.fast,
+               "Fast collapse loop: quadric metric on flat arrays, without the measured error "
+               "(many times faster on large meshes; levels a little farther from the input, "
+               "recorded errors estimated). Geometry only: with texture coordinates, normals or "
+               "materials kept, or --metric schroeder, the default loop runs");
   app.add_flag("--keep-order", settings.encode.keep_order,
                "Store the input's vertex and face order: full detail lists them as the input did");
   app.add_flag("--drop-attributes", settings.encode.drop_attributes,

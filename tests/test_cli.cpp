@@ -386,6 +386,41 @@ TEST(Cli, MetricOptionSelectsTheCost) {
   EXPECT_FALSE(test::file_exists(dir.file("x.pm")));
 }
 
+// --fast runs the fast loop on geometry: another sequence, the same full detail. On a mesh
+// with texture coordinates it says so and runs the default loop, unless --drop-attributes.
+TEST(Cli, FastLoopRunsOnGeometryAndSaysWhenItCannot) {
+  TempDir dir;
+  const std::string block = test::sample_mesh_path("block_features.obj");
+  ASSERT_EQ(pmenc({block, "-o", dir.file("default.pm"), "-q"}).exit_code, 0);
+  const CommandResult fast = pmenc({block, "--fast", "-o", dir.file("fast.pm")});
+  ASSERT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_EQ(fast.err.find("--fast:"), std::string::npos) << fast.err;
+  EXPECT_NE(test::read_file(dir.file("fast.pm")), test::read_file(dir.file("default.pm")));
+  ASSERT_EQ(pmdec({dir.file("fast.pm"), "-o", dir.file("fast.obj"), "-q"}).exit_code, 0);
+  EXPECT_TRUE(test::same_faces(read_or_fail(block), read_or_fail(dir.file("fast.obj"))));
+
+  const std::string textured = test::sample_mesh_path("textured.obj");
+  ASSERT_EQ(pmenc({textured, "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
+  const CommandResult fallback = pmenc({textured, "--fast", "-o", dir.file("t_fast.pm")});
+  ASSERT_EQ(fallback.exit_code, 0) << fallback.err;
+  EXPECT_NE(fallback.err.find(textured + ": --fast: the mesh has texture coordinates"),
+            std::string::npos)
+      << fallback.err;
+  EXPECT_EQ(test::read_file(dir.file("t_fast.pm")), test::read_file(dir.file("t.pm")));
+  const CommandResult schroeder =
+      pmenc({block, "--fast", "--metric", "schroeder", "-o", dir.file("s.pm")});
+  ASSERT_EQ(schroeder.exit_code, 0) << schroeder.err;
+  EXPECT_NE(schroeder.err.find("--fast: the schroeder metric has no fast loop"), std::string::npos)
+      << schroeder.err;
+
+  const CommandResult geometry =
+      pmenc({textured, "--fast", "--drop-attributes", "-o", dir.file("g.pm")});
+  ASSERT_EQ(geometry.exit_code, 0) << geometry.err;
+  EXPECT_EQ(geometry.err.find("--fast:"), std::string::npos) << geometry.err;
+  ASSERT_EQ(pmdec({dir.file("g.pm"), "-o", dir.file("g.obj"), "-q"}).exit_code, 0);
+  EXPECT_TRUE(test::same_faces(read_or_fail(textured), read_or_fail(dir.file("g.obj"))));
+}
+
 }  // namespace
 }  // namespace pm
 

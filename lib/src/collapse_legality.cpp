@@ -127,4 +127,35 @@ bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle
   return true;
 }
 
+std::set<std::pair<uint32_t, uint32_t>> carried_edges(const ManifoldMesh& repaired) {
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  const auto& f = repaired.carried_faces;
+  for (std::size_t i = 0; i + 2 < f.size(); i += 3)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = f[i + k], b = f[i + (k + 1) % 3];
+      if (a != b) edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  return edges;
+}
+
+WeldGroups weld_groups(const ManifoldMesh& repaired) {
+  WeldGroups welds;
+  const std::size_t n = repaired.canonical.size();
+  for (uint32_t x = 0; x < n; ++x) {
+    const uint32_t c = repaired.canonical[x];
+    if (c == x) continue;
+    if (welds.group.empty()) {
+      welds.group.assign(n, -1);
+      welds.members.resize(n);
+    }
+    if (welds.group[c] < 0) {
+      welds.group[c] = static_cast<int>(c);
+      welds.members[c].push_back(c);
+    }
+    welds.group[x] = static_cast<int>(c);
+    welds.members[c].push_back(x);
+  }
+  return welds;
+}
+
 }  // namespace pm

@@ -2,9 +2,12 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "half_edge_mesh.h"
+#include "manifold_repair.h"
 
 namespace pm {
 
@@ -35,5 +38,12 @@ struct WeldGroups {
 };
 bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
                           const WeldGroups& welds);
+
+// The weld groups of build_manifold_mesh's copies (empty when it made none).
+WeldGroups weld_groups(const ManifoldMesh& repaired);
+
+// The distinct vertex pairs of the carried faces, smaller id first: a collapse may not make
+// one of them an edge of the surface (the two would merge at output and lose an edge).
+std::set<std::pair<uint32_t, uint32_t>> carried_edges(const ManifoldMesh& repaired);
 
 }  // namespace pm

@@ -9,7 +9,9 @@
 #include <string>
 
 #include "collapse_legality.h"
+#include "collapse_sequence.h"
 #include "corner_attributes.h"
+#include "fast_simplifier.h"
 #include "manifold_repair.h"
 #include "pm/encoder.h"
 #include "pm/pm_codec.h"
@@ -25,16 +27,6 @@ namespace {
 using VertexHandle = HalfEdgeMesh::VertexHandle;
 using HalfedgeHandle = HalfEdgeMesh::HalfedgeHandle;
 using FaceHandle = HalfEdgeMesh::FaceHandle;
-
-// One half-edge collapse v -> u as it happened, in half-edge-mesh ids.
-struct Collapse {
-  uint32_t v, u;
-  uint32_t vl, vr;  // kNoVertex on a boundary side
-  int fl, fr;       // removed faces, -1 when absent
-  uint32_t moved_begin, moved_count;
-  uint32_t new_faces_begin;  // fl's (then fr's) entry in CollapseAttributes' new-face lists
-  float bound;  // error bound of the mesh after this collapse
-};
 
 // The smallest error goes first. Corners compete like every other vertex: their error is
 // the true distance to the surface that replaces them, and the tracked removed points
@@ -63,38 +55,6 @@ struct Candidate {
     return priority != o.priority ? priority > o.priority : sequence > o.sequence;
   }
 };
-
-// The distinct vertex pairs of the carried faces, smaller id first.
-std::set<std::pair<uint32_t, uint32_t>> carried_edges(const ManifoldMesh& repaired) {
-  std::set<std::pair<uint32_t, uint32_t>> edges;
-  const auto& f = repaired.carried_faces;
-  for (std::size_t i = 0; i + 2 < f.size(); i += 3)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = f[i + k], b = f[i + (k + 1) % 3];
-      if (a != b) edges.insert({std::min(a, b), std::max(a, b)});
-    }
-  return edges;
-}
-
-WeldGroups weld_groups(const ManifoldMesh& repaired) {
-  WeldGroups welds;
-  const std::size_t n = repaired.canonical.size();
-  for (uint32_t x = 0; x < n; ++x) {
-    const uint32_t c = repaired.canonical[x];
-    if (c == x) continue;
-    if (welds.group.empty()) {
-      welds.group.assign(n, -1);
-      welds.members.resize(n);
-    }
-    if (welds.group[c] < 0) {
-      welds.group[c] = static_cast<int>(c);
-      welds.members[c].push_back(c);
-    }
-    welds.group[x] = static_cast<int>(c);
-    welds.members[c].push_back(x);
-  }
-  return welds;
-}
 
 class SchroederSimplifier {
  public:
@@ -614,39 +574,52 @@ void record_face_rotations(const Mesh& input, ProgressiveMesh& out) {
   }
 }
 
-void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSimplifier& run,
+// What a simplifier left: its collapses, the base mesh, and the half-edge mesh's points
+// and counts (the mesh itself may be gone: simplify_fast clears it).
+struct Simplified {
+  const std::vector<Collapse>& collapses;
+  const std::vector<uint32_t>& moved_faces;
+  const CollapseAttributes& attribute_record;
+  const CornerAttributes* attributes;  // null: geometry only
+  const BaseMesh& base;
+  const float* points;  // three per half-edge-mesh vertex
+  std::size_t n_vertices, n_faces;
+};
+
+void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified& run,
               bool keep_attributes, bool keep_order, ProgressiveMesh& out) {
-  const HalfEdgeMesh& mesh = repaired.mesh;
-  std::vector<uint32_t> vertex_id(mesh.n_vertices(), kNoVertex);
-  std::vector<uint32_t> face_id(mesh.n_faces(), kNoVertex);
+  const std::size_t n_vertices = run.n_vertices, n_faces = run.n_faces;
+  std::vector<uint32_t> vertex_id(n_vertices, kNoVertex);
+  std::vector<uint32_t> face_id(n_faces, kNoVertex);
   out = ProgressiveMesh{};
-  out.positions.reserve(3 * (mesh.n_vertices() + repaired.loose_vertices.size()));
+  out.positions.reserve(3 * (n_vertices + repaired.loose_vertices.size()));
   std::vector<uint32_t> vertex_order;  // half-edge-mesh vertex of each vertex id
-  vertex_order.reserve(mesh.n_vertices());
-  auto add_position = [&](VertexHandle v) {
-    const auto& p = mesh.point(v);
+  vertex_order.reserve(n_vertices);
+  auto add_position = [&](uint32_t v) {
+    const float* p = run.points + 3 * std::size_t{v};
     out.positions.insert(out.positions.end(), {p[0], p[1], p[2]});
-    vertex_order.push_back(static_cast<uint32_t>(v.idx()));
+    vertex_order.push_back(v);
   };
 
   uint32_t next_vertex = 0, next_face = 0;
-  for (auto v : mesh.vertices()) {  // skips deleted vertices
-    vertex_id[v.idx()] = next_vertex++;
+  for (uint32_t v : run.base.vertices) {
+    vertex_id[v] = next_vertex++;
     add_position(v);
   }
   out.base_vertex_count = next_vertex;
   // Attributes: what each face has when it appears (Hoppe 1996, §3), base faces first.
-  const CornerAttributes* attributes = run.attributes();
+  const CornerAttributes* attributes = run.attributes;
   const bool uvs = attributes && attributes->has_uvs();
   const bool normals = attributes && attributes->has_normals();
   const bool materials = attributes && attributes->has_materials();
-  for (auto f : mesh.faces()) {
+  for (std::size_t i = 0; i < run.base.faces.size(); ++i) {
+    const FaceHandle f(static_cast<int>(run.base.faces[i]));
     face_id[f.idx()] = next_face++;
     VertexHandle at[3];
-    int k = 0;
-    for (auto w : mesh.fv_range(f)) {
-      out.base_faces.push_back(vertex_id[w.idx()]);
-      at[k++] = w;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t w = run.base.corners[3 * i + k];
+      out.base_faces.push_back(vertex_id[w]);
+      at[k] = VertexHandle(static_cast<int>(w));
     }
     if (!attributes) continue;
     uint32_t uv[3], normal[3];
@@ -662,7 +635,7 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
   out.moved_faces.reserve(run.moved_faces.size());
   for (auto c = collapses.rbegin(); c != collapses.rend(); ++c) {
     vertex_id[c->v] = next_vertex++;
-    add_position(mesh.vertex_handle(c->v));
+    add_position(c->v);
     VertexSplit split;
     split.u = vertex_id[c->u];
     split.vl = c->vl == kNoVertex ? kNoVertex : vertex_id[c->vl];
@@ -690,12 +663,12 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
            out.face_normals);
     }
     if (materials) {
-      if (c->fl >= 0) out.face_materials.push_back(attributes->material(mesh.face_handle(c->fl)));
-      if (c->fr >= 0) out.face_materials.push_back(attributes->material(mesh.face_handle(c->fr)));
+      if (c->fl >= 0) out.face_materials.push_back(attributes->material(FaceHandle(c->fl)));
+      if (c->fr >= 0) out.face_materials.push_back(attributes->material(FaceHandle(c->fr)));
     }
   }
 
-  for (uint32_t v = 0; v < mesh.n_vertices(); ++v)
+  for (uint32_t v = 0; v < n_vertices; ++v)
     if (repaired.canonical[v] != v)
       out.welds.push_back({vertex_id[v], vertex_id[repaired.canonical[v]]});
   for (uint32_t v : repaired.carried_faces) out.carried_faces.push_back(vertex_id[v]);
@@ -714,7 +687,7 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
     // Each input vertex is one canonical half-edge-mesh vertex, or a loose vertex; each input
     // triangle one half-edge-mesh face, or a carried face (last in creation order).
     out.input_vertices.assign(input.vertex_count(), kNoVertex);
-    for (uint32_t x = 0; x < mesh.n_vertices(); ++x) {
+    for (uint32_t x = 0; x < n_vertices; ++x) {
       if (repaired.canonical[x] == x) out.input_vertices[repaired.input_vertex[x]] = vertex_id[x];
     }
     const uint32_t first_loose = next_vertex;
@@ -722,7 +695,7 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const SchroederSi
       out.input_vertices[repaired.loose_vertices[k]] = first_loose + static_cast<uint32_t>(k);
     }
     out.input_faces.assign(input.face_count(), kNoVertex);
-    for (uint32_t f = 0; f < mesh.n_faces(); ++f) {
+    for (uint32_t f = 0; f < n_faces; ++f) {
       if (face_id[f] != kNoVertex) out.input_faces[repaired.input_face[f]] = face_id[f];
     }
     for (std::size_t k = 0; k < repaired.carried_input_faces.size(); ++k) {
@@ -779,12 +752,38 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   ManifoldMesh repaired;
   if (Status s = build_manifold_mesh(input, repaired); !s) return s;
 
-  // Stage 2: the collapse sequence.
-  SchroederSimplifier simplifier(input, repaired, options);
-  simplifier.run();
-
-  // Stage 3: the progressive mesh, checked as a decoder would check it.
-  assemble(input, repaired, simplifier, !options.drop_attributes, options.keep_order, out);
+  // Stage 2: the collapse sequence. Stage 3: the progressive mesh.
+  const bool corner_attributes =
+      !options.drop_attributes && (input.has_uvs() || input.has_normals() || input.has_materials());
+  const bool fast = options.fast && options.metric == Metric::kQuadric && !corner_attributes;
+  if (fast) {
+    const std::size_t n_vertices = repaired.mesh.n_vertices(), n_faces = repaired.mesh.n_faces();
+    FastSimplification run;
+    simplify_fast(repaired, options, run);
+    const CollapseAttributes no_attributes;
+    assemble(input, repaired,
+             Simplified{run.collapses, run.moved_faces, no_attributes, nullptr, run.base,
+                        run.points.data(), n_vertices, n_faces},
+             !options.drop_attributes, options.keep_order, out);
+  } else {
+    SchroederSimplifier simplifier(input, repaired, options);
+    simplifier.run();
+    const HalfEdgeMesh& mesh = repaired.mesh;
+    BaseMesh base;
+    for (auto v : mesh.vertices()) base.vertices.push_back(static_cast<uint32_t>(v.idx()));
+    for (auto f : mesh.faces()) {  // skip deleted elements
+      base.faces.push_back(static_cast<uint32_t>(f.idx()));
+      for (auto w : mesh.fv_range(f)) base.corners.push_back(static_cast<uint32_t>(w.idx()));
+    }
+    static_assert(sizeof(HalfEdgeMesh::Point) == 3 * sizeof(float));
+    assemble(
+        input, repaired,
+        Simplified{simplifier.collapses, simplifier.moved_faces, simplifier.attribute_record,
+                   simplifier.attributes(), base, reinterpret_cast<const float*>(mesh.points()),
+                   mesh.n_vertices(), mesh.n_faces()},
+        !options.drop_attributes, options.keep_order, out);
+  }
+  // The progressive mesh, checked as a decoder would check it.
   if (options.layer_chunk_splits != 0) layer_splits(out, options.layer_chunk_splits);
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
@@ -795,6 +794,7 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
     stats->base_faces = out.base_face_count();
     stats->base_vertices = out.base_vertex_count;
     stats->collapses = out.splits.size();
+    stats->fast = fast;
   }
   if (options.progress) options.progress(1.0);
   return Status::ok();

@@ -3,7 +3,7 @@
 // writing), and an FNV-1a hash of the written .pm, so that two builds' outputs can be
 // compared without keeping the files.
 //
-//   pm_bench_encode MESH [--metric quadric|schroeder] [--runs N] [--out FILE.pm]
+//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--runs N] [--out FILE.pm]
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
       if (m == "quadric") options.metric = pm::Metric::kQuadric;
       else if (m == "schroeder") options.metric = pm::Metric::kSchroeder;
       else die("unknown metric " + m);
+    } else if (arg == "--fast") {
+      options.fast = true;
     } else if (arg == "--runs" && i + 1 < argc) {
       runs = std::max(1, std::atoi(argv[++i]));
     } else if (arg == "--out" && i + 1 < argc) {
@@ -51,7 +53,8 @@ int main(int argc, char** argv) {
     } else if (path.empty()) {
       path = arg;
     } else {
-      die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N] [--out FILE]");
+      die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--runs N] [--out "
+          "FILE]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");

@@ -61,13 +61,14 @@ constexpr double kStallTolerance = 0.02;
 enum class Method {
   kPmencSchroeder,
   kPmencQuadric,
+  kPmencFast,  // pmenc quadric --fast (EncodeOptions::fast)
   kMeshopt,
   kOpenMesh,
   kOpenMeshNormalFlipping,  // a variant: with pmenc's own 90-degree normal-flip rule
   kVtk,
 };
-constexpr std::array<Method, 6> kMethods = {
-    Method::kPmencSchroeder, Method::kPmencQuadric,           Method::kMeshopt,
+constexpr std::array<Method, 7> kMethods = {
+    Method::kPmencSchroeder, Method::kPmencQuadric,           Method::kPmencFast, Method::kMeshopt,
     Method::kOpenMesh,       Method::kOpenMeshNormalFlipping, Method::kVtk};
 constexpr std::size_t index_of(Method method) {
   return static_cast<std::size_t>(method);
@@ -79,6 +80,8 @@ const char* method_name(Method method) {
       return "pmenc schroeder";
     case Method::kPmencQuadric:
       return "pmenc quadric";
+    case Method::kPmencFast:
+      return "pmenc quadric --fast";
     case Method::kMeshopt:
       return "meshopt_simplify";
     case Method::kOpenMesh:
@@ -126,7 +129,7 @@ struct MeshReport {
   std::string name;
   std::size_t faces = 0, vertices = 0;
   double diagonal = 0;
-  double schroeder_encode_ms = 0, quadric_encode_ms = 0;
+  double schroeder_encode_ms = 0, quadric_encode_ms = 0, fast_encode_ms = 0;
   std::size_t openmesh_refused_faces = 0;
   std::string repairs;  // what pm::encode repaired, when anything
   std::vector<TargetRow> rows;
@@ -356,10 +359,11 @@ std::string repair_summary(const pm::RepairReport& repair) {
   return text;
 }
 
-bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, pm::ProgressiveMesh& progressive,
-                  double& milliseconds, pm::EncodeStats& stats) {
+bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, bool fast,
+                  pm::ProgressiveMesh& progressive, double& milliseconds, pm::EncodeStats& stats) {
   pm::EncodeOptions options;
   options.metric = metric;
+  options.fast = fast;
   // Geometry only, like the peers, which are given positions and triangles alone: kept
   // attributes would hold UV seams and add texture error to the cost (issue 4), a handicap
   // the peers do not carry here. uv.md (pm_bench_uv) compares with attributes on both sides.
@@ -385,15 +389,19 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
   report.diagonal = pm::bounding_box_diagonal(original.positions);
   std::cerr << "[bench] " << report.name << ": " << report.faces << " faces\n";
 
-  pm::ProgressiveMesh schroeder, quadric;
-  pm::EncodeStats stats;
-  if (!encode_timed(original, pm::Metric::kSchroeder, schroeder, report.schroeder_encode_ms,
+  pm::ProgressiveMesh schroeder, quadric, fast;
+  pm::EncodeStats stats, fast_stats;
+  if (!encode_timed(original, pm::Metric::kSchroeder, false, schroeder, report.schroeder_encode_ms,
                     stats) ||
-      !encode_timed(original, pm::Metric::kQuadric, quadric, report.quadric_encode_ms, stats))
+      !encode_timed(original, pm::Metric::kQuadric, true, fast, report.fast_encode_ms,
+                    fast_stats) ||
+      !encode_timed(original, pm::Metric::kQuadric, false, quadric, report.quadric_encode_ms,
+                    stats))
     return std::nullopt;
   report.repairs = repair_summary(stats.repair);
   std::cerr << "[bench]   pmenc encode: schroeder " << report.schroeder_encode_ms << " ms, quadric "
-            << report.quadric_encode_ms << " ms\n";
+            << report.quadric_encode_ms << " ms, quadric --fast " << report.fast_encode_ms
+            << " ms\n";
 
   // VTK reads the input as written by pm's own OBJ writer: positions and faces only. The
   // attributes are left out: vtkOBJReader splits a vertex per texture coordinate, so a UV
@@ -422,6 +430,7 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
         pmenc_level(schroeder, row.target_faces, report.schroeder_encode_ms);
     lods[index_of(Method::kPmencQuadric)] =
         pmenc_level(quadric, row.target_faces, report.quadric_encode_ms);
+    lods[index_of(Method::kPmencFast)] = pmenc_level(fast, row.target_faces, report.fast_encode_ms);
     lods[index_of(Method::kMeshopt)] = meshopt_simplified(original, row.target_faces);
     lods[index_of(Method::kOpenMesh)] = openmesh_simplified(
         original, row.target_faces, /*guard_normals=*/false, report.openmesh_refused_faces);
@@ -492,7 +501,8 @@ std::string time_cell(Method method, const Outcome& outcome) {
   if (!outcome.available) return "n/a";
   char text[32];
   std::snprintf(text, sizeof text, "%.1f", outcome.milliseconds);
-  const bool whole_sequence = method == Method::kPmencSchroeder || method == Method::kPmencQuadric;
+  const bool whole_sequence = method == Method::kPmencSchroeder ||
+                              method == Method::kPmencQuadric || method == Method::kPmencFast;
   return whole_sequence ? std::string(text) + " (all LODs)" : std::string(text);
 }
 
@@ -553,7 +563,8 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
        << with_thousands(report.faces) << " faces, " << with_thousands(report.vertices)
        << " vertices, diagonal " << significant(report.diagonal) << ". pmenc encode: schroeder "
        << std::lround(report.schroeder_encode_ms) << " ms, quadric "
-       << std::lround(report.quadric_encode_ms) << " ms.";
+       << std::lround(report.quadric_encode_ms) << " ms, quadric --fast "
+       << std::lround(report.fast_encode_ms) << " ms.";
     if (!report.repairs.empty()) md << " pmenc repaired: " << report.repairs << ".";
     if (report.openmesh_refused_faces > 0)
       md << " OpenMesh refused " << report.openmesh_refused_faces
@@ -581,16 +592,20 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
         "\"H pm / peer, RMS pm / peer\" in percent of the diagonal. The first three columns are "
         "issue 3's acceptance comparisons: pmenc quadric against meshopt_simplify and OpenMesh "
         "ModQuadric, pmenc schroeder against vtkDecimatePro where vtk reaches the target. The "
-        "last two are extra, counted apart: pmenc quadric against the OpenMesh variant with "
-        "the normal-flip guard, and, where vtk stalls, pmenc schroeder measured at vtk's face "
-        "count.\n\n"
+        "other three are extra, counted apart: pmenc quadric against the OpenMesh variant with "
+        "the normal-flip guard; where vtk stalls, pmenc schroeder measured at vtk's face "
+        "count; and pmenc's fast loop (`--fast`) against meshopt_simplify.\n\n"
      << "| mesh | target faces | quadric <= meshopt | quadric <= OpenMesh | schroeder <= vtk | "
-        "extra: quadric <= OpenMesh+NormalFlipping | extra: schroeder <= vtk at vtk's count |\n"
-     << "|---|---:|---|---|---|---|---|\n";
-  constexpr std::size_t kColumns = 5, kAcceptanceColumns = 3;
-  const char* const column_names[kColumns] = {
-      "quadric <= meshopt", "quadric <= OpenMesh", "schroeder <= vtk",
-      "quadric <= OpenMesh+NormalFlipping", "schroeder <= vtk at vtk's stalled count"};
+        "extra: quadric <= OpenMesh+NormalFlipping | extra: schroeder <= vtk at vtk's count | "
+        "extra: --fast <= meshopt |\n"
+     << "|---|---:|---|---|---|---|---|---|\n";
+  constexpr std::size_t kColumns = 6, kAcceptanceColumns = 3;
+  const char* const column_names[kColumns] = {"quadric <= meshopt",
+                                              "quadric <= OpenMesh",
+                                              "schroeder <= vtk",
+                                              "quadric <= OpenMesh+NormalFlipping",
+                                              "schroeder <= vtk at vtk's stalled count",
+                                              "quadric --fast <= meshopt"};
   std::array<int, kColumns> held{}, counted{};
   for (const MeshReport& report : reports) {
     for (const TargetRow& row : report.rows) {
@@ -603,7 +618,8 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
           compare(quadric, o[index_of(Method::kOpenMesh)], "OpenMesh"),
           compare(schroeder, vtk, "vtk"),
           compare(quadric, o[index_of(Method::kOpenMeshNormalFlipping)], "OpenMesh"),
-          {}};
+          {},
+          compare(o[index_of(Method::kPmencFast)], o[index_of(Method::kMeshopt)], "meshopt")};
       if (row.schroeder_at_vtk_faces) {
         Outcome vtk_at_own_count = vtk;
         vtk_at_own_count.stalled = false;  // compared at the face count it reached
@@ -644,7 +660,8 @@ const char kUsage[] =
     "usage: pm_bench_quality [MESH_OR_DIRECTORY...] [--targets 0.5,0.1,0.02] [--out FILE]\n"
     "                        [--no-vtk] [--vtk-script PATH] [--dump DIRECTORY]\n"
     "Simplifies each mesh (default: ../shared/meshes next to the repository) to each target\n"
-    "fraction of its faces with pmenc schroeder, pmenc quadric, meshopt_simplify, OpenMesh's\n"
+    "fraction of its faces with pmenc schroeder, pmenc quadric (and --fast), meshopt_simplify,\n"
+    "OpenMesh's\n"
     "Decimater (ModQuadric) and vtkDecimatePro, measures every LOD with the same code, and\n"
     "prints a markdown report (also written to FILE with --out). Progress goes to stderr.\n"
     "--dump writes every LOD to DIRECTORY as OBJ.\n";

@@ -44,6 +44,15 @@ struct EncodeOptions {
   // (fandisk at 259 faces: Hausdorff 0.36% -> 0.60% of the diagonal; homer at 6,000 faces
   // went from below meshopt's to above it). pmenc --layered.
   uint32_t layer_chunk_splits = 0;
+  // The fast collapse loop (pmenc --fast): the quadric metric on a flat connectivity,
+  // without the measured distance the default loop charges each collapse (the removed input
+  // vertices' worst distance to the surface, both ways round). Many times faster on large
+  // meshes; the levels keep the same topology rules, but their recorded errors are the
+  // quadrics' root-mean-square estimate, not a measured bound, and their distance to the
+  // input grows (tests/bench/quality.md). Geometry only: with texture coordinates, normals
+  // or materials to keep, or with the Schroeder metric, the default loop runs instead
+  // (EncodeStats::fast tells which ran).
+  bool fast = false;
   // Stop when the mesh would go below either count (0: no limit).
   std::size_t min_faces = 0;
   std::size_t min_vertices = 0;
@@ -77,6 +86,7 @@ struct EncodeStats {
   std::size_t base_faces = 0;
   std::size_t base_vertices = 0;
   std::size_t collapses = 0;
+  bool fast = false;  // the fast collapse loop ran (EncodeOptions::fast)
 };
 
 // Recorded errors are float32 distances between points of the mesh, so at most its

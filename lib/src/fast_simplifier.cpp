@@ -1,0 +1,627 @@
+// The fast collapse loop: see fast_simplifier.h. Garland and Heckbert 1997, "Surface
+// simplification using quadric error metrics" (§5 quadrics, §6.1 area weights, §6.2
+// boundary constraint planes), as half-edge collapses recorded for Hoppe 1996's vertex
+// splits, on Campagna, Kobbelt and Seidel 1998's directed edges: half-edge h = 3f + k of
+// triangle f leaves the triangle's k-th corner, next and previous are implicit, and one
+// array holds each half-edge's twin, so a collapse rewrites a few integers in place.
+#include "fast_simplifier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <set>
+
+#include "collapse_legality.h"
+#include "geometry.h"
+#include "quadric.h"
+#include "vertex_classification.h"
+
+namespace pm {
+namespace {
+
+constexpr uint32_t kNone = 0xffffffffu;
+constexpr int kMaxValence = 64;  // as the default loop: a vertex of larger valence stays
+constexpr uint32_t kVersionMask = 0x7fffffffu;
+
+inline uint32_t next_of(uint32_t h) {
+  return h % 3 == 2 ? h - 2 : h + 1;
+}
+inline uint32_t prev_of(uint32_t h) {
+  return h % 3 == 0 ? h + 2 : h - 1;
+}
+
+// A neighbour w of v and a half-edge of a face on the edge v-w: v -> w, or w -> v for the
+// last neighbour of a boundary vertex (that edge's only face holds it that way round).
+struct Neighbour {
+  uint32_t vertex;
+  uint32_t edge;
+};
+
+// As the default loop's (simplifier.cpp): the least key first, ties oldest first.
+struct Candidate {
+  float priority;
+  float distance;
+  uint32_t vertex;
+  uint32_t edge;
+  uint32_t version;  // version_'s low 31 bits (kVersionMask)
+  uint32_t sequence;
+  bool operator>(const Candidate& o) const {
+    return priority != o.priority ? priority > o.priority : sequence > o.sequence;
+  }
+};
+
+class FastSimplifier {
+ public:
+  FastSimplifier(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out)
+      : repaired_(repaired),
+        options_(options),
+        out_(out),
+        welds_(weld_groups(repaired)),
+        carried_edges_(carried_edges(repaired)),
+        cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
+        cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)),
+        features_(cos_feature_angle_ > -1.0) {}
+
+  void run() {
+    copy_connectivity();
+    const std::size_t n_vertices = outgoing_.size();
+    initialize_quadrics();
+    input_corner_.assign(n_vertices, 0);
+    for (uint32_t v = 0; v < n_vertices; ++v) input_corner_[v] = kind_of(v) == VertexKind::kCorner;
+    version_.assign(n_vertices, 0);
+    faces_alive_ = corner_.size() / 3;
+    vertices_alive_ = n_vertices;
+    queue_.reserve(n_vertices + n_vertices / 4 + 64);
+    out_.collapses.reserve(n_vertices);
+    // As the default loop: a final sweep re-evaluates every vertex, so the loop ends only
+    // when no legal collapse remains.
+    for (;;) {
+      for (uint32_t v = 0; v < n_vertices; ++v) evaluate(v);
+      const std::size_t before = out_.collapses.size();
+      while (!queue_.empty() && !stopped_) {
+        std::pop_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+        const Candidate top = queue_.back();
+        queue_.pop_back();
+        if (top.version != (version_[top.vertex] & kVersionMask)) continue;
+        apply(top);
+      }
+      if (stopped_ || out_.collapses.size() == before) break;
+    }
+    std::vector<Candidate>().swap(queue_);
+    std::vector<Quadric>().swap(quadrics_);
+    std::vector<uint32_t>().swap(version_);
+    std::vector<uint32_t>().swap(twin_);
+    write_base();
+  }
+
+ private:
+  // The flat copy of repaired_.mesh; then the OpenMesh mesh goes (its memory is the
+  // largest part of the encoder's, and nothing reads it afterwards).
+  void copy_connectivity() {
+    HalfEdgeMesh& mesh = repaired_.mesh;
+    const std::size_t n_faces = mesh.n_faces(), n_vertices = mesh.n_vertices();
+    corner_.assign(3 * n_faces, kNone);
+    twin_.assign(3 * n_faces, kNone);
+    for (auto f : mesh.faces()) {
+      auto h = mesh.halfedge_handle(f);
+      for (int k = 0; k < 3; ++k, h = mesh.next_halfedge_handle(h))
+        corner_[3 * f.idx() + k] = static_cast<uint32_t>(mesh.from_vertex_handle(h).idx());
+    }
+    for (auto f : mesh.faces()) {
+      auto h = mesh.halfedge_handle(f);
+      for (int k = 0; k < 3; ++k, h = mesh.next_halfedge_handle(h)) {
+        const auto o = mesh.opposite_halfedge_handle(h);
+        const auto g = mesh.face_handle(o);
+        if (!g.is_valid()) continue;
+        // o leaves the vertex h reaches: find that corner of g.
+        const uint32_t to = static_cast<uint32_t>(mesh.to_vertex_handle(h).idx());
+        for (uint32_t j = 0; j < 3; ++j)
+          if (corner_[3 * g.idx() + j] == to) twin_[3 * f.idx() + k] = 3 * g.idx() + j;
+      }
+    }
+    // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
+    // around the vertex (ring()) starts.
+    outgoing_.assign(n_vertices, kNone);
+    for (uint32_t h = 0; h < corner_.size(); ++h)
+      if (outgoing_[corner_[h]] == kNone || twin_[h] == kNone) outgoing_[corner_[h]] = h;
+    out_.points.resize(3 * n_vertices);
+    for (std::size_t v = 0; v < n_vertices; ++v)
+      for (int c = 0; c < 3; ++c)
+        out_.points[3 * v + c] = mesh.point(mesh.vertex_handle(int(v)))[c];
+    face_dead_.assign(n_faces, 0);
+    vertex_dead_.assign(n_vertices, 0);
+    mesh.clean();
+  }
+
+  Vec3 point(uint32_t v) const {
+    const float* p = &out_.points[3 * std::size_t{v}];
+    return Vec3(p[0], p[1], p[2]);
+  }
+
+  // Unit normal of face f, or zero when degenerate (as FaceGeometry's).
+  Vec3 face_normal(uint32_t f) const {
+    const Vec3 n =
+        area_vector(point(corner_[3 * f]), point(corner_[3 * f + 1]), point(corner_[3 * f + 2]));
+    const double length = n.norm();
+    return length > 0 ? n / length : Vec3(0, 0, 0);
+  }
+
+  // Schroeder, Zarge and Lorensen 1992, §3.1: an edge is a feature when its faces' normals
+  // differ by more than the feature angle (a degenerate face's edges are features).
+  bool is_feature(uint32_t h) const {
+    if (!features_ || twin_[h] == kNone) return false;
+    return (face_normal(h / 3) | face_normal(twin_[h] / 3)) < cos_feature_angle_;
+  }
+  bool is_special(uint32_t h) const { return twin_[h] == kNone || is_feature(h); }
+
+  // v's neighbours in order, at most `cap`: the count, or -1 when there are more.
+  // *boundary tells whether v is on a boundary.
+  int ring(uint32_t v, Neighbour* out, int cap, bool* boundary) const {
+    *boundary = false;
+    const uint32_t first = outgoing_[v];
+    if (first == kNone) return 0;
+    int n = 0;
+    uint32_t h = first;
+    do {
+      if (n == cap) return -1;
+      out[n++] = {corner_[next_of(h)], h};
+      const uint32_t incoming = prev_of(h);
+      const uint32_t t = twin_[incoming];
+      if (t == kNone) {  // the boundary edge that ends at v: its far end is the last one
+        if (n == cap) return -1;
+        out[n++] = {corner_[incoming], incoming};
+        *boundary = true;
+        break;
+      }
+      h = t;
+    } while (h != first);
+    return n;
+  }
+
+  bool is_boundary_vertex(uint32_t v) const {
+    return outgoing_[v] != kNone && twin_[outgoing_[v]] == kNone;
+  }
+
+  bool adjacent(uint32_t a, uint32_t b) const {
+    const uint32_t first = outgoing_[a];
+    if (first == kNone) return false;
+    uint32_t h = first;
+    do {
+      if (corner_[next_of(h)] == b) return true;
+      const uint32_t incoming = prev_of(h);
+      if (twin_[incoming] == kNone) return corner_[incoming] == b;
+      h = twin_[incoming];
+    } while (h != first);
+    return false;
+  }
+
+  // Schroeder, Zarge and Lorensen 1992, §3.1, with Schroeder 1997's corner rule: the same
+  // answers as classify_vertex (vertex_classification.h).
+  VertexKind kind_of(uint32_t v) const {
+    if (repaired_.pinned[v]) return VertexKind::kComplex;
+    Neighbour ring_of_v[kMaxValence];
+    bool boundary;
+    const int n = ring(v, ring_of_v, kMaxValence, &boundary);
+    if (n <= 0) return VertexKind::kComplex;
+    int boundary_edges = 0, feature_edges = 0;
+    for (int i = 0; i < n; ++i) {
+      if (twin_[ring_of_v[i].edge] == kNone)
+        ++boundary_edges;
+      else
+        feature_edges += is_feature(ring_of_v[i].edge);
+    }
+    if (boundary_edges == 0 && feature_edges == 0) return VertexKind::kSimple;
+    if (boundary_edges == 2 && feature_edges == 0) return VertexKind::kBoundary;
+    if (boundary_edges == 0 && feature_edges == 2) return VertexKind::kInteriorEdge;
+    return VertexKind::kCorner;
+  }
+
+  // The two sides of the collapse v -> u through `edge` (a half-edge of a face on v-u):
+  // h = v -> u in fl, t = u -> v in fr, kNone where there is no such face.
+  struct Sides {
+    uint32_t h, t;
+  };
+  Sides sides(uint32_t v, uint32_t edge) const {
+    return corner_[edge] == v ? Sides{edge, twin_[edge]} : Sides{twin_[edge], edge};
+  }
+
+  // The link condition (Dey, Edelsbrunner, Guha and Nekhayev 1999, §2) and Hoppe et al.
+  // 1993's boundary rule, as collapse_keeps_topology states them (collapse_legality.h).
+  bool keeps_topology(uint32_t u, const Sides& s, const Neighbour* ring_v, int n_v,
+                      bool boundary_v) const {
+    auto apex_ok = [&](uint32_t h) {
+      return h == kNone || twin_[next_of(h)] != kNone || twin_[prev_of(h)] != kNone;
+    };
+    if (!apex_ok(s.h) || !apex_ok(s.t)) return false;
+    const uint32_t vl = s.h == kNone ? kNone : corner_[prev_of(s.h)];
+    const uint32_t vr = s.t == kNone ? kNone : corner_[prev_of(s.t)];
+    if (vl == vr) return false;
+    // u's neighbours, each looked up among v's: no common neighbour but vl and vr.
+    int valence_u = 0;
+    bool boundary_u = false;
+    const uint32_t first = outgoing_[u];
+    uint32_t h = first;
+    auto common = [&](uint32_t w) {
+      ++valence_u;
+      if (w == vl || w == vr) return false;
+      for (int i = 0; i < n_v; ++i)
+        if (ring_v[i].vertex == w) return true;
+      return false;
+    };
+    do {
+      if (common(corner_[next_of(h)])) return false;
+      const uint32_t incoming = prev_of(h);
+      if (twin_[incoming] == kNone) {
+        if (common(corner_[incoming])) return false;
+        boundary_u = true;
+        break;
+      }
+      h = twin_[incoming];
+    } while (h != first);
+    const bool interior_edge = s.h != kNone && s.t != kNone;
+    if (boundary_v && boundary_u && interior_edge) return false;
+    // A closed tetrahedron passes the link condition; flattening it would leave two
+    // triangles on the same three vertices.
+    return !(n_v == 3 && valence_u == 3 && !boundary_v && !boundary_u);
+  }
+
+  // As collapse_keeps_geometry (collapse_legality.h): no surviving face of v's fan turns
+  // by more than the flip limit or becomes degenerate.
+  bool keeps_geometry(uint32_t v, uint32_t u, const Sides& s, const Neighbour* ring_v,
+                      int n_v) const {
+    constexpr double kDegenerate = 1e-10;
+    const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
+    const Vec3 pu = point(u);
+    for (int i = 0; i < n_v; ++i) {
+      const uint32_t e = ring_v[i].edge;
+      if (corner_[e] != v) continue;  // the boundary's last entry: its face came already
+      const uint32_t f = e / 3;
+      if (f == fl || f == fr) continue;
+      Vec3 before[3], after[3];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t w = corner_[3 * f + k];
+        before[k] = point(w);
+        after[k] = w == v ? pu : before[k];
+      }
+      const Vec3 n0 = area_vector(before[0], before[1], before[2]);
+      const Vec3 n1 = area_vector(after[0], after[1], after[2]);
+      const double longest =
+          std::max({(after[1] - after[0]).sqrnorm(), (after[2] - after[1]).sqrnorm(),
+                    (after[0] - after[2]).sqrnorm()});
+      const double len1 = n1.norm();
+      if (len1 <= kDegenerate * longest) return false;
+      const double len0 = n0.norm();
+      if (len0 > 0 && (n0 | n1) < cos_max_flip_ * len0 * len1) return false;
+    }
+    return true;
+  }
+
+  // As collapse_keeps_welds (collapse_legality.h), on the flat connectivity.
+  bool keeps_welds(uint32_t u, const Neighbour* ring_v, int n_v) const {
+    if (welds_.empty()) return true;
+    auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
+      const int g = welds_.group[x];
+      if (g < 0) {
+        single = x;
+        return {&single, 1};
+      }
+      return {welds_.members[g].data(), welds_.members[g].size()};
+    };
+    const int group_u = welds_.group[u];
+    for (int i = 0; i < n_v; ++i) {
+      const uint32_t w = ring_v[i].vertex;
+      if (w == u) continue;
+      const int group_w = welds_.group[w];
+      if (group_u < 0 && group_w < 0) continue;
+      if (group_u >= 0 && group_u == group_w) return false;
+      uint32_t single_u, single_w;
+      const auto [us, nu] = members_of(u, single_u);
+      const auto [ws, nw] = members_of(w, single_w);
+      for (std::size_t a = 0; a < nu; ++a)
+        for (std::size_t b = 0; b < nw; ++b) {
+          if (us[a] == u && ws[b] == w) continue;
+          if (adjacent(us[a], ws[b])) return false;
+        }
+    }
+    return true;
+  }
+
+  // As the default loop's keeps_carried_edges_apart: a carried face's vertex pair may not
+  // become an edge of the surface.
+  bool keeps_carried_edges_apart(uint32_t u, const Neighbour* ring_v, int n_v) const {
+    if (carried_edges_.empty()) return true;
+    for (int i = 0; i < n_v; ++i) {
+      const uint32_t w = ring_v[i].vertex;
+      if (w == u) continue;
+      if (carried_edges_.count({std::min(u, w), std::max(u, w)}) && !adjacent(u, w)) return false;
+    }
+    return true;
+  }
+
+  bool legal(uint32_t v, uint32_t u, uint32_t edge, const Neighbour* ring_v, int n_v,
+             bool boundary_v) const {
+    const Sides s = sides(v, edge);
+    return keeps_topology(u, s, ring_v, n_v, boundary_v) && keeps_welds(u, ring_v, n_v) &&
+           keeps_geometry(v, u, s, ring_v, n_v) && keeps_carried_edges_apart(u, ring_v, n_v);
+  }
+
+  // Queues v's cheapest collapse; a stale entry is dropped by version. Legality, the dearer
+  // test, waits until the candidate is popped (apply()) unless `check_legal`: a cheapest
+  // option that is legal then is the cheapest legal one, so the order stays exactly
+  // greedy; one that is not sends v back through here with check_legal, which asks
+  // legality in order of cost until an option passes.
+  void evaluate(uint32_t v, bool check_legal = false) {
+    ++version_[v];
+    if (vertex_dead_[v] || repaired_.pinned[v]) return;
+    Neighbour ring_v[kMaxValence];
+    bool boundary_v;
+    const int n = ring(v, ring_v, kMaxValence, &boundary_v);
+    if (n <= 0) return;
+    struct Option {
+      bool special;
+      double cost, length;
+      int index;
+    };
+    Option options[kMaxValence];
+    int boundary_edges = 0, feature_edges = 0;
+    for (int i = 0; i < n; ++i) {
+      const uint32_t e = ring_v[i].edge;
+      const bool boundary = twin_[e] == kNone, feature = !boundary && is_feature(e);
+      boundary_edges += boundary;
+      feature_edges += feature;
+      options[i] = {boundary || feature, 0.0, 0.0, i};
+    }
+    VertexKind kind = VertexKind::kCorner;
+    if (boundary_edges == 0 && feature_edges == 0)
+      kind = VertexKind::kSimple;
+    else if (boundary_edges == 2 && feature_edges == 0)
+      kind = VertexKind::kBoundary;
+    else if (boundary_edges == 0 && feature_edges == 2)
+      kind = VertexKind::kInteriorEdge;
+    if (input_corner_[v]) kind = VertexKind::kCorner;
+    CollapseEdges edges = kCollapseEdges[static_cast<int>(kind)];
+    if (kind == VertexKind::kCorner && options_.keep_corners) edges = CollapseEdges::kNone;
+    if (edges == CollapseEdges::kNone) return;
+    int count = n;
+    if (edges == CollapseEdges::kSpecialOnly)
+      count = static_cast<int>(
+          std::remove_if(options, options + n, [](const Option& o) { return !o.special; }) -
+          options);
+    // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses
+    // (u stays where it is), v's planes at u as a mean over their area.
+    const Quadric& q = quadrics_[v];
+    const Vec3 pv = point(v);
+    for (int i = 0; i < count; ++i) {
+      const Vec3 pu = point(ring_v[options[i].index].vertex);
+      options[i].cost = q.weight > 0 ? q.error(pu) / q.weight : 0.0;
+      options[i].length = (pu - pv).sqrnorm();
+    }
+    count = static_cast<int>(std::remove_if(options, options + count,
+                                            [](const Option& o) {
+                                              return !(o.cost < HUGE_VAL);  // NaN or infinite
+                                            }) -
+                             options);
+    // Special edges first (a corner's), then the cheapest, ties to the shortest edge.
+    auto before = [](const Option& a, const Option& b) {
+      if (a.special != b.special) return a.special;
+      if (a.cost != b.cost) return a.cost < b.cost;
+      return a.length != b.length ? a.length < b.length : a.index < b.index;
+    };
+    auto queue = [&](const Option& o) {
+      push({static_cast<float>(o.cost), static_cast<float>(std::sqrt(o.cost)), v,
+            ring_v[o.index].edge, version_[v] & kVersionMask, 0});
+    };
+    if (count == 0) return;
+    if (!check_legal) {
+      queue(*std::min_element(options, options + count, before));
+      return;
+    }
+    std::sort(options, options + count, before);
+    for (int i = 0; i < count; ++i) {
+      const Neighbour& to = ring_v[options[i].index];
+      if (!legal(v, to.vertex, to.edge, ring_v, n, boundary_v)) continue;
+      queue(options[i]);
+      return;
+    }
+  }
+
+  void push(Candidate c) {
+    if (queue_.size() == queue_.capacity()) compact();
+    c.sequence = ++pushes_;
+    queue_.push_back(c);
+    std::push_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+  }
+
+  void compact() {
+    queue_.erase(std::remove_if(queue_.begin(), queue_.end(),
+                                [&](const Candidate& c) {
+                                  return c.version != (version_[c.vertex] & kVersionMask);
+                                }),
+                 queue_.end());
+    std::make_heap(queue_.begin(), queue_.end(), std::greater<Candidate>());
+  }
+
+  void apply(const Candidate& candidate) {
+    const uint32_t v = candidate.vertex, edge = candidate.edge;
+    // The candidate's edge may have gone, or changed, since it was queued.
+    if (face_dead_[edge / 3] || (corner_[edge] != v && corner_[next_of(edge)] != v)) {
+      evaluate(v, true);
+      return;
+    }
+    const uint32_t u = corner_[edge] == v ? corner_[next_of(edge)] : corner_[edge];
+    Neighbour ring_v[kMaxValence];
+    bool boundary_v;
+    const int n = ring(v, ring_v, kMaxValence, &boundary_v);
+    if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v)) {
+      evaluate(v, true);
+      return;
+    }
+    const Sides s = sides(v, edge);
+    const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
+    if (faces_alive_ < options_.min_faces + removed_faces ||
+        vertices_alive_ <= std::max<std::size_t>(options_.min_vertices, 1)) {
+      stopped_ = true;
+      return;
+    }
+    const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
+    Collapse c;
+    c.v = v;
+    c.u = u;
+    c.fl = fl == kNone ? -1 : static_cast<int>(fl);
+    c.fr = fr == kNone ? -1 : static_cast<int>(fr);
+    c.vl = s.h == kNone ? kNoVertex : corner_[prev_of(s.h)];
+    c.vr = s.t == kNone ? kNoVertex : corner_[prev_of(s.t)];
+    c.moved_begin = static_cast<uint32_t>(out_.moved_faces.size());
+    for (int i = 0; i < n; ++i) {
+      const uint32_t e = ring_v[i].edge;
+      if (corner_[e] != v) continue;
+      const uint32_t f = e / 3;
+      if (f == fl || f == fr) continue;
+      out_.moved_faces.push_back(f);
+      for (int k = 0; k < 3; ++k)
+        if (corner_[3 * f + k] == v) corner_[3 * f + k] = u;
+    }
+    c.moved_count = static_cast<uint32_t>(out_.moved_faces.size()) - c.moved_begin;
+    c.new_faces_begin = new_faces_recorded_;
+    new_faces_recorded_ += static_cast<uint32_t>(removed_faces);
+    // The record's error: the largest quadric distance so far, so non-increasing from the
+    // base to full detail (a root-mean-square estimate, not a measured bound).
+    bound_ = std::max(bound_, candidate.distance);
+    c.bound = bound_;
+    out_.collapses.push_back(c);
+
+    // The faces at v-u go: their outer edges' twins become each other's.
+    uint32_t touched[4];
+    int n_touched = 0;
+    auto remove_face = [&](uint32_t h) {
+      const uint32_t a = twin_[next_of(h)], b = twin_[prev_of(h)];
+      if (a != kNone) twin_[a] = b;
+      if (b != kNone) twin_[b] = a;
+      face_dead_[h / 3] = 1;
+      // The apex and u may have had their outgoing half-edge in this face.
+      const uint32_t apex = corner_[prev_of(h)];
+      outgoing_[apex] = a != kNone ? a : next_of(b);
+      touched[n_touched++] = apex;
+    };
+    if (s.h != kNone) remove_face(s.h);
+    if (s.t != kNone) remove_face(s.t);
+    // u: any outgoing half-edge of a face still alive.
+    {
+      uint32_t out = kNone;
+      if (s.h != kNone) {
+        const uint32_t b = twin_[next_of(s.h)];  // twin of the edge u-vl, now vl's side
+        out = b != kNone ? next_of(b) : kNone;
+      }
+      if (out == kNone && s.h != kNone) {
+        const uint32_t b = twin_[prev_of(s.h)];
+        if (b != kNone) out = b;  // v -> vl, now u -> vl
+      }
+      if (out == kNone && s.t != kNone) {
+        const uint32_t d = twin_[prev_of(s.t)];  // u -> vr
+        if (d != kNone)
+          out = d;
+        else if (twin_[next_of(s.t)] != kNone)
+          out = next_of(twin_[next_of(s.t)]);
+      }
+      outgoing_[u] = out;
+    }
+    touched[n_touched++] = u;
+    for (int i = 0; i < n_touched; ++i) start_at_boundary(touched[i]);
+    outgoing_[v] = kNone;
+    vertex_dead_[v] = 1;
+    faces_alive_ -= removed_faces;
+    --vertices_alive_;
+    quadrics_[u] += quadrics_[v];  // Garland and Heckbert 1997, §4: Q = Q1 + Q2
+    ++version_[v];
+
+    // Re-evaluated, as in the default loop: u, and v's other neighbours, whose one-rings
+    // changed; u's other neighbours keep their best collapse unless it became illegal,
+    // which apply() finds when it is popped.
+    evaluate(u);
+    for (int i = 0; i < n; ++i)
+      if (ring_v[i].vertex != u) evaluate(ring_v[i].vertex);
+    if (options_.progress && out_.collapses.size() % 4096 == 0)
+      options_.progress(std::min(1.0, double(out_.collapses.size()) / double(outgoing_.size())));
+  }
+
+  // A boundary vertex's walk starts at its outgoing half-edge with no twin.
+  void start_at_boundary(uint32_t x) {
+    const uint32_t first = outgoing_[x];
+    if (first == kNone) return;
+    uint32_t h = first;
+    while (twin_[h] != kNone) {
+      h = next_of(twin_[h]);
+      if (h == first) return;  // interior
+    }
+    outgoing_[x] = h;
+  }
+
+  // Per-vertex quadrics of the input, as the default loop's (simplifier.cpp): each face's
+  // plane weighted by its area (§6.1), and along each boundary and feature edge a plane
+  // through the edge perpendicular to its face (§6.2).
+  void initialize_quadrics() {
+    constexpr double kConstraintWeight = 4.0;
+    const std::size_t n_faces = corner_.size() / 3;
+    quadrics_.assign(outgoing_.size(), Quadric{});
+    for (uint32_t f = 0; f < n_faces; ++f) {
+      const Vec3 a = point(corner_[3 * f]), b = point(corner_[3 * f + 1]),
+                 c = point(corner_[3 * f + 2]);
+      const Vec3 n = area_vector(a, b, c);
+      const double twice_area = n.norm();
+      if (twice_area == 0) continue;
+      const Quadric plane = Quadric::from_plane(n / twice_area, a, 0.5 * twice_area);
+      for (int k = 0; k < 3; ++k) quadrics_[corner_[3 * f + k]] += plane;
+    }
+    for (uint32_t h = 0; h < corner_.size(); ++h) {
+      if (!is_special(h)) continue;
+      const Vec3 a = point(corner_[h]), b = point(corner_[next_of(h)]);
+      Vec3 n = (b - a) % face_normal(h / 3);
+      const double length = n.norm();
+      if (length == 0) continue;
+      n /= length;
+      const Quadric plane = Quadric::from_plane(n, a, kConstraintWeight * (b - a).sqrnorm());
+      quadrics_[corner_[h]] += plane;
+      quadrics_[corner_[next_of(h)]] += plane;
+    }
+  }
+
+  void write_base() {
+    BaseMesh& base = out_.base;
+    for (uint32_t v = 0; v < vertex_dead_.size(); ++v)
+      if (!vertex_dead_[v]) base.vertices.push_back(v);
+    for (uint32_t f = 0; f < face_dead_.size(); ++f) {
+      if (face_dead_[f]) continue;
+      base.faces.push_back(f);
+      base.corners.insert(base.corners.end(),
+                          {corner_[3 * f], corner_[3 * f + 1], corner_[3 * f + 2]});
+    }
+  }
+
+  ManifoldMesh& repaired_;
+  const EncodeOptions& options_;
+  FastSimplification& out_;
+  const WeldGroups welds_;
+  const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;
+  const double cos_feature_angle_, cos_max_flip_;
+  const bool features_;             // some edge can be a feature (the angle is below 180 degrees)
+  std::vector<uint32_t> corner_;    // per half-edge 3f + k: the vertex it leaves
+  std::vector<uint32_t> twin_;      // per half-edge: the opposite one, kNone on a boundary
+  std::vector<uint32_t> outgoing_;  // per vertex: see copy_connectivity()
+  std::vector<uint8_t> face_dead_, vertex_dead_, input_corner_;
+  std::vector<Quadric> quadrics_;
+  std::vector<uint32_t> version_;
+  std::vector<Candidate> queue_;
+  uint32_t pushes_ = 0;
+  uint32_t new_faces_recorded_ = 0;
+  std::size_t faces_alive_ = 0, vertices_alive_ = 0;
+  float bound_ = 0;
+  bool stopped_ = false;
+};
+
+}  // namespace
+
+void simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out) {
+  FastSimplifier(repaired, options, out).run();
+}
+
+}  // namespace pm
