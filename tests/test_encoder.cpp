@@ -351,6 +351,80 @@ TEST(Robustness, AssimpModelsThatParseRoundTripExactly) {
   EXPECT_GT(parsed, 20u);
 }
 
+// The fast loop takes a manifold input as it is and sends every other through the repair
+// first: small meshes of each kind come back exactly, every level with the input's topology.
+TEST(FastLoop, SmallMeshesOfEveryKindRoundTripExactly) {
+  auto mesh = [](std::vector<float> positions, std::vector<uint32_t> triangles) {
+    Mesh m;
+    m.positions = std::move(positions);
+    m.triangles = std::move(triangles);
+    return m;
+  };
+  // An octahedron: closed, every vertex of valence 4.
+  const Mesh octahedron =
+      mesh({1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1},
+           {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5});
+  // A fan of four triangles around vertex 0, open: a boundary all round.
+  const Mesh fan = mesh({0, 0, 0, 1, 0, 0, 0, 1, 0.1f, -1, 0, 0, 0, -1, 0.1f},
+                        {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1});
+  struct Case {
+    const char* name;
+    Mesh input;
+    bool repaired;  // the repair had something to do
+  };
+  std::vector<Case> cases = {{"octahedron", octahedron, false}, {"open fan", fan, false}};
+  // Two fans meeting at one vertex (a bowtie).
+  cases.push_back(
+      {"bowtie", mesh({0, 0, 0, 1, 0, 0, 1, 1, 0, -1, 0, 0, -1, -1, 0}, {0, 1, 2, 0, 3, 4}), true});
+  // The fan plus a vertex no face uses.
+  Mesh loose = fan;
+  loose.positions.insert(loose.positions.end(), {5, 5, 5});
+  cases.push_back({"loose vertex", loose, true});
+  // The octahedron plus a face with a repeated vertex.
+  Mesh repeated = octahedron;
+  repeated.triangles.insert(repeated.triangles.end(), {0, 0, 1});
+  cases.push_back({"repeated vertex", repeated, true});
+  // The fan with one face turned over: edge 0-2 twice the same way round.
+  Mesh flipped = fan;
+  std::swap(flipped.triangles[3], flipped.triangles[4]);
+  cases.push_back({"inconsistent orientation", flipped, true});
+  // Three faces on one edge.
+  cases.push_back(
+      {"complex edge",
+       mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1}, {0, 1, 2, 1, 0, 3, 0, 1, 4}), true});
+
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    EncodeOptions options;
+    options.fast = true;
+    ProgressiveMesh progressive;
+    EncodeStats stats;
+    ASSERT_TRUE(encode(c.input, options, progressive, &stats).is_ok());
+    EXPECT_TRUE(stats.fast);
+    EXPECT_EQ(stats.repair.any(), c.repaired);
+    std::string problem;
+    EXPECT_TRUE(validate(progressive, &problem)) << problem;
+    const Mesh full = extract_level(progressive, progressive.split_count());
+    EXPECT_TRUE(test::same_faces(c.input, full));
+    EXPECT_EQ(full.vertex_count(), c.input.vertex_count());
+    const test::TopologySummary in = test::summarize_topology(c.input);
+    for (std::size_t level = 0; level <= progressive.split_count(); ++level)
+      EXPECT_TRUE(
+          test::keeps_topology(in, test::summarize_topology(extract_level(progressive, level))))
+          << "level " << level;
+  }
+  // Both simplify as far as their topology allows: a closed surface to a tetrahedron's four
+  // vertices, a disk to one triangle.
+  ProgressiveMesh progressive;
+  EncodeOptions options;
+  options.fast = true;
+  ASSERT_TRUE(encode(octahedron, options, progressive).is_ok());
+  EXPECT_EQ(progressive.base_vertex_count, 4u);
+  ASSERT_TRUE(encode(fan, options, progressive).is_ok());
+  EXPECT_EQ(progressive.base_vertex_count, 3u);
+  EXPECT_EQ(progressive.base_face_count(), 1u);
+}
+
 // A 3 x 3 grid at z = -h, its centre raised to z = +h, spacing s; faces a-b-c and a-c-d of
 // each cell, from its lower left corner a:
 //

@@ -52,18 +52,19 @@ struct Candidate {
 
 class FastSimplifier {
  public:
-  FastSimplifier(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out)
-      : repaired_(repaired),
-        options_(options),
+  // `repaired`: its welds and carried faces, or null for an input without either.
+  FastSimplifier(const ManifoldMesh* repaired, const EncodeOptions& options,
+                 FastSimplification& out)
+      : options_(options),
         out_(out),
-        welds_(weld_groups(repaired)),
-        carried_edges_(carried_edges(repaired)),
+        welds_(repaired ? weld_groups(*repaired) : WeldGroups{}),
+        carried_edges_(repaired ? carried_edges(*repaired)
+                                : std::set<std::pair<uint32_t, uint32_t>>{}),
         cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)),
         features_(cos_feature_angle_ > -1.0) {}
 
   void run() {
-    copy_connectivity();
     const std::size_t n_vertices = outgoing_.size();
     initialize_quadrics();
     input_corner_.assign(n_vertices, 0);
@@ -100,9 +101,11 @@ class FastSimplifier {
     write_base();
   }
 
- private:
-  // The flat copy of repaired_.mesh; then the OpenMesh mesh goes (its memory is the
-  // largest part of the encoder's, and nothing reads it afterwards).
+  // The flat connectivity of triangles `tri` (n_faces, ids below n_vertices) on `points`
+  // (three per vertex), pinned vertices never removed (null: none). False, with nothing
+  // built, unless they make a manifold without repair: no face with a repeated vertex, no
+  // vertex without faces, every edge in one face or in two of opposite orientation, and
+  // every vertex's faces one fan (build_manifold_mesh makes any mesh so).
   //
   // The copy is renumbered for locality: vertices along a Morton (Z-order) curve of their
   // positions (Morton 1966), faces by their first vertex in that order. A collapse touches
@@ -110,27 +113,23 @@ class FastSimplifier {
   // neighbours close in memory, each collapse misses the cache a few times instead of at
   // every step around its vertices (in the input's order the loop took 1.3 times as long
   // on a Loop-subdivided mesh, whose new vertices are numbered far from their neighbours).
-  // Records and the base mesh are written in repaired_'s ids.
-  void copy_connectivity() {
-    HalfEdgeMesh& mesh = repaired_.mesh;
-    const std::size_t n_faces = mesh.n_faces(), n_vertices = mesh.n_vertices();
-    out_.points.resize(3 * n_vertices);
-    for (std::size_t v = 0; v < n_vertices; ++v)
-      for (int c = 0; c < 3; ++c)
-        out_.points[3 * v + c] = mesh.point(mesh.vertex_handle(int(v)))[c];
-
+  // Records and the base mesh are written in the given ids.
+ public:
+  bool build(const uint32_t* tri, std::size_t n_faces, const float* points, std::size_t n_vertices,
+             const std::vector<uint8_t>* pinned) {
+    // Morton order of the vertices.
     float low[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF},
           high[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
-    for (std::size_t i = 0; i < out_.points.size(); ++i) {
-      low[i % 3] = std::min(low[i % 3], out_.points[i]);
-      high[i % 3] = std::max(high[i % 3], out_.points[i]);
+    for (std::size_t i = 0; i < 3 * n_vertices; ++i) {
+      low[i % 3] = std::min(low[i % 3], points[i]);
+      high[i % 3] = std::max(high[i % 3], points[i]);
     }
     std::vector<uint64_t> keys(n_vertices);
     for (std::size_t v = 0; v < n_vertices; ++v) {
       uint64_t code = 0;
       for (int c = 0; c < 3; ++c) {
         const float extent = high[c] - low[c];
-        const double t = extent > 0 ? (out_.points[3 * v + c] - low[c]) / double(extent) : 0.0;
+        const double t = extent > 0 ? (points[3 * v + c] - low[c]) / double(extent) : 0.0;
         const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
         for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
       }
@@ -143,54 +142,92 @@ class FastSimplifier {
       vertex_of_[i] = static_cast<uint32_t>(keys[i]);
       local_vertex_[vertex_of_[i]] = static_cast<uint32_t>(i);
     }
-    position_.resize(3 * n_vertices);
-    for (std::size_t i = 0; i < n_vertices; ++i)
-      for (int c = 0; c < 3; ++c) position_[3 * i + c] = out_.points[3 * vertex_of_[i] + c];
-    std::vector<float>().swap(out_.points);  // back from position_ after the loop
-
-    keys.assign(n_faces, 0);
-    for (auto f : mesh.faces()) {
-      uint32_t first = kNone;
-      for (auto w : mesh.fv_range(f)) first = std::min(first, local_vertex_[w.idx()]);
-      keys[f.idx()] = uint64_t{first} << 32 | uint32_t(f.idx());
-    }
-    std::sort(keys.begin(), keys.end());
-    face_of_.resize(n_faces);
-    std::vector<uint32_t> local_face(n_faces);
-    for (std::size_t i = 0; i < n_faces; ++i) {
-      face_of_[i] = static_cast<uint32_t>(keys[i]);
-      local_face[face_of_[i]] = static_cast<uint32_t>(i);
-    }
     std::vector<uint64_t>().swap(keys);
 
-    corner_.assign(3 * n_faces, kNone);
-    twin_.assign(3 * n_faces, kNone);
-    for (uint32_t i = 0; i < n_faces; ++i) {
-      auto h = mesh.halfedge_handle(mesh.face_handle(int(face_of_[i])));
-      for (int k = 0; k < 3; ++k, h = mesh.next_halfedge_handle(h))
-        corner_[3 * i + k] = local_vertex_[mesh.from_vertex_handle(h).idx()];
+    // Faces by their first local vertex (a counting sort); a face with a repeated vertex,
+    // or a vertex without faces, needs the repair.
+    std::vector<uint32_t> begin(n_vertices + 1, 0);  // per local vertex: its faces' slots
+    for (std::size_t f = 0; f < n_faces; ++f) {
+      const uint32_t* t = tri + 3 * f;
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return fail();
+      ++begin[std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]}) + 1];
     }
-    for (uint32_t i = 0; i < n_faces; ++i) {
-      auto h = mesh.halfedge_handle(mesh.face_handle(int(face_of_[i])));
-      for (int k = 0; k < 3; ++k, h = mesh.next_halfedge_handle(h)) {
-        const auto g = mesh.opposite_face_handle(h);
-        if (!g.is_valid()) continue;
-        // The twin leaves the vertex h reaches: that corner of g.
-        const uint32_t to = local_vertex_[mesh.to_vertex_handle(h).idx()], j = local_face[g.idx()];
-        for (uint32_t c = 0; c < 3; ++c)
-          if (corner_[3 * j + c] == to) twin_[3 * i + k] = 3 * j + c;
+    for (std::size_t v = 0; v < n_vertices; ++v) begin[v + 1] += begin[v];
+    face_of_.resize(n_faces);
+    for (std::size_t f = 0; f < n_faces; ++f) {
+      const uint32_t* t = tri + 3 * f;
+      face_of_[begin[std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]})]++] =
+          static_cast<uint32_t>(f);
+    }
+    corner_.resize(3 * n_faces);
+    for (std::size_t i = 0; i < n_faces; ++i)
+      for (int k = 0; k < 3; ++k)
+        corner_[3 * i + k] = local_vertex_[tri[3 * std::size_t{face_of_[i]} + k]];
+
+    // The half-edges leaving each vertex (compressed rows), then each half-edge's twin:
+    // the one way back, if any; two the same way, or two back, is an edge the repair cuts.
+    std::fill(begin.begin(), begin.end(), 0);
+    for (uint32_t h = 0; h < corner_.size(); ++h) ++begin[corner_[h] + 1];
+    for (std::size_t v = 0; v < n_vertices; ++v) {
+      if (begin[v + 1] == 0) return fail();  // a vertex no face uses
+      begin[v + 1] += begin[v];
+    }
+    std::vector<uint32_t> leaving(corner_.size());
+    {
+      std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+      for (uint32_t h = 0; h < corner_.size(); ++h) leaving[fill[corner_[h]]++] = h;
+    }
+    twin_.assign(corner_.size(), kNone);
+    for (uint32_t h = 0; h < corner_.size(); ++h) {
+      const uint32_t a = corner_[h], b = corner_[next_of(h)];
+      for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
+        if (leaving[i] != h && corner_[next_of(leaving[i])] == b) return fail();
+      for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
+        const uint32_t back = leaving[i];
+        if (corner_[next_of(back)] != a) continue;
+        if (twin_[h] != kNone) return fail();
+        twin_[h] = back;
       }
     }
+    std::vector<uint32_t>().swap(leaving);
     // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
-    // around the vertex (ring()) starts.
+    // around the vertex (ring()) starts. Two such, or a walk that misses some of the
+    // vertex's faces, is a vertex where fans meet.
     outgoing_.assign(n_vertices, kNone);
-    for (uint32_t h = 0; h < corner_.size(); ++h)
-      if (outgoing_[corner_[h]] == kNone || twin_[h] == kNone) outgoing_[corner_[h]] = h;
-    pinned_.resize(n_vertices);
-    for (std::size_t i = 0; i < n_vertices; ++i) pinned_[i] = repaired_.pinned[vertex_of_[i]];
+    for (uint32_t h = 0; h < corner_.size(); ++h) {
+      const uint32_t v = corner_[h];
+      if (twin_[h] == kNone) {
+        if (outgoing_[v] != kNone && twin_[outgoing_[v]] == kNone) return fail();
+        outgoing_[v] = h;
+      } else if (outgoing_[v] == kNone) {
+        outgoing_[v] = h;
+      }
+    }
+    for (uint32_t v = 0; v < n_vertices; ++v) {
+      uint32_t faces = 0, h = outgoing_[v];
+      do {
+        ++faces;
+        h = twin_[prev_of(h)];
+      } while (h != kNone && h != outgoing_[v] && faces <= begin[v + 1] - begin[v]);
+      if (faces != begin[v + 1] - begin[v]) return fail();
+    }
+
+    position_.resize(3 * n_vertices);
+    pinned_.assign(n_vertices, 0);
+    for (std::size_t i = 0; i < n_vertices; ++i) {
+      for (int c = 0; c < 3; ++c) position_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
+      if (pinned) pinned_[i] = (*pinned)[vertex_of_[i]];
+    }
     face_dead_.assign(n_faces, 0);
     vertex_dead_.assign(n_vertices, 0);
-    mesh.clean();
+    return true;
+  }
+
+ private:
+  bool fail() {
+    for (auto* table : {&vertex_of_, &local_vertex_, &face_of_, &corner_, &twin_, &outgoing_})
+      std::vector<uint32_t>().swap(*table);
+    return false;
   }
 
   Vec3 point(uint32_t v) const {
@@ -357,7 +394,7 @@ class FastSimplifier {
   }
 
   // As collapse_keeps_welds (collapse_legality.h), on the flat connectivity. Weld groups
-  // hold repaired_'s ids.
+  // hold the given (repaired) ids.
   bool keeps_welds(uint32_t u, const Neighbour* ring_v, int n_v) const {
     if (welds_.empty()) return true;
     auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
@@ -530,7 +567,7 @@ class FastSimplifier {
       return;
     }
     const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
-    // The record, in repaired_'s ids.
+    // The record, in the given ids.
     const uint32_t vl = s.h == kNone ? kNone : corner_[prev_of(s.h)];
     const uint32_t vr = s.t == kNone ? kNone : corner_[prev_of(s.t)];
     Collapse c;
@@ -668,7 +705,7 @@ class FastSimplifier {
     }
   }
 
-  // What is left, in repaired_'s ids, increasing.
+  // What is left, in the given ids, increasing.
   void write_base() {
     BaseMesh& base = out_.base;
     for (uint32_t id = 0; id < vertex_of_.size(); ++id)
@@ -684,17 +721,16 @@ class FastSimplifier {
     }
   }
 
-  ManifoldMesh& repaired_;
   const EncodeOptions& options_;
   FastSimplification& out_;
   const WeldGroups welds_;
   const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;
   const double cos_feature_angle_, cos_max_flip_;
   const bool features_;             // some edge can be a feature (the angle is below 180 degrees)
-  std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> repaired_'s
-  std::vector<uint32_t> face_of_;                   // local face id -> repaired_'s
+  std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
+  std::vector<uint32_t> face_of_;                   // local face id -> the given one
   std::vector<float> position_;                     // three per local vertex
-  std::vector<uint8_t> pinned_;                     // repaired_.pinned, per local vertex
+  std::vector<uint8_t> pinned_;                     // never removed, per local vertex
   std::vector<uint32_t> corner_;    // per half-edge 3f + k: the vertex it leaves
   std::vector<uint32_t> twin_;      // per half-edge: the opposite one, kNone on a boundary
   std::vector<uint32_t> outgoing_;  // per vertex: see copy_connectivity()
@@ -718,8 +754,39 @@ class FastSimplifier {
 
 }  // namespace
 
-void simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out) {
-  FastSimplifier(repaired, options, out).run();
+Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options,
+                     FastSimplification& out) {
+  // The triangles and points of the repaired mesh, then its memory goes back.
+  HalfEdgeMesh& mesh = repaired.mesh;
+  const std::size_t n_faces = mesh.n_faces(), n_vertices = mesh.n_vertices();
+  std::vector<uint32_t> triangles;
+  triangles.reserve(3 * n_faces);
+  for (auto f : mesh.faces()) {
+    auto h = mesh.halfedge_handle(f);
+    for (int k = 0; k < 3; ++k, h = mesh.next_halfedge_handle(h))
+      triangles.push_back(static_cast<uint32_t>(mesh.from_vertex_handle(h).idx()));
+  }
+  std::vector<float> points(3 * n_vertices);
+  for (std::size_t v = 0; v < n_vertices; ++v)
+    for (int c = 0; c < 3; ++c) points[3 * v + c] = mesh.point(mesh.vertex_handle(int(v)))[c];
+  mesh.clean();
+  FastSimplifier simplifier(&repaired, options, out);
+  if (!simplifier.build(triangles.data(), n_faces, points.data(), n_vertices, &repaired.pinned))
+    return Status(ErrorCode::kInternal, "the repaired mesh is not a manifold");
+  std::vector<uint32_t>().swap(triangles);
+  std::vector<float>().swap(points);
+  simplifier.run();
+  return Status::ok();
+}
+
+bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options,
+                          FastSimplification& out) {
+  FastSimplifier simplifier(nullptr, options, out);
+  if (!simplifier.build(input.triangles.data(), input.face_count(), input.positions.data(),
+                        input.vertex_count(), nullptr))
+    return false;
+  simplifier.run();
+  return true;
 }
 
 }  // namespace pm

@@ -13,6 +13,8 @@
 #include "collapse_sequence.h"
 #include "manifold_repair.h"
 #include "pm/encoder.h"
+#include "pm/mesh.h"
+#include "pm/status.h"
 
 namespace pm {
 
@@ -23,10 +25,18 @@ struct FastSimplification {
   std::vector<float> points;  // three per half-edge-mesh vertex
 };
 
-// Runs the whole collapse sequence on repaired.mesh. Its connectivity is copied into flat
-// arrays first, then the OpenMesh mesh is cleared to give its memory back: afterwards only
-// repaired's per-vertex and per-face tables remain, and out.points replaces its points.
-// Requires options.metric == Metric::kQuadric.
-void simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out);
+// Runs the whole collapse sequence on repaired.mesh, in its ids. Its triangles and points
+// are copied into flat arrays first, then the OpenMesh mesh is cleared to give its memory
+// back: afterwards only repaired's per-vertex and per-face tables remain, and out.points
+// replaces its points. Requires options.metric == Metric::kQuadric. kInternal if the mesh
+// is not the manifold build_manifold_mesh makes.
+Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out);
+
+// The same on the input as it is, in its ids, when it is a manifold that needs no repair (see
+// build_manifold_mesh: no face with a repeated vertex, no vertex without faces, every edge
+// in one face or two of opposite orientation, every vertex's faces one fan): the OpenMesh
+// mesh is never built. False, with nothing done, otherwise. The input must have passed
+// check_encodable.
+bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options, FastSimplification& out);
 
 }  // namespace pm

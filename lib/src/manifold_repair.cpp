@@ -52,7 +52,7 @@ bool has_repeated_index(const uint32_t* t) {
 
 }  // namespace
 
-Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
+Status check_encodable(const Mesh& input) {
   const std::size_t vertex_count = input.vertex_count();
   const std::size_t face_count = input.face_count();
   if (input.positions.size() % 3 != 0 || input.triangles.size() % 3 != 0)
@@ -87,6 +87,14 @@ Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
                   kMaxEncodeDiagonal);
     return Status(ErrorCode::kResourceLimit, std::string("the mesh is ") + text);
   }
+  return Status::ok();
+}
+
+Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
+  if (Status s = check_encodable(input); !s) return s;
+  const std::size_t vertex_count = input.vertex_count();
+  const std::size_t face_count = input.face_count();
+  const uint32_t* tri = input.triangles.data();
 
   // OpenMesh reports rejected faces on its error stream; the library never prints.
   silence_openmesh_logs();

@@ -33,7 +33,12 @@ struct ManifoldMesh {
   RepairReport report;
 };
 
-// Errors: kEmptyMesh, kParseError (an index out of range), kResourceLimit.
+// Whether the encoder can take the mesh at all. Errors: kInvalidArgument (arrays not in
+// threes), kEmptyMesh, kParseError (an index out of range, a non-finite coordinate),
+// kResourceLimit (2^30 vertices or faces, a bounding-box diagonal above kMaxEncodeDiagonal).
+Status check_encodable(const Mesh& input);
+
+// Errors: check_encodable's.
 Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out);
 
 }  // namespace pm

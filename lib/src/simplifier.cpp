@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <set>
 #include <string>
 
@@ -749,23 +750,35 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   }
 
   // Stage 1: a manifold half-edge mesh, so that collapses can keep topology exactly.
-  ManifoldMesh repaired;
-  if (Status s = build_manifold_mesh(input, repaired); !s) return s;
-
   // Stage 2: the collapse sequence. Stage 3: the progressive mesh.
   const bool corner_attributes =
       !options.drop_attributes && (input.has_uvs() || input.has_normals() || input.has_materials());
   const bool fast = options.fast && options.metric == Metric::kQuadric && !corner_attributes;
+  ManifoldMesh repaired;
   if (fast) {
-    const std::size_t n_vertices = repaired.mesh.n_vertices(), n_faces = repaired.mesh.n_faces();
+    // The fast loop takes a manifold input as it is, with no OpenMesh mesh built for it;
+    // only the others go through the repair.
+    if (Status s = check_encodable(input); !s) return s;
     FastSimplification run;
-    simplify_fast(repaired, options, run);
+    const std::size_t n_vertices = input.vertex_count(), n_faces = input.face_count();
+    if (simplify_fast_direct(input, options, run)) {
+      repaired.input_vertex.resize(n_vertices);
+      std::iota(repaired.input_vertex.begin(), repaired.input_vertex.end(), uint32_t{0});
+      repaired.canonical = repaired.input_vertex;
+      repaired.pinned.assign(n_vertices, 0);
+      repaired.input_face.resize(n_faces);
+      std::iota(repaired.input_face.begin(), repaired.input_face.end(), uint32_t{0});
+    } else {
+      if (Status s = build_manifold_mesh(input, repaired); !s) return s;
+      if (Status s = simplify_fast(repaired, options, run); !s) return s;
+    }
     const CollapseAttributes no_attributes;
     assemble(input, repaired,
              Simplified{run.collapses, run.moved_faces, no_attributes, nullptr, run.base,
-                        run.points.data(), n_vertices, n_faces},
+                        run.points.data(), run.points.size() / 3, repaired.input_face.size()},
              !options.drop_attributes, options.keep_order, out);
   } else {
+    if (Status s = build_manifold_mesh(input, repaired); !s) return s;
     SchroederSimplifier simplifier(input, repaired, options);
     simplifier.run();
     const HalfEdgeMesh& mesh = repaired.mesh;
