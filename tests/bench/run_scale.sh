@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # The memory and scale benchmark in one command (issue 9's memory item, issue 10's
-# whole-process table): wall time and peak memory (/usr/bin/time -v) of whole processes on
-# large meshes made by Loop subdivision (pm_make_big_mesh, big_mesh.h):
+# whole-process and in-process encode tables): wall time and peak memory (/usr/bin/time -v)
+# of whole processes on large meshes made by Loop subdivision (pm_make_big_mesh, big_mesh.h):
 #
-#   pmenc big.obj -o big.pm, pmdec big.pm -o full.obj        ours
-#   OpenMesh-mkbalancedpm big.obj -o big.om.pm               OpenMesh's progressive mesh
-#   pm_bench_scale_peers meshopt big.obj                     load, meshopt_simplify to 1%
-#   pm_bench_scale_peers openmesh big.obj                    load, DecimaterT to 1%
+#   pmenc [--fast] big.obj -o big.pm, pmdec big.pm -o full.obj  ours
+#   OpenMesh-mkbalancedpm big.obj -o big.om.pm                  OpenMesh's progressive mesh
+#   pm_bench_scale_peers meshopt big.obj                        load, meshopt_simplify to 1%
+#   pm_bench_scale_peers openmesh big.obj                       load, DecimaterT to 1%
+#
+# and the encoders' own time inside the process: pm_bench_encode (pm::encode with each loop
+# and metric) beside the peers' simplification times.
 #
 # on nefertiti × 16 (1.6M faces), and with --big (or PM_SCALE_BIG=1) on stanford-bunny × 64
 # (4.4M faces; about 15 minutes more on two cores). Writes tests/bench/scale.md and prints
@@ -14,8 +17,9 @@
 #
 #   run_scale.sh [--big] [--runs N] [--fast-runs N]
 #
-# --runs: runs of the slow tools (pmenc, mkbalancedpm, the OpenMesh decimater), 1 by
-# default since pmenc takes minutes here; --fast-runs: runs of pmdec and meshopt (5). Each
+# --runs: runs of the slow tools (pmenc and pm::encode's default loop, mkbalancedpm, the
+# OpenMesh decimater), 1 by default since they take minutes here; --fast-runs: runs of pmdec,
+# pmenc --fast, pm::encode's fast loop and meshopt (5). Each
 # row reports the median of its runs. See tests/bench/README.md, "Scale and memory".
 set -euo pipefail
 
@@ -55,7 +59,7 @@ for source in nefertiti.obj stanford-bunny.obj; do
 done
 
 bench_configure "$repo" "$build"
-cmake --build "$build" -j"$(nproc)" --target pmenc pmdec pm_make_big_mesh pm_bench_scale_peers
+cmake --build "$build" -j"$(nproc)" --target pmenc pmdec pm_make_big_mesh pm_bench_scale_peers pm_bench_encode
 
 bin="$build/apps"
 bench="$build/tests/bench"
@@ -82,6 +86,23 @@ measure() {
     /Elapsed \(wall clock\)/ { n = split($2, p, ":"); s = 0; for (i = 1; i <= n; ++i) s = s * 60 + p[i] }
     /Maximum resident set size/ { kib = $2 }
     END { printf "%.2f %d\n", s, kib }' "$log" >>"$work/$label.runs"
+}
+
+# inprocess LABEL FIELD CMD...: runs CMD (niced) and appends the seconds it printed after
+# FIELD (pm_bench_encode's "wall", the peers' "simplify_s=") to $work/LABEL.inproc: the time
+# of the simplification alone, inside the process, without reading the mesh.
+inprocess() {
+  local label="$1" field="$2"
+  shift 2
+  if ! nice "$@" >"$work/$label.stdout" 2>"$work/$label.stderr"; then
+    echo "run_scale.sh: $label failed: $*" >&2
+    tail -5 "$work/$label.stderr" >&2
+    exit 1
+  fi
+  inprocess_seconds "$label" "$field"
+}
+inprocess_seconds() {
+  sed -n "s/.*$2[= ]\([0-9.]*\).*/\1/p" "$work/$1.stdout" | head -1 >>"$work/$1.inproc"
 }
 
 # median FILE COLUMN: the median of a column of numbers (the mean of the middle two when even).
@@ -112,7 +133,7 @@ run_mesh() {
   faces=$(grep -c '^f ' "$obj")
   vertices=$(grep -c '^v ' "$obj")
   obj_bytes=$(stat -c %s "$obj")
-  rm -f "$work/$name".*.runs
+  rm -f "$work/$name".*.runs "$work/$name".*.inproc
 
   local i
   for ((i = 1; i <= runs; ++i)); do
@@ -122,11 +143,18 @@ run_mesh() {
     measure "$name.mkbalancedpm" OpenMesh-mkbalancedpm -o "$work/$name.om.pm" "$obj"
     echo "run_scale.sh: $name: OpenMesh DecimaterT to 1%, run $i of $runs" >&2
     measure "$name.openmesh" "$bench/pm_bench_scale_peers" openmesh "$obj"
+    inprocess_seconds "$name.openmesh" simplify_s
+    echo "run_scale.sh: $name: pm::encode in-process, quadric and schroeder, run $i of $runs" >&2
+    inprocess "$name.encode_quadric" wall "$bench/pm_bench_encode" "$obj" --metric quadric
+    inprocess "$name.encode_schroeder" wall "$bench/pm_bench_encode" "$obj" --metric schroeder
   done
   for ((i = 1; i <= fast_runs; ++i)); do
-    echo "run_scale.sh: $name: pmdec and meshopt, run $i of $fast_runs" >&2
+    echo "run_scale.sh: $name: pmdec, pmenc --fast and meshopt, run $i of $fast_runs" >&2
     measure "$name.pmdec" "$bin/pmdec" "$work/$name.pm" -o "$work/$name.full.obj"
+    measure "$name.pmenc_fast" "$bin/pmenc" --fast "$obj" -o "$work/$name.fast.pm"
     measure "$name.meshopt" "$bench/pm_bench_scale_peers" meshopt "$obj"
+    inprocess_seconds "$name.meshopt" simplify_s
+    inprocess "$name.encode_fast" wall "$bench/pm_bench_encode" "$obj" --fast
   done
   # The full-detail output is the input again: checked by its face count, then dropped.
   local full_faces
@@ -147,9 +175,10 @@ run_mesh() {
     echo "| process | runs | wall (s) | peak RSS (MiB) | bytes per input face | pmenc / this | pmdec / this |"
     echo "|---|---:|---:|---:|---:|---:|---:|"
     local label title n wall kib
-    for label in pmenc pmdec mkbalancedpm meshopt openmesh; do
+    for label in pmenc pmenc_fast pmdec mkbalancedpm meshopt openmesh; do
       case "$label" in
         pmenc) title="**\`pmenc $name.obj -o $name.pm\`** (ours: the whole sequence to the base mesh)" ;;
+        pmenc_fast) title="**\`pmenc --fast $name.obj -o $name.fast.pm\`** (ours, the fast loop: the whole sequence)" ;;
         pmdec) title="**\`pmdec $name.pm -o full.obj\`** (ours: full detail)" ;;
         mkbalancedpm) title="\`OpenMesh-mkbalancedpm -o $name.om.pm $name.obj\` (OpenMesh's whole sequence)" ;;
         meshopt) title="meshopt: load (minimal reader), \`meshopt_simplify\` to 1%" ;;
@@ -160,6 +189,32 @@ run_mesh() {
       kib=$(median "$work/$name.$label.runs" 2)
       echo "| $title | $n | $(seconds "$wall") | $(mib "$kib") | $(per_face "$kib" "$faces") | $(ratio "$enc_kib" "$kib") | $(ratio "$dec_kib" "$kib") |"
     done
+    local mkbalancedpm_wall pmenc_fast_wall
+    mkbalancedpm_wall=$(median "$work/$name.mkbalancedpm.runs" 1)
+    pmenc_fast_wall=$(median "$work/$name.pmenc_fast.runs" 1)
+    echo
+    echo "Whole process, issue 10: \`OpenMesh-mkbalancedpm\` takes $(ratio "$mkbalancedpm_wall" "$(median "$work/$name.pmenc.runs" 1)") the time of \`pmenc\`, $(ratio "$mkbalancedpm_wall" "$pmenc_fast_wall") that of \`pmenc --fast\` (the goal: 10×)."
+    echo
+    echo "**Encode in-process** (issue 10): the simplification alone, timed inside the process after the mesh is read: \`pm::encode\` (\`pm_bench_encode\`: repair, the whole collapse sequence, the progressive mesh; not writing the .pm), and the peers' own timing of their simplification (\`pm_bench_scale_peers\`: \`meshopt_simplify\` to 1%, OpenMesh's DecimaterT to 1%, the last 1% being the few collapses left to its full sequence). Medians of the runs."
+    echo
+    echo "| encoder | runs | seconds | this / meshopt_simplify | OpenMesh DecimaterT / this |"
+    echo "|---|---:|---:|---:|---:|"
+    local meshopt_s openmesh_s this_s
+    meshopt_s=$(median "$work/$name.meshopt.inproc" 1)
+    openmesh_s=$(median "$work/$name.openmesh.inproc" 1)
+    for label in encode_quadric encode_schroeder encode_fast meshopt openmesh; do
+      case "$label" in
+        encode_quadric) title="**pm::encode**, quadric (the default loop, measured error)" ;;
+        encode_schroeder) title="**pm::encode**, schroeder (the default loop, measured error)" ;;
+        encode_fast) title="**pm::encode**, \`fast\` (\`pmenc --fast\`: quadric, flat arrays)" ;;
+        meshopt) title="meshopt_simplify to 1%" ;;
+        openmesh) title="OpenMesh DecimaterT (ModQuadricT + ModNormalFlippingT) to 1%" ;;
+      esac
+      this_s=$(median "$work/$name.$label.inproc" 1)
+      echo "| $title | $(wc -l <"$work/$name.$label.inproc") | $(seconds "$this_s") | $(ratio "$this_s" "$meshopt_s") | $(ratio "$openmesh_s" "$this_s") |"
+    done
+    echo
+    echo "Issue 10's encode goals: at most 1.5× meshopt_simplify's time, and at least 20× faster than OpenMesh's decimater."
     echo
     echo "Peers' results, from their own output (the last run): meshopt $(sed 's/.*faces_out=\([0-9]*\).*/\1/' "$work/$name.meshopt.stdout") faces in $(sed 's/.*simplify_s=\([0-9.]*\).*/\1/' "$work/$name.meshopt.stdout") s after $(sed 's/.*load_s=\([0-9.]*\).*/\1/' "$work/$name.meshopt.stdout") s of loading; OpenMesh's decimater $(sed 's/.*faces_out=\([0-9]*\).*/\1/' "$work/$name.openmesh.stdout") faces in $(sed 's/.*simplify_s=\([0-9.]*\).*/\1/' "$work/$name.openmesh.stdout") s after $(sed 's/.*load_s=\([0-9.]*\).*/\1/' "$work/$name.openmesh.stdout") s of loading."
   } >>"$report.tmp"
@@ -182,14 +237,14 @@ mo_version="$(dpkg-query -W -f='${Version}' libmeshoptimizer-dev 2>/dev/null || 
 {
   echo "# Memory and scale benchmark"
   echo
-  echo "Issue 9 (peak memory of pmenc and pmdec per input face) and issue 10's whole-process table: each tool is one process under \`/usr/bin/time -v\`, on meshes made by Loop subdivision. Regenerate with \`bash tests/bench/run_scale.sh --big\` (without \`--big\`, the 4.4M-face mesh is left out); how each number is measured is in [README.md](README.md), \"Scale and memory\"."
+  echo "Issue 9 (peak memory of pmenc and pmdec per input face) and issue 10's whole-process and in-process encode tables: each tool is one process under \`/usr/bin/time -v\`, on meshes made by Loop subdivision. Regenerate with \`bash tests/bench/run_scale.sh --big\` (without \`--big\`, the 4.4M-face mesh is left out); how each number is measured is in [README.md](README.md), \"Scale and memory\"."
   echo
   echo "- machine: $(uname -m), $cpu, $(nproc) hardware threads (Linux $(uname -r)), $(free -g | awk '/^Mem:/ { print $2 }') GB of memory"
   echo "- date: $(date -u '+%Y-%m-%d %H:%M') UTC"
   echo "- commit: $commit"
   echo "- load average at the start (1, 5, 15 min): $(cut -d' ' -f1-3 /proc/loadavg) (a shared machine: the neighbours' work is in every wall-clock time)"
   echo "- peers: OpenMesh $om_version (libopenmesh-apps), meshoptimizer $mo_version"
-  echo "- runs: $runs of pmenc, OpenMesh-mkbalancedpm and the OpenMesh decimater; $fast_runs of pmdec and meshopt; each row is the median of its runs$( ((runs == 1)) && echo " (so the slow tools' rows are single runs)")"
+  echo "- runs: $runs of pmenc and pm::encode's default loop, OpenMesh-mkbalancedpm and the OpenMesh decimater; $fast_runs of pmdec, pmenc --fast, pm::encode's fast loop and meshopt; each row is the median of its runs$( ((runs == 1)) && echo " (so the slow tools' rows are single runs)")"
   echo "- bytes per input face: peak resident set / input faces, the program's own footprint included (pmenc alone, \`--version\`: $(mib "$(median "$work/baseline.pmenc.runs" 2)") MiB; pmdec: $(mib "$(median "$work/baseline.pmdec.runs" 2)") MiB)"
 } >"$report.tmp"
 
