@@ -14,7 +14,7 @@
 #include "collapse_legality.h"
 #include "geometry.h"
 #include "indexed_heap.h"
-#include "quadric.h"
+#include "local_quadric.h"
 #include "vertex_classification.h"
 
 namespace pm {
@@ -52,14 +52,13 @@ class FastSimplifier {
         features_(cos_feature_angle_ > -1.0) {}
 
   void run() {
-    const std::size_t n_vertices = outgoing_.size();
+    const std::size_t n_vertices = vertex_.size();
     initialize_quadrics();
-    input_corner_.assign(n_vertices, 0);
-    for (uint32_t v = 0; v < n_vertices; ++v) input_corner_[v] = kind_of(v) == VertexKind::kCorner;
+    for (uint32_t v = 0; v < n_vertices; ++v)
+      vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
     best_.assign(n_vertices, Best{kNone, kNone});
-    simple_.assign(n_vertices, 0);
     heap_ = IndexedHeap(n_vertices);
-    faces_alive_ = corner_.size() / 3;
+    faces_alive_ = half_.size() / 3;
     vertices_alive_ = n_vertices;
     out_.collapses.reserve(n_vertices);
     // A collapse moves v's faces but two: 3.2 to 3.5 of them on average on the shared
@@ -76,14 +75,13 @@ class FastSimplifier {
       if (stopped_ || out_.collapses.size() == before) break;
     }
     heap_ = IndexedHeap(0);
-    std::vector<Quadric>().swap(quadrics_);
     std::vector<Best>().swap(best_);
-    std::vector<uint8_t>().swap(simple_);
-    std::vector<uint32_t>().swap(twin_);
-    out_.points.resize(position_.size());
+    out_.points.resize(3 * vertex_.size());
     for (std::size_t i = 0; i < vertex_of_.size(); ++i)
-      for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = position_[3 * i + c];
-    std::vector<float>().swap(position_);
+      for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = vertex_[i].position[c];
+    dead_vertex_.resize(vertex_.size());
+    for (std::size_t i = 0; i < vertex_.size(); ++i) dead_vertex_[i] = vertex_[i].dead;
+    std::vector<VertexRecord>().swap(vertex_);
     to_given_ids();
     write_base();
   }
@@ -146,67 +144,64 @@ class FastSimplifier {
       face_of_[begin[std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]})]++] =
           static_cast<uint32_t>(f);
     }
-    corner_.resize(3 * n_faces);
+    half_.assign(3 * n_faces, HalfEdge{kNone, kNone});
     for (std::size_t i = 0; i < n_faces; ++i)
       for (int k = 0; k < 3; ++k)
-        corner_[3 * i + k] = local_vertex_[tri[3 * std::size_t{face_of_[i]} + k]];
+        half_[3 * i + k].vertex = local_vertex_[tri[3 * std::size_t{face_of_[i]} + k]];
 
     // The half-edges leaving each vertex (compressed rows), then each half-edge's twin:
     // the one way back, if any; two the same way, or two back, is an edge the repair cuts.
     std::fill(begin.begin(), begin.end(), 0);
-    for (uint32_t h = 0; h < corner_.size(); ++h) ++begin[corner_[h] + 1];
+    for (uint32_t h = 0; h < half_.size(); ++h) ++begin[half_[h].vertex + 1];
     for (std::size_t v = 0; v < n_vertices; ++v) {
       if (begin[v + 1] == 0) return fail();  // a vertex no face uses
       begin[v + 1] += begin[v];
     }
-    std::vector<uint32_t> leaving(corner_.size());
+    std::vector<uint32_t> leaving(half_.size());
     {
       std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
-      for (uint32_t h = 0; h < corner_.size(); ++h) leaving[fill[corner_[h]]++] = h;
+      for (uint32_t h = 0; h < half_.size(); ++h) leaving[fill[half_[h].vertex]++] = h;
     }
-    twin_.assign(corner_.size(), kNone);
-    for (uint32_t h = 0; h < corner_.size(); ++h) {
-      const uint32_t a = corner_[h], b = corner_[next_of(h)];
+    for (uint32_t h = 0; h < half_.size(); ++h) {
+      const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
       for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
-        if (leaving[i] != h && corner_[next_of(leaving[i])] == b) return fail();
+        if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return fail();
       for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
         const uint32_t back = leaving[i];
-        if (corner_[next_of(back)] != a) continue;
-        if (twin_[h] != kNone) return fail();
-        twin_[h] = back;
+        if (half_[next_of(back)].vertex != a) continue;
+        if (half_[h].twin != kNone) return fail();
+        half_[h].twin = back;
       }
     }
     std::vector<uint32_t>().swap(leaving);
     // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
     // around the vertex (ring()) starts. Two such, or a walk that misses some of the
     // vertex's faces, is a vertex where fans meet.
-    outgoing_.assign(n_vertices, kNone);
-    for (uint32_t h = 0; h < corner_.size(); ++h) {
-      const uint32_t v = corner_[h];
-      if (twin_[h] == kNone) {
-        if (outgoing_[v] != kNone && twin_[outgoing_[v]] == kNone) return fail();
-        outgoing_[v] = h;
-      } else if (outgoing_[v] == kNone) {
-        outgoing_[v] = h;
+    vertex_.assign(n_vertices, VertexRecord{});
+    for (uint32_t h = 0; h < half_.size(); ++h) {
+      const uint32_t v = half_[h].vertex;
+      if (half_[h].twin == kNone) {
+        if (vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone) return fail();
+        vertex_[v].outgoing = h;
+      } else if (vertex_[v].outgoing == kNone) {
+        vertex_[v].outgoing = h;
       }
     }
     for (uint32_t v = 0; v < n_vertices; ++v) {
-      uint32_t faces = 0, h = outgoing_[v];
+      uint32_t faces = 0, h = vertex_[v].outgoing;
       do {
         ++faces;
-        h = twin_[prev_of(h)];
-      } while (h != kNone && h != outgoing_[v] && faces <= begin[v + 1] - begin[v]);
+        h = half_[prev_of(h)].twin;
+      } while (h != kNone && h != vertex_[v].outgoing && faces <= begin[v + 1] - begin[v]);
       if (faces != begin[v + 1] - begin[v]) return fail();
     }
 
-    position_.resize(3 * n_vertices);
-    pinned_.assign(n_vertices, 0);
     for (std::size_t i = 0; i < n_vertices; ++i) {
-      for (int c = 0; c < 3; ++c) position_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
-      if (pinned) pinned_[i] = (*pinned)[vertex_of_[i]];
+      for (int c = 0; c < 3; ++c)
+        vertex_[i].position[c] = points[3 * std::size_t{vertex_of_[i]} + c];
+      if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
     }
     face_dead_.assign(n_faces, 0);
-    vertex_dead_.assign(n_vertices, 0);
     // Only the weld check looks a vertex up by its given id from here on.
     if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
     return true;
@@ -214,20 +209,22 @@ class FastSimplifier {
 
  private:
   bool fail() {
-    for (auto* table : {&vertex_of_, &local_vertex_, &face_of_, &corner_, &twin_, &outgoing_})
+    for (auto* table : {&vertex_of_, &local_vertex_, &face_of_})
       std::vector<uint32_t>().swap(*table);
+    std::vector<HalfEdge>().swap(half_);
+    std::vector<VertexRecord>().swap(vertex_);
     return false;
   }
 
   Vec3 point(uint32_t v) const {
-    const float* p = &position_[3 * std::size_t{v}];
+    const float* p = vertex_[v].position;
     return Vec3(p[0], p[1], p[2]);
   }
 
   // Unit normal of face f, or zero when degenerate (as FaceGeometry's).
   Vec3 face_normal(uint32_t f) const {
-    const Vec3 n =
-        area_vector(point(corner_[3 * f]), point(corner_[3 * f + 1]), point(corner_[3 * f + 2]));
+    const Vec3 n = area_vector(point(half_[3 * f].vertex), point(half_[3 * f + 1].vertex),
+                               point(half_[3 * f + 2].vertex));
     const double length = n.norm();
     return length > 0 ? n / length : Vec3(0, 0, 0);
   }
@@ -235,27 +232,27 @@ class FastSimplifier {
   // Schroeder, Zarge and Lorensen 1992, §3.1: an edge is a feature when its faces' normals
   // differ by more than the feature angle (a degenerate face's edges are features).
   bool is_feature(uint32_t h) const {
-    if (!features_ || twin_[h] == kNone) return false;
-    return (face_normal(h / 3) | face_normal(twin_[h] / 3)) < cos_feature_angle_;
+    if (!features_ || half_[h].twin == kNone) return false;
+    return (face_normal(h / 3) | face_normal(half_[h].twin / 3)) < cos_feature_angle_;
   }
-  bool is_special(uint32_t h) const { return twin_[h] == kNone || is_feature(h); }
+  bool is_special(uint32_t h) const { return half_[h].twin == kNone || is_feature(h); }
 
   // v's neighbours in order, at most `cap`: the count, or -1 when there are more.
   // *boundary tells whether v is on a boundary.
   int ring(uint32_t v, Neighbour* out, int cap, bool* boundary) const {
     *boundary = false;
-    const uint32_t first = outgoing_[v];
+    const uint32_t first = vertex_[v].outgoing;
     if (first == kNone) return 0;
     int n = 0;
     uint32_t h = first;
     do {
       if (n == cap) return -1;
-      out[n++] = {corner_[next_of(h)], h};
+      out[n++] = {half_[next_of(h)].vertex, h};
       const uint32_t incoming = prev_of(h);
-      const uint32_t t = twin_[incoming];
+      const uint32_t t = half_[incoming].twin;
       if (t == kNone) {  // the boundary edge that ends at v: its far end is the last one
         if (n == cap) return -1;
-        out[n++] = {corner_[incoming], incoming};
+        out[n++] = {half_[incoming].vertex, incoming};
         *boundary = true;
         break;
       }
@@ -265,18 +262,18 @@ class FastSimplifier {
   }
 
   bool is_boundary_vertex(uint32_t v) const {
-    return outgoing_[v] != kNone && twin_[outgoing_[v]] == kNone;
+    return vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone;
   }
 
   bool adjacent(uint32_t a, uint32_t b) const {
-    const uint32_t first = outgoing_[a];
+    const uint32_t first = vertex_[a].outgoing;
     if (first == kNone) return false;
     uint32_t h = first;
     do {
-      if (corner_[next_of(h)] == b) return true;
+      if (half_[next_of(h)].vertex == b) return true;
       const uint32_t incoming = prev_of(h);
-      if (twin_[incoming] == kNone) return corner_[incoming] == b;
-      h = twin_[incoming];
+      if (half_[incoming].twin == kNone) return half_[incoming].vertex == b;
+      h = half_[incoming].twin;
     } while (h != first);
     return false;
   }
@@ -284,14 +281,14 @@ class FastSimplifier {
   // Schroeder, Zarge and Lorensen 1992, §3.1, with Schroeder 1997's corner rule: the same
   // answers as classify_vertex (vertex_classification.h).
   VertexKind kind_of(uint32_t v) const {
-    if (pinned_[v]) return VertexKind::kComplex;
+    if (vertex_[v].pinned) return VertexKind::kComplex;
     Neighbour ring_of_v[kMaxValence];
     bool boundary;
     const int n = ring(v, ring_of_v, kMaxValence, &boundary);
     if (n <= 0) return VertexKind::kComplex;
     int boundary_edges = 0, feature_edges = 0;
     for (int i = 0; i < n; ++i) {
-      if (twin_[ring_of_v[i].edge] == kNone)
+      if (half_[ring_of_v[i].edge].twin == kNone)
         ++boundary_edges;
       else
         feature_edges += is_feature(ring_of_v[i].edge);
@@ -308,7 +305,7 @@ class FastSimplifier {
     uint32_t h, t;
   };
   Sides sides(uint32_t v, uint32_t edge) const {
-    return corner_[edge] == v ? Sides{edge, twin_[edge]} : Sides{twin_[edge], edge};
+    return half_[edge].vertex == v ? Sides{edge, half_[edge].twin} : Sides{half_[edge].twin, edge};
   }
 
   // The link condition (Dey, Edelsbrunner, Guha and Nekhayev 1999, §2) and Hoppe et al.
@@ -316,16 +313,16 @@ class FastSimplifier {
   bool keeps_topology(uint32_t u, const Sides& s, const Neighbour* ring_v, int n_v,
                       bool boundary_v) const {
     auto apex_ok = [&](uint32_t h) {
-      return h == kNone || twin_[next_of(h)] != kNone || twin_[prev_of(h)] != kNone;
+      return h == kNone || half_[next_of(h)].twin != kNone || half_[prev_of(h)].twin != kNone;
     };
     if (!apex_ok(s.h) || !apex_ok(s.t)) return false;
-    const uint32_t vl = s.h == kNone ? kNone : corner_[prev_of(s.h)];
-    const uint32_t vr = s.t == kNone ? kNone : corner_[prev_of(s.t)];
+    const uint32_t vl = s.h == kNone ? kNone : half_[prev_of(s.h)].vertex;
+    const uint32_t vr = s.t == kNone ? kNone : half_[prev_of(s.t)].vertex;
     if (vl == vr) return false;
     // u's neighbours, each looked up among v's: no common neighbour but vl and vr.
     int valence_u = 0;
     bool boundary_u = false;
-    const uint32_t first = outgoing_[u];
+    const uint32_t first = vertex_[u].outgoing;
     uint32_t h = first;
     auto common = [&](uint32_t w) {
       ++valence_u;
@@ -335,14 +332,14 @@ class FastSimplifier {
       return false;
     };
     do {
-      if (common(corner_[next_of(h)])) return false;
+      if (common(half_[next_of(h)].vertex)) return false;
       const uint32_t incoming = prev_of(h);
-      if (twin_[incoming] == kNone) {
-        if (common(corner_[incoming])) return false;
+      if (half_[incoming].twin == kNone) {
+        if (common(half_[incoming].vertex)) return false;
         boundary_u = true;
         break;
       }
-      h = twin_[incoming];
+      h = half_[incoming].twin;
     } while (h != first);
     const bool interior_edge = s.h != kNone && s.t != kNone;
     if (boundary_v && boundary_u && interior_edge) return false;
@@ -360,12 +357,12 @@ class FastSimplifier {
     const Vec3 pu = point(u);
     for (int i = 0; i < n_v; ++i) {
       const uint32_t e = ring_v[i].edge;
-      if (corner_[e] != v) continue;  // the boundary's last entry: its face came already
+      if (half_[e].vertex != v) continue;  // the boundary's last entry: its face came already
       const uint32_t f = e / 3;
       if (f == fl || f == fr) continue;
       Vec3 before[3], after[3];
       for (int k = 0; k < 3; ++k) {
-        const uint32_t w = corner_[3 * f + k];
+        const uint32_t w = half_[3 * f + k].vertex;
         before[k] = point(w);
         after[k] = w == v ? pu : before[k];
       }
@@ -444,7 +441,7 @@ class FastSimplifier {
     if (!find_best(v, check_legal)) heap_.erase(v);
   }
   bool find_best(uint32_t v, bool check_legal) {
-    if (vertex_dead_[v] || pinned_[v]) return false;
+    if (vertex_[v].dead || vertex_[v].pinned) return false;
     Neighbour ring_v[kMaxValence];
     bool boundary_v;
     const int n = ring(v, ring_v, kMaxValence, &boundary_v);
@@ -458,7 +455,7 @@ class FastSimplifier {
     int boundary_edges = 0, feature_edges = 0;
     for (int i = 0; i < n; ++i) {
       const uint32_t e = ring_v[i].edge;
-      const bool boundary = twin_[e] == kNone, feature = !boundary && is_feature(e);
+      const bool boundary = half_[e].twin == kNone, feature = !boundary && is_feature(e);
       boundary_edges += boundary;
       feature_edges += feature;
       options[i] = {boundary || feature, 0.0, 0.0, i};
@@ -470,7 +467,7 @@ class FastSimplifier {
       kind = VertexKind::kBoundary;
     else if (boundary_edges == 0 && feature_edges == 2)
       kind = VertexKind::kInteriorEdge;
-    if (input_corner_[v]) kind = VertexKind::kCorner;
+    if (vertex_[v].input_corner) kind = VertexKind::kCorner;
     CollapseEdges edges = kCollapseEdges[static_cast<int>(kind)];
     if (kind == VertexKind::kCorner && options_.keep_corners) edges = CollapseEdges::kNone;
     if (edges == CollapseEdges::kNone) return false;
@@ -481,11 +478,11 @@ class FastSimplifier {
           options);
     // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses
     // (u stays where it is), v's planes at u as a mean over their area.
-    const Quadric& q = quadrics_[v];
+    const LocalQuadric& q = vertex_[v].quadric;
     const Vec3 pv = point(v);
     for (int i = 0; i < count; ++i) {
       const Vec3 pu = point(ring_v[options[i].index].vertex);
-      options[i].cost = q.weight > 0 ? q.error(pu) / q.weight : 0.0;
+      options[i].cost = q.weight > 0 ? q.error_at(pu - pv) / q.weight : 0.0;
       options[i].length = (pu - pv).sqrnorm();
     }
     count = static_cast<int>(std::remove_if(options, options + count,
@@ -501,7 +498,7 @@ class FastSimplifier {
     };
     auto queue = [&](const Option& o) {
       best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge};
-      simple_[v] = kind == VertexKind::kSimple;
+      vertex_[v].simple = kind == VertexKind::kSimple;
       heap_.set(v, static_cast<float>(o.cost));
       return true;
     };
@@ -519,11 +516,11 @@ class FastSimplifier {
   void apply(uint32_t v) {
     const uint32_t edge = best_[v].edge;
     // The candidate's edge may have gone, or changed, since it was queued.
-    if (face_dead_[edge / 3] || (corner_[edge] != v && corner_[next_of(edge)] != v)) {
+    if (face_dead_[edge / 3] || (half_[edge].vertex != v && half_[next_of(edge)].vertex != v)) {
       evaluate(v, true);
       return;
     }
-    const uint32_t u = corner_[edge] == v ? corner_[next_of(edge)] : corner_[edge];
+    const uint32_t u = half_[edge].vertex == v ? half_[next_of(edge)].vertex : half_[edge].vertex;
     Neighbour ring_v[kMaxValence];
     bool boundary_v;
     const int n = ring(v, ring_v, kMaxValence, &boundary_v);
@@ -540,8 +537,8 @@ class FastSimplifier {
     }
     const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
     // The record, in local ids until the loop ends (to_given_ids()).
-    const uint32_t vl = s.h == kNone ? kNone : corner_[prev_of(s.h)];
-    const uint32_t vr = s.t == kNone ? kNone : corner_[prev_of(s.t)];
+    const uint32_t vl = s.h == kNone ? kNone : half_[prev_of(s.h)].vertex;
+    const uint32_t vr = s.t == kNone ? kNone : half_[prev_of(s.t)].vertex;
     Collapse c;
     c.v = v;
     c.u = u;
@@ -552,12 +549,12 @@ class FastSimplifier {
     c.moved_begin = static_cast<uint32_t>(out_.moved_faces.size());
     for (int i = 0; i < n; ++i) {
       const uint32_t e = ring_v[i].edge;
-      if (corner_[e] != v) continue;
+      if (half_[e].vertex != v) continue;
       const uint32_t f = e / 3;
       if (f == fl || f == fr) continue;
       out_.moved_faces.push_back(f);
       for (int k = 0; k < 3; ++k)
-        if (corner_[3 * f + k] == v) corner_[3 * f + k] = u;
+        if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
     }
     c.moved_count = static_cast<uint32_t>(out_.moved_faces.size()) - c.moved_begin;
     c.new_faces_begin = new_faces_recorded_;
@@ -570,18 +567,18 @@ class FastSimplifier {
 
     // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
     // at their boundary half-edge again (start_at_boundary), the others' anywhere.
-    const bool boundary_vl = vl != kNone && twin_[outgoing_[vl]] == kNone;
-    const bool boundary_vr = vr != kNone && twin_[outgoing_[vr]] == kNone;
-    const bool boundary_u = boundary_v || twin_[outgoing_[u]] == kNone;
+    const bool boundary_vl = vl != kNone && half_[vertex_[vl].outgoing].twin == kNone;
+    const bool boundary_vr = vr != kNone && half_[vertex_[vr].outgoing].twin == kNone;
+    const bool boundary_u = boundary_v || half_[vertex_[u].outgoing].twin == kNone;
     // The faces at v-u go: their outer edges' twins become each other's.
     auto remove_face = [&](uint32_t h) {
-      const uint32_t a = twin_[next_of(h)], b = twin_[prev_of(h)];
-      if (a != kNone) twin_[a] = b;
-      if (b != kNone) twin_[b] = a;
+      const uint32_t a = half_[next_of(h)].twin, b = half_[prev_of(h)].twin;
+      if (a != kNone) half_[a].twin = b;
+      if (b != kNone) half_[b].twin = a;
       face_dead_[h / 3] = 1;
       // The apex and u may have had their outgoing half-edge in this face.
-      const uint32_t apex = corner_[prev_of(h)];
-      outgoing_[apex] = a != kNone ? a : next_of(b);
+      const uint32_t apex = half_[prev_of(h)].vertex;
+      vertex_[apex].outgoing = a != kNone ? a : next_of(b);
     };
     if (s.h != kNone) remove_face(s.h);
     if (s.t != kNone) remove_face(s.t);
@@ -589,30 +586,31 @@ class FastSimplifier {
     {
       uint32_t out = kNone;
       if (s.h != kNone) {
-        const uint32_t b = twin_[next_of(s.h)];  // twin of the edge u-vl, now vl's side
+        const uint32_t b = half_[next_of(s.h)].twin;  // twin of the edge u-vl, now vl's side
         out = b != kNone ? next_of(b) : kNone;
       }
       if (out == kNone && s.h != kNone) {
-        const uint32_t b = twin_[prev_of(s.h)];
+        const uint32_t b = half_[prev_of(s.h)].twin;
         if (b != kNone) out = b;  // v -> vl, now u -> vl
       }
       if (out == kNone && s.t != kNone) {
-        const uint32_t d = twin_[prev_of(s.t)];  // u -> vr
+        const uint32_t d = half_[prev_of(s.t)].twin;  // u -> vr
         if (d != kNone)
           out = d;
-        else if (twin_[next_of(s.t)] != kNone)
-          out = next_of(twin_[next_of(s.t)]);
+        else if (half_[next_of(s.t)].twin != kNone)
+          out = next_of(half_[next_of(s.t)].twin);
       }
-      outgoing_[u] = out;
+      vertex_[u].outgoing = out;
     }
     if (boundary_u) start_at_boundary(u);
     if (boundary_vl) start_at_boundary(vl);
     if (boundary_vr) start_at_boundary(vr);
-    outgoing_[v] = kNone;
-    vertex_dead_[v] = 1;
+    vertex_[v].outgoing = kNone;
+    vertex_[v].dead = 1;
     faces_alive_ -= removed_faces;
     --vertices_alive_;
-    quadrics_[u] += quadrics_[v];  // Garland and Heckbert 1997, §4: Q = Q1 + Q2
+    // Garland and Heckbert 1997, §4: Q = Q1 + Q2.
+    vertex_[u].quadric.add(vertex_[v].quadric, point(u) - point(v));
     heap_.erase(v);
 
     // Re-evaluated, as in the default loop: u, and v's other neighbours, whose one-rings
@@ -627,28 +625,28 @@ class FastSimplifier {
       // here: only the angle could make one) and only traded its option w -> v for w -> u;
       // the others cost what they did. Unless it was queued towards v, or w -> u is no
       // dearer, its queued candidate is still its best.
-      if (!features_ && simple_[w] && heap_.contains(w) && best_[w].target != v && w != vl &&
+      if (!features_ && vertex_[w].simple && heap_.contains(w) && best_[w].target != v && w != vl &&
           w != vr) {
-        const Quadric& qw = quadrics_[w];
-        const double cost = qw.weight > 0 ? qw.error(pu) / qw.weight : 0.0;
+        const LocalQuadric& qw = vertex_[w].quadric;
+        const double cost = qw.weight > 0 ? qw.error_at(pu - point(w)) / qw.weight : 0.0;
         if (static_cast<float>(cost) > heap_.key(w)) continue;
       }
       evaluate(w);
     }
     if (options_.progress && out_.collapses.size() % 4096 == 0)
-      options_.progress(std::min(1.0, double(out_.collapses.size()) / double(outgoing_.size())));
+      options_.progress(std::min(1.0, double(out_.collapses.size()) / double(vertex_.size())));
   }
 
   // A boundary vertex's walk starts at its outgoing half-edge with no twin.
   void start_at_boundary(uint32_t x) {
-    const uint32_t first = outgoing_[x];
+    const uint32_t first = vertex_[x].outgoing;
     if (first == kNone) return;
     uint32_t h = first;
-    while (twin_[h] != kNone) {
-      h = next_of(twin_[h]);
+    while (half_[h].twin != kNone) {
+      h = next_of(half_[h].twin);
       if (h == first) return;  // interior
     }
-    outgoing_[x] = h;
+    vertex_[x].outgoing = h;
   }
 
   // Per-vertex quadrics of the input, as the default loop's (simplifier.cpp): each face's
@@ -656,27 +654,28 @@ class FastSimplifier {
   // through the edge perpendicular to its face (§6.2).
   void initialize_quadrics() {
     constexpr double kConstraintWeight = 4.0;
-    const std::size_t n_faces = corner_.size() / 3;
-    quadrics_.assign(outgoing_.size(), Quadric{});
+    const std::size_t n_faces = half_.size() / 3;
     for (uint32_t f = 0; f < n_faces; ++f) {
-      const Vec3 a = point(corner_[3 * f]), b = point(corner_[3 * f + 1]),
-                 c = point(corner_[3 * f + 2]);
+      const Vec3 a = point(half_[3 * f].vertex), b = point(half_[3 * f + 1].vertex),
+                 c = point(half_[3 * f + 2].vertex);
       const Vec3 n = area_vector(a, b, c);
       const double twice_area = n.norm();
       if (twice_area == 0) continue;
-      const Quadric plane = Quadric::from_plane(n / twice_area, a, 0.5 * twice_area);
-      for (int k = 0; k < 3; ++k) quadrics_[corner_[3 * f + k]] += plane;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t x = half_[3 * f + k].vertex;
+        vertex_[x].quadric.add_plane(n / twice_area, a, 0.5 * twice_area, point(x));
+      }
     }
-    for (uint32_t h = 0; h < corner_.size(); ++h) {
+    for (uint32_t h = 0; h < half_.size(); ++h) {
       if (!is_special(h)) continue;
-      const Vec3 a = point(corner_[h]), b = point(corner_[next_of(h)]);
+      const Vec3 a = point(half_[h].vertex), b = point(half_[next_of(h)].vertex);
       Vec3 n = (b - a) % face_normal(h / 3);
       const double length = n.norm();
       if (length == 0) continue;
       n /= length;
-      const Quadric plane = Quadric::from_plane(n, a, kConstraintWeight * (b - a).sqrnorm());
-      quadrics_[corner_[h]] += plane;
-      quadrics_[corner_[next_of(h)]] += plane;
+      const double w = kConstraintWeight * (b - a).sqrnorm();
+      for (const uint32_t x : {half_[h].vertex, half_[next_of(h)].vertex})
+        vertex_[x].quadric.add_plane(n, a, w, point(x));
     }
   }
 
@@ -698,7 +697,7 @@ class FastSimplifier {
   void write_base() {
     BaseMesh& base = out_.base;
     for (uint32_t v = 0; v < vertex_of_.size(); ++v)
-      if (!vertex_dead_[v]) base.vertices.push_back(vertex_of_[v]);
+      if (!dead_vertex_[v]) base.vertices.push_back(vertex_of_[v]);
     std::sort(base.vertices.begin(), base.vertices.end());
     std::vector<uint32_t> alive;
     for (uint32_t f = 0; f < face_dead_.size(); ++f)
@@ -707,7 +706,7 @@ class FastSimplifier {
               [&](uint32_t a, uint32_t b) { return face_of_[a] < face_of_[b]; });
     for (uint32_t f : alive) {
       base.faces.push_back(face_of_[f]);
-      for (int k = 0; k < 3; ++k) base.corners.push_back(vertex_of_[corner_[3 * f + k]]);
+      for (int k = 0; k < 3; ++k) base.corners.push_back(vertex_of_[half_[3 * f + k].vertex]);
     }
   }
 
@@ -719,13 +718,26 @@ class FastSimplifier {
   const bool features_;             // some edge can be a feature (the angle is below 180 degrees)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
-  std::vector<float> position_;                     // three per local vertex
-  std::vector<uint8_t> pinned_;                     // never removed, per local vertex
-  std::vector<uint32_t> corner_;    // per half-edge 3f + k: the vertex it leaves
-  std::vector<uint32_t> twin_;      // per half-edge: the opposite one, kNone on a boundary
-  std::vector<uint32_t> outgoing_;  // per vertex: see copy_connectivity()
-  std::vector<uint8_t> face_dead_, vertex_dead_, input_corner_;
-  std::vector<Quadric> quadrics_;
+  // What the loop reads of a vertex, in one cache line: a collapse visits a few dozen
+  // vertices, and separate arrays would miss the cache once per array for each.
+  struct alignas(64) VertexRecord {
+    float position[3] = {0, 0, 0};
+    LocalQuadric quadric;       // its origin: position
+    uint32_t outgoing = kNone;  // a half-edge leaving it; on a boundary, the one with no twin
+    uint8_t dead = 0;
+    uint8_t pinned = 0;        // never removed
+    uint8_t input_corner = 0;  // classified a corner on the input
+    uint8_t simple = 0;        // of kind kSimple when last evaluated (apply()'s shortcut)
+  };
+  static_assert(sizeof(VertexRecord) == 64);
+  // Half-edge h = 3f + k of face f: the vertex it leaves and its twin (kNone on a boundary).
+  struct HalfEdge {
+    uint32_t vertex, twin;
+  };
+  std::vector<VertexRecord> vertex_;
+  std::vector<HalfEdge> half_;
+  std::vector<uint8_t> face_dead_;
+  std::vector<uint8_t> dead_vertex_;  // vertex_[v].dead, kept once vertex_ goes (run())
   // Per vertex: its cheapest collapse, queued in heap_ while the vertex is there.
   // (Its cost is its key in heap_.)
   struct Best {
@@ -733,7 +745,6 @@ class FastSimplifier {
     uint32_t edge;    // a half-edge of a face on v-u (Neighbour::edge)
   };
   std::vector<Best> best_;
-  std::vector<uint8_t> simple_;  // per vertex: of kind kSimple when last evaluated
   IndexedHeap heap_{0};
   uint32_t new_faces_recorded_ = 0;
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
