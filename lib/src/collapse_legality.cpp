@@ -67,9 +67,6 @@ bool collapse_keeps_topology(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h)
 
 bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
                              double cos_max_flip) {
-  // Relative threshold for a degenerate face: |a x b| below this times the squared
-  // longest edge means the triangle is thinner than float32 can represent faithfully.
-  constexpr double kDegenerate = 1e-10;
   const auto v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
   const HalfEdgeMesh::FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
   const Vec3 pu = point_of(mesh, u);
@@ -82,17 +79,23 @@ bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHan
       after[k] = (w == v) ? pu : before[k];
       ++k;
     }
-    const Vec3 n0 = area_vector(before[0], before[1], before[2]);
-    const Vec3 n1 = area_vector(after[0], after[1], after[2]);
-    const double longest =
-        std::max({(after[1] - after[0]).sqrnorm(), (after[2] - after[1]).sqrnorm(),
-                  (after[0] - after[2]).sqrnorm()});
-    const double len1 = n1.norm();
-    if (len1 <= kDegenerate * longest) return false;
-    const double len0 = n0.norm();
-    if (len0 > 0 && (n0 | n1) < cos_max_flip * len0 * len1) return false;
+    if (!face_keeps_geometry(before, after, cos_max_flip)) return false;
   }
   return true;
+}
+
+bool face_keeps_geometry(const Vec3 before[3], const Vec3 after[3], double cos_max_flip) {
+  // Relative threshold for a degenerate face: |a x b| below this times the squared
+  // longest edge means the triangle is thinner than float32 can represent faithfully.
+  constexpr double kDegenerate = 1e-10;
+  const Vec3 n0 = area_vector(before[0], before[1], before[2]);
+  const Vec3 n1 = area_vector(after[0], after[1], after[2]);
+  const double longest = std::max({(after[1] - after[0]).sqrnorm(), (after[2] - after[1]).sqrnorm(),
+                                   (after[0] - after[2]).sqrnorm()});
+  const double len1 = n1.norm();
+  if (len1 <= kDegenerate * longest) return false;
+  const double len0 = n0.norm();
+  return !(len0 > 0 && (n0 | n1) < cos_max_flip * len0 * len1);
 }
 
 bool collapse_keeps_welds(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,

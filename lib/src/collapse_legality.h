@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry.h"
 #include "half_edge_mesh.h"
 #include "manifold_repair.h"
 
@@ -24,6 +25,9 @@ bool collapse_keeps_topology(HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h)
 // a negligible fraction of its squared longest edge).
 bool collapse_keeps_geometry(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
                              double cos_max_flip);
+
+// The same test for one face, given its corners before and after the collapse.
+bool face_keeps_geometry(const Vec3 before[3], const Vec3 after[3], double cos_max_flip);
 
 // Welds: copies of one input vertex (see manifold_repair.h) are merged at output, so the
 // output keeps the input's topology only while that merge stays one-to-one on edges. The

@@ -352,7 +352,6 @@ class FastSimplifier {
   // by more than the flip limit or becomes degenerate.
   bool keeps_geometry(uint32_t v, uint32_t u, const Sides& s, const Neighbour* ring_v,
                       int n_v) const {
-    constexpr double kDegenerate = 1e-10;
     const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
     const Vec3 pu = point(u);
     for (int i = 0; i < n_v; ++i) {
@@ -366,15 +365,7 @@ class FastSimplifier {
         before[k] = point(w);
         after[k] = w == v ? pu : before[k];
       }
-      const Vec3 n0 = area_vector(before[0], before[1], before[2]);
-      const Vec3 n1 = area_vector(after[0], after[1], after[2]);
-      const double longest =
-          std::max({(after[1] - after[0]).sqrnorm(), (after[2] - after[1]).sqrnorm(),
-                    (after[0] - after[2]).sqrnorm()});
-      const double len1 = n1.norm();
-      if (len1 <= kDegenerate * longest) return false;
-      const double len0 = n0.norm();
-      if (len0 > 0 && (n0 | n1) < cos_max_flip_ * len0 * len1) return false;
+      if (!face_keeps_geometry(before, after, cos_max_flip_)) return false;
     }
     return true;
   }
