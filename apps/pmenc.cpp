@@ -51,6 +51,8 @@ std::string json_members(const std::string& output, const pm::EncodeStats* stats
   member("base_vertices", stats ? stats->base_vertices : 0);
   member("splits", stats ? stats->collapses : 0);
   member("pm_bytes", pm_bytes);
+  // Which collapse loop ran: --fast falls back to the default one on some meshes.
+  json += std::string(",\"loop\":") + (stats ? (stats->fast ? "\"fast\"" : "\"default\"") : "null");
   return json;
 }
 

@@ -392,8 +392,9 @@ TEST(Cli, FastLoopRunsOnGeometryAndSaysWhenItCannot) {
   TempDir dir;
   const std::string block = test::sample_mesh_path("block_features.obj");
   ASSERT_EQ(pmenc({block, "-o", dir.file("default.pm"), "-q"}).exit_code, 0);
-  const CommandResult fast = pmenc({block, "--fast", "-o", dir.file("fast.pm")});
+  const CommandResult fast = pmenc({block, "--fast", "-o", dir.file("fast.pm"), "--json"});
   ASSERT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_NE(fast.out.find("\"loop\":\"fast\""), std::string::npos) << fast.out;
   EXPECT_EQ(fast.err.find("--fast:"), std::string::npos) << fast.err;
   EXPECT_NE(test::read_file(dir.file("fast.pm")), test::read_file(dir.file("default.pm")));
   ASSERT_EQ(pmdec({dir.file("fast.pm"), "-o", dir.file("fast.obj"), "-q"}).exit_code, 0);
@@ -401,8 +402,9 @@ TEST(Cli, FastLoopRunsOnGeometryAndSaysWhenItCannot) {
 
   const std::string textured = test::sample_mesh_path("textured.obj");
   ASSERT_EQ(pmenc({textured, "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
-  const CommandResult fallback = pmenc({textured, "--fast", "-o", dir.file("t_fast.pm")});
+  const CommandResult fallback = pmenc({textured, "--fast", "-o", dir.file("t_fast.pm"), "--json"});
   ASSERT_EQ(fallback.exit_code, 0) << fallback.err;
+  EXPECT_NE(fallback.out.find("\"loop\":\"default\""), std::string::npos) << fallback.out;
   EXPECT_NE(fallback.err.find(textured + ": --fast: the mesh has texture coordinates"),
             std::string::npos)
       << fallback.err;
