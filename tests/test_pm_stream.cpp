@@ -615,28 +615,32 @@ TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
   if (test::shared_meshes_available()) {
     for (const char* name : {"spot.obj", "cow.obj", "fandisk.obj"}) paths.push_back(test::shared_mesh_path(name));
   }
-  for (const std::string& path : paths) {
-    SCOPED_TRACE(path);
-    Mesh input;
-    ASSERT_TRUE(read_mesh(path, input).is_ok());
-    EncodeOptions options;
-    options.keep_order = true;
-    ProgressiveMesh pm;
-    ASSERT_TRUE(encode(input, options, pm).is_ok());
-    EXPECT_EQ(pm.input_vertices.size(), input.vertex_count());
-    EXPECT_EQ(pm.input_faces.size(), input.face_count());
-    const ProgressiveMesh decoded = read(write(pm));
-    expect_same_arrays(extract_level(decoded, decoded.splits.size()), input);
-    // Coarser levels are as without the order; a prefix does not read it.
-    ProgressiveMesh plain;
-    ASSERT_TRUE(encode(input, EncodeOptions{}, plain).is_ok());
-    const std::size_t half = plain.splits.size() / 2;
-    EXPECT_EQ(test::canonical_faces(extract_level(decoded, half)),
-              test::canonical_faces(extract_level(plain, half)));
-    ReadOptions prefix;
-    prefix.max_splits = half;
-    EXPECT_FALSE(read(write(pm), prefix).keeps_order() && half < pm.splits.size());
-  }
+  for (const std::string& path : paths)
+    for (const bool fast : {false, true}) {  // either collapse loop
+      SCOPED_TRACE(path + (fast ? " (fast loop)" : ""));
+      Mesh input;
+      ASSERT_TRUE(read_mesh(path, input).is_ok());
+      EncodeOptions options;
+      options.keep_order = true;
+      options.fast = fast;
+      ProgressiveMesh pm;
+      ASSERT_TRUE(encode(input, options, pm).is_ok());
+      EXPECT_EQ(pm.input_vertices.size(), input.vertex_count());
+      EXPECT_EQ(pm.input_faces.size(), input.face_count());
+      const ProgressiveMesh decoded = read(write(pm));
+      expect_same_arrays(extract_level(decoded, decoded.splits.size()), input);
+      // Coarser levels are as without the order; a prefix does not read it.
+      EncodeOptions without_order;
+      without_order.fast = fast;
+      ProgressiveMesh plain;
+      ASSERT_TRUE(encode(input, without_order, plain).is_ok());
+      const std::size_t half = plain.splits.size() / 2;
+      EXPECT_EQ(test::canonical_faces(extract_level(decoded, half)),
+                test::canonical_faces(extract_level(plain, half)));
+      ReadOptions prefix;
+      prefix.max_splits = half;
+      EXPECT_FALSE(read(write(pm), prefix).keeps_order() && half < pm.splits.size());
+    }
 }
 
 // A level's triangles as position triples, each rotated to its smallest corner, sorted:
