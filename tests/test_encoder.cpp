@@ -299,16 +299,21 @@ TEST(Features, KeepCornersNeverRemovesACorner) {
 TEST(Limits, MinFacesAndMinVerticesStopTheSimplification) {
   Mesh input;
   ASSERT_TRUE(read_mesh(test::sample_mesh_path("sphere.obj"), input).is_ok());
-  EncodeOptions options;
-  options.min_faces = input.face_count() / 4;
-  ProgressiveMesh pm;
-  ASSERT_TRUE(encode(input, options, pm).is_ok());
-  EXPECT_GE(pm.base_face_count(), options.min_faces);
-  EXPECT_LE(pm.base_face_count(), options.min_faces + 2);
-  options = {};
-  options.min_vertices = 100;
-  ASSERT_TRUE(encode(input, options, pm).is_ok());
-  EXPECT_EQ(pm.base_vertex_count, 100u);
+  for (const bool fast : {false, true}) {  // either collapse loop
+    SCOPED_TRACE(fast ? "fast loop" : "default loop");
+    EncodeOptions options;
+    options.fast = fast;
+    options.min_faces = input.face_count() / 4;
+    ProgressiveMesh pm;
+    ASSERT_TRUE(encode(input, options, pm).is_ok());
+    EXPECT_GE(pm.base_face_count(), options.min_faces);
+    EXPECT_LE(pm.base_face_count(), options.min_faces + 2);
+    options = {};
+    options.fast = fast;
+    options.min_vertices = 100;
+    ASSERT_TRUE(encode(input, options, pm).is_ok());
+    EXPECT_EQ(pm.base_vertex_count, 100u);
+  }
 }
 
 }  // namespace
