@@ -393,6 +393,12 @@ TEST(FastLoop, SmallMeshesOfEveryKindRoundTripExactly) {
   Mesh flipped = fan;
   std::swap(flipped.triangles[3], flipped.triangles[4]);
   cases.push_back({"inconsistent orientation", flipped, true});
+  // A vertex whose one face repeats a vertex: the repair carries that face aside and leaves
+  // the vertex without faces (found by fuzz_off_reader).
+  Mesh carried = fan;
+  carried.positions.insert(carried.positions.end(), {5, 5, 5});
+  carried.triangles.insert(carried.triangles.end(), {1, 1, 5});
+  cases.push_back({"vertex of a carried face only", carried, true});
   // Three faces on one edge.
   cases.push_back(
       {"complex edge",

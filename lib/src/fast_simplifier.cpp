@@ -89,8 +89,9 @@ class FastSimplifier {
   // The flat connectivity of triangles `tri` (n_faces, ids below n_vertices) on `points`
   // (three per vertex), pinned vertices never removed (null: none). False, with nothing
   // built, unless they make a manifold without repair: no face with a repeated vertex, no
-  // vertex without faces, every edge in one face or in two of opposite orientation, and
-  // every vertex's faces one fan (build_manifold_mesh makes any mesh so).
+  // vertex without faces unless `faceless_allowed`, every edge in one face or in two of
+  // opposite orientation, and every vertex's faces one fan (build_manifold_mesh makes any
+  // mesh so; its vertices used by carried faces alone have no faces, and stay as they are).
   //
   // The copy is renumbered for locality: vertices along a Morton (Z-order) curve of their
   // positions (Morton 1966), faces by their first vertex in that order. A collapse touches
@@ -101,7 +102,7 @@ class FastSimplifier {
   // Records and the base mesh are written in the given ids.
  public:
   bool build(const uint32_t* tri, std::size_t n_faces, const float* points, std::size_t n_vertices,
-             const std::vector<uint8_t>* pinned) {
+             const std::vector<uint8_t>* pinned, bool faceless_allowed) {
     // Morton order of the vertices.
     float low[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF},
           high[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
@@ -154,7 +155,7 @@ class FastSimplifier {
     std::fill(begin.begin(), begin.end(), 0);
     for (uint32_t h = 0; h < half_.size(); ++h) ++begin[half_[h].vertex + 1];
     for (std::size_t v = 0; v < n_vertices; ++v) {
-      if (begin[v + 1] == 0) return fail();  // a vertex no face uses
+      if (begin[v + 1] == 0 && !faceless_allowed) return fail();  // a vertex no face uses
       begin[v + 1] += begin[v];
     }
     std::vector<uint32_t> leaving(half_.size());
@@ -188,6 +189,7 @@ class FastSimplifier {
       }
     }
     for (uint32_t v = 0; v < n_vertices; ++v) {
+      if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
       uint32_t faces = 0, h = vertex_[v].outgoing;
       do {
         ++faces;
@@ -762,7 +764,8 @@ Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options,
     for (int c = 0; c < 3; ++c) points[3 * v + c] = mesh.point(mesh.vertex_handle(int(v)))[c];
   mesh.clean();
   FastSimplifier simplifier(&repaired, options, out);
-  if (!simplifier.build(triangles.data(), n_faces, points.data(), n_vertices, &repaired.pinned))
+  if (!simplifier.build(triangles.data(), n_faces, points.data(), n_vertices, &repaired.pinned,
+                        /*faceless_allowed=*/true))
     return Status(ErrorCode::kInternal, "the repaired mesh is not a manifold");
   std::vector<uint32_t>().swap(triangles);
   std::vector<float>().swap(points);
@@ -774,7 +777,7 @@ bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options,
                           FastSimplification& out) {
   FastSimplifier simplifier(nullptr, options, out);
   if (!simplifier.build(input.triangles.data(), input.face_count(), input.positions.data(),
-                        input.vertex_count(), nullptr))
+                        input.vertex_count(), nullptr, /*faceless_allowed=*/false))
     return false;
   simplifier.run();
   return true;
