@@ -295,10 +295,7 @@ class FastSimplifier {
       else
         feature_edges += is_feature(ring_of_v[i].edge);
     }
-    if (boundary_edges == 0 && feature_edges == 0) return VertexKind::kSimple;
-    if (boundary_edges == 2 && feature_edges == 0) return VertexKind::kBoundary;
-    if (boundary_edges == 0 && feature_edges == 2) return VertexKind::kInteriorEdge;
-    return VertexKind::kCorner;
+    return kind_from_edges(boundary_edges, feature_edges);
   }
 
   // The two sides of the collapse v -> u through `edge` (a half-edge of a face on v-u):
@@ -453,14 +450,9 @@ class FastSimplifier {
       feature_edges += feature;
       options[i] = {boundary || feature, 0.0, 0.0, i};
     }
-    VertexKind kind = VertexKind::kCorner;
-    if (boundary_edges == 0 && feature_edges == 0)
-      kind = VertexKind::kSimple;
-    else if (boundary_edges == 2 && feature_edges == 0)
-      kind = VertexKind::kBoundary;
-    else if (boundary_edges == 0 && feature_edges == 2)
-      kind = VertexKind::kInteriorEdge;
-    if (vertex_[v].input_corner) kind = VertexKind::kCorner;
+    const VertexKind kind = vertex_[v].input_corner
+                                ? VertexKind::kCorner
+                                : kind_from_edges(boundary_edges, feature_edges);
     CollapseEdges edges = kCollapseEdges[static_cast<int>(kind)];
     if (kind == VertexKind::kCorner && options_.keep_corners) edges = CollapseEdges::kNone;
     if (edges == CollapseEdges::kNone) return false;

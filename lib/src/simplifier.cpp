@@ -212,16 +212,8 @@ class SchroederSimplifier {
         }
         options[count++] = {boundary || feature, 0.0, h};
       }
-      if (count > 0 && manifold) {  // count == 0: isolated
-        if (boundary_edges == 0 && feature_edges == 0)
-          vertex_class.kind = VertexKind::kSimple;
-        else if (boundary_edges == 2 && feature_edges == 0)
-          vertex_class.kind = VertexKind::kBoundary;
-        else if (boundary_edges == 0 && feature_edges == 2)
-          vertex_class.kind = VertexKind::kInteriorEdge;
-        else
-          vertex_class.kind = VertexKind::kCorner;
-      }
+      if (count > 0 && manifold)  // count == 0: isolated
+        vertex_class.kind = kind_from_edges(boundary_edges, feature_edges);
     }
     // A corner of the input stays one: collapses around it can wear its feature edges
     // down to fewer than three, but the shape's extremity it marks is still there.

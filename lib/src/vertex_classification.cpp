@@ -48,14 +48,7 @@ VertexClass classify_vertex(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
     boundary_edges += boundary;
     feature_edges += feature;
   }
-  if (boundary_edges == 0 && feature_edges == 0)
-    result.kind = VertexKind::kSimple;
-  else if (boundary_edges == 2 && feature_edges == 0)
-    result.kind = VertexKind::kBoundary;
-  else if (boundary_edges == 0 && feature_edges == 2)
-    result.kind = VertexKind::kInteriorEdge;
-  else
-    result.kind = VertexKind::kCorner;
+  result.kind = kind_from_edges(boundary_edges, feature_edges);
   return result;
 }
 

@@ -34,6 +34,15 @@ inline constexpr CollapseEdges kCollapseEdges[kVertexKindCount] = {
     CollapseEdges::kNone,          // complex
 };
 
+// Schroeder, Zarge and Lorensen 1992, §3.1, with Schroeder 1997's corner rule: the kind of
+// a manifold vertex with faces, from how many of its edges are boundary and feature edges.
+inline VertexKind kind_from_edges(int boundary_edges, int feature_edges) {
+  if (boundary_edges == 0 && feature_edges == 0) return VertexKind::kSimple;
+  if (boundary_edges == 2 && feature_edges == 0) return VertexKind::kBoundary;
+  if (boundary_edges == 0 && feature_edges == 2) return VertexKind::kInteriorEdge;
+  return VertexKind::kCorner;
+}
+
 struct VertexClass {
   VertexKind kind = VertexKind::kComplex;
   // The two neighbours across the special edges, for boundary and interior-edge vertices.
