@@ -45,8 +45,9 @@ Encoded encode_file(const std::string& path, const EncodeOptions& options = {}) 
 }
 
 // The collapse loops: the default one with either metric, and the fast one
-// (EncodeOptions::fast, quadric only).
-enum class Loop { kSchroeder, kQuadric, kFast };
+// (EncodeOptions::fast, quadric only), with one heap or in regions at once (forced here on
+// every mesh; by default on meshes of more than 131072 vertices).
+enum class Loop { kSchroeder, kQuadric, kFast, kFastRegions };
 
 // Every acceptance property holds for every loop.
 class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
@@ -56,8 +57,9 @@ class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
     EncodeOptions o;
     const Loop loop = std::get<1>(GetParam());
     o.metric = loop == Loop::kSchroeder ? Metric::kSchroeder : Metric::kQuadric;
-    if (loop == Loop::kFast) {
+    if (loop == Loop::kFast || loop == Loop::kFastRegions) {
       o.fast = true;
+      o.fast_partition_vertices = loop == Loop::kFastRegions ? 1 : 0;
       // The fast loop is geometry only: on a mesh with texture coordinates, normals or
       // materials, the encoder would run the default loop instead.
       Mesh input;
@@ -82,9 +84,10 @@ class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
 
 std::string every_mesh_name(const ::testing::TestParamInfo<std::tuple<TestMesh, Loop>>& info) {
   const Loop loop = std::get<1>(info.param);
-  return std::get<0>(info.param).name + (loop == Loop::kQuadric ? "_quadric"
-                                         : loop == Loop::kFast  ? "_fast"
-                                                                : "_schroeder");
+  return std::get<0>(info.param).name + (loop == Loop::kQuadric       ? "_quadric"
+                                         : loop == Loop::kFast        ? "_fast"
+                                         : loop == Loop::kFastRegions ? "_fast_regions"
+                                                                      : "_schroeder");
 }
 
 TEST_P(EveryMesh, FullDetailIsTheInputExactly) {
@@ -170,7 +173,7 @@ TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
 INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh,
                          ::testing::Combine(::testing::ValuesIn(test::all_test_meshes()),
                                             ::testing::Values(Loop::kSchroeder, Loop::kQuadric,
-                                                              Loop::kFast)),
+                                                              Loop::kFast, Loop::kFastRegions)),
                          every_mesh_name);
 
 // The quadric metric, the default, must stay closer to the input than Schroeder's criteria
@@ -299,20 +302,29 @@ TEST(Features, KeepCornersNeverRemovesACorner) {
 TEST(Limits, MinFacesAndMinVerticesStopTheSimplification) {
   Mesh input;
   ASSERT_TRUE(read_mesh(test::sample_mesh_path("sphere.obj"), input).is_ok());
-  for (const bool fast : {false, true}) {  // either collapse loop
-    SCOPED_TRACE(fast ? "fast loop" : "default loop");
-    EncodeOptions options;
-    options.fast = fast;
-    options.min_faces = input.face_count() / 4;
-    ProgressiveMesh pm;
-    ASSERT_TRUE(encode(input, options, pm).is_ok());
-    EXPECT_GE(pm.base_face_count(), options.min_faces);
-    EXPECT_LE(pm.base_face_count(), options.min_faces + 2);
-    options = {};
-    options.fast = fast;
-    options.min_vertices = 100;
-    ASSERT_TRUE(encode(input, options, pm).is_ok());
-    EXPECT_EQ(pm.base_vertex_count, 100u);
+  // Either collapse loop; the fast one with one heap and in regions (whose rounds must
+  // stop short of the limits, and leave the exact stop to the last heap).
+  for (const int loop : {0, 1, 2}) {
+    SCOPED_TRACE(loop == 0 ? "default loop" : loop == 1 ? "fast loop" : "fast loop, regions");
+    for (const std::size_t min_faces : {input.face_count() / 4, input.face_count() / 40}) {
+      EncodeOptions options;
+      options.fast = loop > 0;
+      options.fast_partition_vertices = loop == 2 ? 1 : 0;
+      options.min_faces = min_faces;
+      ProgressiveMesh pm;
+      ASSERT_TRUE(encode(input, options, pm).is_ok());
+      EXPECT_GE(pm.base_face_count(), options.min_faces);
+      EXPECT_LE(pm.base_face_count(), options.min_faces + 2);
+    }
+    for (const std::size_t min_vertices : {100, 700}) {
+      EncodeOptions options;
+      options.fast = loop > 0;
+      options.fast_partition_vertices = loop == 2 ? 1 : 0;
+      options.min_vertices = min_vertices;
+      ProgressiveMesh pm;
+      ASSERT_TRUE(encode(input, options, pm).is_ok());
+      EXPECT_EQ(pm.base_vertex_count, min_vertices);
+    }
   }
 }
 
@@ -434,6 +446,36 @@ TEST(FastLoop, SmallMeshesOfEveryKindRoundTripExactly) {
   ASSERT_TRUE(encode(fan, options, progressive).is_ok());
   EXPECT_EQ(progressive.base_vertex_count, 3u);
   EXPECT_EQ(progressive.base_face_count(), 1u);
+}
+
+// In regions (EncodeOptions::fast_partition_vertices), the fast loop makes its own
+// sequence, the same every time (the threads' timing must not show), and every level of it
+// a valid mesh (EveryMesh's _fast_regions cases check the levels on every test mesh).
+TEST(FastLoop, RegionsMakeTheSameSequenceEveryTime) {
+  for (const char* name : {"terrain_holes.obj", "sphere.obj"}) {
+    SCOPED_TRACE(name);
+    Mesh input;
+    ASSERT_TRUE(read_mesh(test::sample_mesh_path(name), input).is_ok());
+    auto encoded_bytes = [&](std::size_t partition_vertices) {
+      EncodeOptions options;
+      options.fast = true;
+      options.fast_partition_vertices = partition_vertices;
+      ProgressiveMesh pm;
+      EncodeStats stats;
+      EXPECT_TRUE(encode(input, options, pm, &stats).is_ok());
+      EXPECT_TRUE(stats.fast);
+      const Mesh full = extract_level(pm, pm.split_count());
+      EXPECT_TRUE(test::same_faces(input, full));
+      std::string bytes;
+      EXPECT_TRUE(write_pm(pm, WriteOptions{}, bytes).is_ok());
+      return bytes;
+    };
+    const std::string regions = encoded_bytes(1);
+    for (int run = 0; run < 4; ++run) ASSERT_EQ(encoded_bytes(1), regions) << "run " << run;
+    // Below the threshold, one heap: another order, so the rounds did run above.
+    EXPECT_NE(encoded_bytes(input.vertex_count() + 1), regions);
+    EXPECT_EQ(encoded_bytes(input.vertex_count() + 1), encoded_bytes(0));
+  }
 }
 
 // A 3 x 3 grid at z = -h, its centre raised to z = +h, spacing s; faces a-b-c and a-c-d of

@@ -7,12 +7,14 @@
 #include "fast_simplifier.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <set>
 
 #include "collapse_legality.h"
 #include "geometry.h"
+#include "in_turn.h"
 #include "indexed_heap.h"
 #include "local_quadric.h"
 #include "vertex_classification.h"
@@ -38,6 +40,27 @@ struct Neighbour {
 };
 
 class FastSimplifier {
+  // A heap and the collapses it made since the last merge(): one per region in a round
+  // (run_rounds()), one for the whole mesh otherwise.
+  struct Worker {
+    uint32_t lo = 0, hi = 0;          // its region: local vertex ids [lo, hi)
+    IndexedHeap heap{0};              // of ids v - lo
+    std::vector<Collapse> collapses;  // bound: the collapse's own cost, until merge()
+    std::vector<uint32_t> moved_faces;
+    bool holds(uint32_t v) const { return v - lo < hi - lo; }
+    uint32_t cheapest() const { return heap.top() + lo; }
+    bool queued(uint32_t v) const { return holds(v) && heap.contains(v - lo); }
+    float key(uint32_t v) const { return heap.key(v - lo); }
+    void queue(uint32_t v, float key) { heap.set(v - lo, key); }
+    void drop(uint32_t v) {
+      if (holds(v)) heap.erase(v - lo);
+    }
+    bool reports_progress = false;  // the caller's thread
+    std::size_t removed_faces = 0, removed_vertices = 0;
+    std::size_t face_budget = 0, vertex_budget = 0;  // set_budgets()
+    bool full = false;                               // a collapse would have gone past a budget
+  };
+
  public:
   // `repaired`: its welds and carried faces, or null for an input without either.
   FastSimplifier(const ManifoldMesh* repaired, const EncodeOptions& options,
@@ -57,7 +80,6 @@ class FastSimplifier {
     for (uint32_t v = 0; v < n_vertices; ++v)
       vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
     best_.assign(n_vertices, Best{kNone, kNone});
-    heap_ = IndexedHeap(n_vertices);
     faces_alive_ = half_.size() / 3;
     vertices_alive_ = n_vertices;
     out_.collapses.reserve(n_vertices);
@@ -65,16 +87,26 @@ class FastSimplifier {
     // meshes (4.8 on a flat-tessellated sample). Room for four per vertex up front, rather
     // than doubling near the end, where memory peaks.
     out_.moved_faces.reserve(4 * n_vertices);
-    // As the default loop: a final sweep re-evaluates every vertex, so the loop ends only
-    // when no legal collapse remains.
+    if (partitioned_) run_rounds();
+    // One heap for the rest (or all) of the sequence. As the default loop: a final sweep
+    // re-evaluates every vertex, so the loop ends only when no legal collapse remains.
+    std::vector<Worker> one(1);
+    Worker& w = one[0];
+    w.hi = static_cast<uint32_t>(n_vertices);
+    w.heap = IndexedHeap(n_vertices);
+    w.reports_progress = true;
+    set_budgets(w, 1);
     for (;;) {
-      for (uint32_t v = 0; v < n_vertices; ++v) evaluate(v);
-      const std::size_t before = out_.collapses.size();
+      w.heap.clear();
+      for (uint32_t v = 0; v < n_vertices; ++v) evaluate(w, v);
       // The least key first, ties to the smaller (local) id.
-      while (!heap_.empty() && !stopped_) apply(heap_.top());
-      if (stopped_ || out_.collapses.size() == before) break;
+      while (!w.heap.empty() && !w.full) apply(w, w.cheapest());
+      const bool more = !w.collapses.empty();
+      merge(one);
+      set_budgets(w, 1);
+      if (w.full || !more) break;
     }
-    heap_ = IndexedHeap(0);
+    one.clear();
     std::vector<Best>().swap(best_);
     out_.points.resize(3 * vertex_.size());
     for (std::size_t i = 0; i < vertex_of_.size(); ++i)
@@ -84,6 +116,140 @@ class FastSimplifier {
     std::vector<VertexRecord>().swap(vertex_);
     to_given_ids();
     write_base();
+  }
+
+  // Rounds of collapses in regions of the mesh at once, two threads taking the regions in
+  // turn (fast_partition_vertices in encoder.h). A collapse v -> u rewrites only faces
+  // around v and u, and reads only their rings: while both and all their neighbours lie in
+  // one region, regions share nothing that changes, so each runs its own greedy loop, and
+  // their sequences interleave in any order into a valid one (the vertex splits of Hoppe
+  // 1996, §3, on disjoint neighbourhoods commute; Hoppe 1997, "View-dependent refinement of
+  // progressive meshes", §4, states the same independence). They are merged by cost, so the
+  // sequence stays close to the one-heap greedy order. The regions are runs of the Morton
+  // order, kRegions of them, shifted by half a region every other round, so that a vertex
+  // next to a region's edge (band_), which waits, is inside one the next round. Each round
+  // ends at the median queued cost; the last thirty-second of the vertices collapse in one
+  // heap. The result depends on the mesh alone, never on the cores or their timing.
+  void run_rounds() {
+    constexpr std::size_t kRegions = 8;  // enough for two threads to end a round together
+    const std::size_t n = vertex_.size();
+    const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
+    const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
+    const std::size_t size = (n + kRegions - 1) / kRegions;
+    band_.assign(n, 0);
+    std::vector<Worker> regions;
+    std::vector<float> keys;
+    for (int round = 0;
+         vertices_alive_ > min_vertices + tail && faces_alive_ > options_.min_faces + 2 * tail;
+         ++round) {
+      regions.clear();
+      for (std::size_t lo = 0; lo < n;) {
+        const std::size_t hi = std::min(n, round % 2 == 0 || lo > 0 ? lo + size : size / 2);
+        regions.emplace_back();
+        regions.back().lo = static_cast<uint32_t>(lo);
+        regions.back().hi = static_cast<uint32_t>(hi);
+        lo = hi;
+      }
+      cut_ = round;
+      in_turn(regions, [&](Worker& w) {
+        w.heap = IndexedHeap(w.hi - w.lo);
+        // Every vertex's place first: a vertex's cheapest target may come later.
+        for (uint32_t v = w.lo; v < w.hi; ++v) band_[v] = !vertex_[v].dead && next_to_cut(v, w);
+        for (uint32_t v = w.lo; v < w.hi; ++v)
+          if (!vertex_[v].dead) evaluate(w, v);
+      });
+      keys.clear();
+      for (const Worker& w : regions) w.heap.append_keys(keys);
+      if (keys.empty()) break;
+      std::nth_element(keys.begin(), keys.begin() + keys.size() / 2, keys.end());
+      const float last_key = keys[keys.size() / 2];
+      // Each region may take its share of what is left above the limits and the tail.
+      in_turn(regions, [&](Worker& w) {
+        set_budgets(w, regions.size());
+        w.vertex_budget = std::min(w.vertex_budget, (vertices_alive_ - tail) / regions.size());
+        while (!w.heap.empty() && !w.full && w.key(w.cheapest()) <= last_key)
+          apply(w, w.cheapest());
+        w.heap = IndexedHeap(0);
+      });
+      std::size_t made = 0;
+      for (const Worker& w : regions) made += w.collapses.size();
+      merge(regions);
+      if (made == 0) break;
+    }
+    cut_ = -1;
+    std::vector<uint8_t>().swap(band_);
+  }
+
+  // The collapses w may make before the mesh would go below the caller's limits
+  // (EncodeOptions::min_faces, min_vertices), shared among `workers`.
+  void set_budgets(Worker& w, std::size_t workers) const {
+    const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
+    w.face_budget =
+        faces_alive_ > options_.min_faces ? (faces_alive_ - options_.min_faces) / workers : 0;
+    w.vertex_budget =
+        vertices_alive_ > min_vertices ? (vertices_alive_ - min_vertices) / workers : 0;
+    w.full = false;
+  }
+
+  // f on each worker, by this thread and a second one (in_turn.h). Only this thread
+  // reports progress.
+  template <typename F>
+  void in_turn(std::vector<Worker>& workers, F&& f) {
+    run_in_turn(workers.size(), [&](std::size_t i, bool caller) {
+      workers[i].reports_progress = caller;
+      f(workers[i]);
+    });
+  }
+
+  // Whether a neighbour of v is outside w's region (or v has too many to tell).
+  bool next_to_cut(uint32_t v, const Worker& w) const {
+    Neighbour ring_v[kMaxValence];
+    bool boundary;
+    const int n = ring(v, ring_v, kMaxValence, &boundary);
+    if (n < 0) return true;
+    for (int i = 0; i < n; ++i)
+      if (!w.holds(ring_v[i].vertex)) return true;
+    return false;
+  }
+  // Whether worker w may collapse v, or collapse onto it: always with one heap; in a round,
+  // when v and its neighbours are in w's region.
+  bool owns(const Worker& w, uint32_t v) const { return cut_ < 0 || (w.holds(v) && !band_[v]); }
+
+  // Appends the workers' collapses to the sequence: by cost (each record's own key, kept in
+  // its bound until here), ties to the earlier worker, each worker's in its order.
+  void merge(std::vector<Worker>& workers) {
+    std::vector<std::size_t> next(workers.size(), 0);
+    for (;;) {
+      Worker* from = nullptr;
+      std::size_t* at = nullptr;
+      for (std::size_t i = 0; i < workers.size(); ++i) {
+        if (next[i] == workers[i].collapses.size()) continue;
+        if (!from || workers[i].collapses[next[i]].bound < from->collapses[*at].bound) {
+          from = &workers[i];
+          at = &next[i];
+        }
+      }
+      if (!from) break;
+      Collapse c = from->collapses[(*at)++];
+      const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
+      out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
+                              from->moved_faces.begin() + c.moved_begin + c.moved_count);
+      c.moved_begin = begin;
+      c.new_faces_begin = new_faces_recorded_;
+      new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
+      // The record's error: the largest quadric distance so far, so non-increasing from
+      // the base to full detail (a root-mean-square estimate, not a measured bound).
+      bound_ = std::max(bound_, c.bound);
+      c.bound = bound_;
+      out_.collapses.push_back(c);
+    }
+    for (Worker& w : workers) {
+      faces_alive_ -= w.removed_faces;
+      vertices_alive_ -= w.removed_vertices;
+      w.removed_faces = w.removed_vertices = 0;
+      w.collapses.clear();
+      w.moved_faces.clear();
+    }
   }
 
   // The flat connectivity of triangles `tri` (n_faces, ids below n_vertices) on `points`
@@ -163,17 +329,25 @@ class FastSimplifier {
       std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
       for (uint32_t h = 0; h < half_.size(); ++h) leaving[fill[half_[h].vertex]++] = h;
     }
-    for (uint32_t h = 0; h < half_.size(); ++h) {
-      const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
-      for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
-        if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return fail();
-      for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
-        const uint32_t back = leaving[i];
-        if (half_[next_of(back)].vertex != a) continue;
-        if (half_[h].twin != kNone) return fail();
-        half_[h].twin = back;
+    // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
+    constexpr std::size_t kSlices = 16;
+    std::atomic<bool> cut{false};
+    run_in_turn(kSlices, [&](std::size_t slice, bool) {
+      const auto lo = static_cast<uint32_t>(half_.size() * slice / kSlices),
+                 hi = static_cast<uint32_t>(half_.size() * (slice + 1) / kSlices);
+      for (uint32_t h = lo; h < hi; ++h) {
+        const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
+        for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
+          if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return cut.store(true);
+        for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
+          const uint32_t back = leaving[i];
+          if (half_[next_of(back)].vertex != a) continue;
+          if (half_[h].twin != kNone) return cut.store(true);
+          half_[h].twin = back;
+        }
       }
-    }
+    });
+    if (cut) return fail();
     std::vector<uint32_t>().swap(leaving);
     // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
     // around the vertex (ring()) starts. Two such, or a walk that misses some of the
@@ -204,6 +378,11 @@ class FastSimplifier {
       if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
     }
     face_dead_.assign(n_faces, 0);
+    // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
+    // which look anywhere on the mesh, to be idle.
+    const std::size_t partition = options_.fast_partition_vertices;
+    partitioned_ =
+        welds_.empty() && carried_edges_.empty() && partition != 0 && n_vertices >= partition;
     // Only the weld check looks a vertex up by its given id from here on.
     if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
     return true;
@@ -427,11 +606,12 @@ class FastSimplifier {
   // `check_legal`: a cheapest option that is legal then is the cheapest legal one, so the
   // order stays exactly greedy; one that is not sends v back through here with check_legal,
   // which asks legality in order of cost until an option passes.
-  void evaluate(uint32_t v, bool check_legal = false) {
-    if (!find_best(v, check_legal)) heap_.erase(v);
+  void evaluate(Worker& worker, uint32_t v, bool check_legal = false) {
+    if (!find_best(worker, v, check_legal)) worker.drop(v);
   }
-  bool find_best(uint32_t v, bool check_legal) {
-    if (vertex_[v].dead || vertex_[v].pinned) return false;
+  // In a round, v waits (false) when the cut is next to it or to its cheapest target.
+  bool find_best(Worker& worker, uint32_t v, bool check_legal) {
+    if (!owns(worker, v) || vertex_[v].dead || vertex_[v].pinned) return false;
     Neighbour ring_v[kMaxValence];
     bool boundary_v;
     const int n = ring(v, ring_v, kMaxValence, &boundary_v);
@@ -482,9 +662,10 @@ class FastSimplifier {
       return a.length != b.length ? a.length < b.length : a.index < b.index;
     };
     auto queue = [&](const Option& o) {
+      if (!owns(worker, ring_v[o.index].vertex)) return false;
       best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge};
       vertex_[v].simple = kind == VertexKind::kSimple;
-      heap_.set(v, static_cast<float>(o.cost));
+      worker.queue(v, static_cast<float>(o.cost));
       return true;
     };
     if (count == 0) return false;
@@ -492,17 +673,18 @@ class FastSimplifier {
     std::sort(options, options + count, before);
     for (int i = 0; i < count; ++i) {
       const Neighbour& to = ring_v[options[i].index];
+      if (!owns(worker, to.vertex)) return false;
       if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v)) return queue(options[i]);
     }
     return false;
   }
 
   // Applies v's queued collapse if it is still legal, or finds v's best again.
-  void apply(uint32_t v) {
+  void apply(Worker& worker, uint32_t v) {
     const uint32_t edge = best_[v].edge;
     // The candidate's edge may have gone, or changed, since it was queued.
     if (face_dead_[edge / 3] || (half_[edge].vertex != v && half_[next_of(edge)].vertex != v)) {
-      evaluate(v, true);
+      evaluate(worker, v, true);
       return;
     }
     const uint32_t u = half_[edge].vertex == v ? half_[next_of(edge)].vertex : half_[edge].vertex;
@@ -510,14 +692,14 @@ class FastSimplifier {
     bool boundary_v;
     const int n = ring(v, ring_v, kMaxValence, &boundary_v);
     if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v)) {
-      evaluate(v, true);
+      evaluate(worker, v, true);
       return;
     }
     const Sides s = sides(v, edge);
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
-    if (faces_alive_ < options_.min_faces + removed_faces ||
-        vertices_alive_ <= std::max<std::size_t>(options_.min_vertices, 1)) {
-      stopped_ = true;
+    if (worker.removed_faces + removed_faces > worker.face_budget ||
+        worker.removed_vertices >= worker.vertex_budget) {
+      worker.full = true;
       return;
     }
     const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
@@ -531,24 +713,19 @@ class FastSimplifier {
     c.fr = fr == kNone ? -1 : static_cast<int>(fr);
     c.vl = vl == kNone ? kNoVertex : vl;
     c.vr = vr == kNone ? kNoVertex : vr;
-    c.moved_begin = static_cast<uint32_t>(out_.moved_faces.size());
+    c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
     for (int i = 0; i < n; ++i) {
       const uint32_t e = ring_v[i].edge;
       if (half_[e].vertex != v) continue;
       const uint32_t f = e / 3;
       if (f == fl || f == fr) continue;
-      out_.moved_faces.push_back(f);
+      worker.moved_faces.push_back(f);
       for (int k = 0; k < 3; ++k)
         if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
     }
-    c.moved_count = static_cast<uint32_t>(out_.moved_faces.size()) - c.moved_begin;
-    c.new_faces_begin = new_faces_recorded_;
-    new_faces_recorded_ += static_cast<uint32_t>(removed_faces);
-    // The record's error: the largest quadric distance so far, so non-increasing from the
-    // base to full detail (a root-mean-square estimate, not a measured bound).
-    bound_ = std::max(bound_, std::sqrt(heap_.key(v)));
-    c.bound = bound_;
-    out_.collapses.push_back(c);
+    c.moved_count = static_cast<uint32_t>(worker.moved_faces.size()) - c.moved_begin;
+    c.bound = std::sqrt(worker.key(v));  // its own; merge() makes it the running maximum
+    worker.collapses.push_back(c);
 
     // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
     // at their boundary half-edge again (start_at_boundary), the others' anywhere.
@@ -592,16 +769,16 @@ class FastSimplifier {
     if (boundary_vr) start_at_boundary(vr);
     vertex_[v].outgoing = kNone;
     vertex_[v].dead = 1;
-    faces_alive_ -= removed_faces;
-    --vertices_alive_;
+    worker.removed_faces += removed_faces;
+    ++worker.removed_vertices;
     // Garland and Heckbert 1997, §4: Q = Q1 + Q2.
     vertex_[u].quadric.add(vertex_[v].quadric, point(u) - point(v));
-    heap_.erase(v);
+    worker.drop(v);
 
     // Re-evaluated, as in the default loop: u, and v's other neighbours, whose one-rings
     // changed; u's other neighbours keep their best collapse unless it became illegal,
     // which apply() finds when it is popped.
-    evaluate(u);
+    evaluate(worker, u);
     const Vec3 pu = point(u);
     for (int i = 0; i < n; ++i) {
       const uint32_t w = ring_v[i].vertex;
@@ -610,16 +787,18 @@ class FastSimplifier {
       // here: only the angle could make one) and only traded its option w -> v for w -> u;
       // the others cost what they did. Unless it was queued towards v, or w -> u is no
       // dearer, its queued candidate is still its best.
-      if (!features_ && vertex_[w].simple && heap_.contains(w) && best_[w].target != v && w != vl &&
+      if (!features_ && vertex_[w].simple && worker.queued(w) && best_[w].target != v && w != vl &&
           w != vr) {
         const LocalQuadric& qw = vertex_[w].quadric;
         const double cost = qw.weight > 0 ? qw.error_at(pu - point(w)) / qw.weight : 0.0;
-        if (static_cast<float>(cost) > heap_.key(w)) continue;
+        if (static_cast<float>(cost) > worker.key(w)) continue;
       }
-      evaluate(w);
+      evaluate(worker, w);
     }
-    if (options_.progress && out_.collapses.size() % 4096 == 0)
-      options_.progress(std::min(1.0, double(out_.collapses.size()) / double(vertex_.size())));
+    // Only the caller's thread reports; in a round, the other side has done about as much.
+    const std::size_t done = out_.collapses.size() + (cut_ < 0 ? 1 : 2) * worker.collapses.size();
+    if (options_.progress && worker.reports_progress && worker.collapses.size() % 4096 == 0)
+      options_.progress(std::min(1.0, double(done) / double(vertex_.size())));
   }
 
   // A boundary vertex's walk starts at its outgoing half-edge with no twin.
@@ -730,11 +909,12 @@ class FastSimplifier {
     uint32_t edge;    // a half-edge of a face on v-u (Neighbour::edge)
   };
   std::vector<Best> best_;
-  IndexedHeap heap_{0};
+  bool partitioned_ = false;   // rounds first (run_rounds())
+  int cut_ = -1;               // the round, or -1: one heap
+  std::vector<uint8_t> band_;  // per vertex: next to its region's edge (next_to_cut())
   uint32_t new_faces_recorded_ = 0;
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
   float bound_ = 0;
-  bool stopped_ = false;
 };
 
 }  // namespace

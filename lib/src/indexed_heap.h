@@ -42,6 +42,15 @@ class IndexedHeap {
     }
   }
 
+  // Removes every id (in the time of the ids present).
+  void clear() {
+    for (const Entry& e : entries_) position_[e.id] = kAbsent;
+    entries_.clear();
+  }
+  // Appends every key present, in no order.
+  void append_keys(std::vector<float>& out) const {
+    for (const Entry& e : entries_) out.push_back(e.key);
+  }
   // Removes id, if there.
   void erase(uint32_t id) {
     const uint32_t i = position_[id];
