@@ -77,8 +77,10 @@ class FastSimplifier {
   void run() {
     const std::size_t n_vertices = vertex_.size();
     initialize_quadrics();
-    for (uint32_t v = 0; v < n_vertices; ++v)
-      vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
+    run_in_slices(n_vertices, [&](std::size_t lo, std::size_t hi) {
+      for (auto v = static_cast<uint32_t>(lo); v < hi; ++v)
+        vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
+    });
     best_.assign(n_vertices, Best{kNone, kNone});
     faces_alive_ = half_.size() / 3;
     vertices_alive_ = n_vertices;
@@ -123,8 +125,8 @@ class FastSimplifier {
   // around v and u, and reads only their rings: while both and all their neighbours lie in
   // one region, regions share nothing that changes, so each runs its own greedy loop, and
   // their sequences interleave in any order into a valid one (the vertex splits of Hoppe
-  // 1996, §3, on disjoint neighbourhoods commute; Hoppe 1997, "View-dependent refinement of
-  // progressive meshes", §4, states the same independence). They are merged by cost, so the
+  // 1996, §3, on disjoint neighbourhoods commute: Pajarola and Rossignac 2000, "Compressed
+  // progressive meshes", refine in batches of such independent splits). Merged by cost, the
   // sequence stays close to the one-heap greedy order. The regions are runs of the Morton
   // order, kRegions of them, shifted by half a region every other round, so that a vertex
   // next to a region's edge (band_), which waits, is inside one the next round. Each round
@@ -330,12 +332,9 @@ class FastSimplifier {
       for (uint32_t h = 0; h < half_.size(); ++h) leaving[fill[half_[h].vertex]++] = h;
     }
     // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
-    constexpr std::size_t kSlices = 16;
     std::atomic<bool> cut{false};
-    run_in_turn(kSlices, [&](std::size_t slice, bool) {
-      const auto lo = static_cast<uint32_t>(half_.size() * slice / kSlices),
-                 hi = static_cast<uint32_t>(half_.size() * (slice + 1) / kSlices);
-      for (uint32_t h = lo; h < hi; ++h) {
+    run_in_slices(half_.size(), [&](std::size_t lo, std::size_t hi) {
+      for (auto h = static_cast<uint32_t>(lo); h < hi; ++h) {
         const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
         for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
           if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return cut.store(true);
@@ -362,15 +361,18 @@ class FastSimplifier {
         vertex_[v].outgoing = h;
       }
     }
-    for (uint32_t v = 0; v < n_vertices; ++v) {
-      if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
-      uint32_t faces = 0, h = vertex_[v].outgoing;
-      do {
-        ++faces;
-        h = half_[prev_of(h)].twin;
-      } while (h != kNone && h != vertex_[v].outgoing && faces <= begin[v + 1] - begin[v]);
-      if (faces != begin[v + 1] - begin[v]) return fail();
-    }
+    run_in_slices(n_vertices, [&](std::size_t lo, std::size_t hi) {
+      for (auto v = static_cast<uint32_t>(lo); v < hi; ++v) {
+        if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
+        uint32_t faces = 0, h = vertex_[v].outgoing;
+        do {
+          ++faces;
+          h = half_[prev_of(h)].twin;
+        } while (h != kNone && h != vertex_[v].outgoing && faces <= begin[v + 1] - begin[v]);
+        if (faces != begin[v + 1] - begin[v]) return cut.store(true);
+      }
+    });
+    if (cut) return fail();
 
     for (std::size_t i = 0; i < n_vertices; ++i) {
       for (int c = 0; c < 3; ++c)

@@ -41,4 +41,14 @@ void run_in_turn(std::size_t tasks, F&& f) {
   if (failure) std::rethrow_exception(failure);
 }
 
+// Runs f(begin, end) on slices of [0, n) that cover it, in turn as above; one slice, here,
+// when n is small (a thread costs more than it saves there).
+template <typename F>
+void run_in_slices(std::size_t n, F&& f) {
+  constexpr std::size_t kSlices = 16, kSmall = std::size_t{1} << 15;
+  if (n < kSmall) return f(std::size_t{0}, n);
+  run_in_turn(kSlices,
+              [&](std::size_t slice, bool) { f(n * slice / kSlices, n * (slice + 1) / kSlices); });
+}
+
 }  // namespace pm
