@@ -133,7 +133,7 @@ run_mesh() {
   faces=$(grep -c '^f ' "$obj")
   vertices=$(grep -c '^v ' "$obj")
   obj_bytes=$(stat -c %s "$obj")
-  rm -f "$work/$name".*.runs "$work/$name".*.inproc
+  rm -f "$work/$name".*.runs "$work/$name".*.inproc "$work/$name".*.user
 
   local i
   for ((i = 1; i <= runs; ++i)); do
@@ -155,6 +155,7 @@ run_mesh() {
     measure "$name.meshopt" "$bench/pm_bench_scale_peers" meshopt "$obj"
     inprocess_seconds "$name.meshopt" simplify_s
     inprocess "$name.encode_fast" wall "$bench/pm_bench_encode" "$obj" --fast
+    sed -n "s/.*user \([0-9.]*\).*/\1/p" "$work/$name.encode_fast.stdout" | head -1 >>"$work/$name.encode_fast.user"
   done
   # The full-detail output is the input again: checked by its face count, then dropped.
   local full_faces
@@ -206,7 +207,7 @@ run_mesh() {
       case "$label" in
         encode_quadric) title="**pm::encode**, quadric (the default loop, measured error)" ;;
         encode_schroeder) title="**pm::encode**, schroeder (the default loop, measured error)" ;;
-        encode_fast) title="**pm::encode**, \`fast\` (\`pmenc --fast\`: quadric, flat arrays)" ;;
+        encode_fast) title="**pm::encode**, \`fast\` (\`pmenc --fast\`: quadric, flat arrays; in regions on two threads, $(seconds "$(median "$work/$name.encode_fast.user" 1)") s of CPU)" ;;
         meshopt) title="meshopt_simplify to 1%" ;;
         openmesh) title="OpenMesh DecimaterT (ModQuadricT + ModNormalFlippingT) to 1%" ;;
       esac
