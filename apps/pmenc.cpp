@@ -179,6 +179,10 @@ int main(int argc, char** argv) {
                "(many times faster on large meshes; levels a little farther from the input, "
                "recorded errors estimated). Geometry only: with texture coordinates, normals or "
                "materials kept, or --metric schroeder, the default loop runs");
+  app.add_option("--threads", settings.encode.threads,
+                 "Threads for --fast on large meshes (0: the cores, or 1 per file when several "
+                 "files are converted at once); the output is the same for any number")
+      ->capture_default_str();
   app.add_flag("--keep-order", settings.encode.keep_order,
                "Store the input's vertex and face order: full detail lists them as the input did");
   app.add_flag("--drop-attributes", settings.encode.drop_attributes,
@@ -243,7 +247,10 @@ int main(int argc, char** argv) {
   pm::cli::remove_stale_temporaries(outputs);
   settings.skip_existing = command.skip_existing;
   settings.create_directories = !command.out_dir.empty();
-  return pm::cli::run_batch(tasks, command.run_options(kTool),
+  const pm::cli::RunOptions run = command.run_options(kTool);
+  // Files at once already use the cores: one thread each, unless asked.
+  if (settings.encode.threads == 0 && run.jobs > 1 && tasks.size() > 1) settings.encode.threads = 1;
+  return pm::cli::run_batch(tasks, run,
                             [&settings](const pm::cli::Task& task, pm::cli::JobProgress& progress) {
                               return encode_file(task, progress, settings);
                             });

@@ -7,32 +7,21 @@
 namespace pm::detail {
 
 void SplitFans::reset(std::size_t vertex_count, std::size_t face_count) {
-  corner_vertex_.clear();
-  next_corner_.clear();
+  faces_.clear();
   first_corner_.clear();
-  corner_vertex_.reserve(3 * face_count);
-  next_corner_.reserve(3 * face_count);
+  faces_.reserve(face_count);
   first_corner_.reserve(vertex_count);
 }
 
 void SplitFans::link(uint32_t corner, uint32_t vertex) {
   if (vertex >= first_corner_.size()) first_corner_.resize(std::size_t{vertex} + 1, kNone);
-  next_corner_[corner] = first_corner_[vertex];
+  next_corner(corner) = first_corner_[vertex];
   first_corner_[vertex] = corner;
 }
 
-void SplitFans::unlink(uint32_t corner, uint32_t vertex) {
-  uint32_t* link = &first_corner_[vertex];
-  while (*link != corner) link = &next_corner_[*link];
-  *link = next_corner_[corner];
-}
-
 void SplitFans::add_face(uint32_t a, uint32_t b, uint32_t c) {
-  const auto corner = static_cast<uint32_t>(corner_vertex_.size());
-  for (uint32_t vertex : {a, b, c}) {
-    corner_vertex_.push_back(vertex);
-    next_corner_.push_back(kNone);
-  }
+  const auto corner = static_cast<uint32_t>(3 * faces_.size());
+  faces_.push_back({{a, b, c}, {kNone, kNone, kNone}});
   link(corner, a);
   link(corner + 1, b);
   link(corner + 2, c);
@@ -50,10 +39,11 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
   out.closed = false;
   wedges_.clear();
   if (u >= first_corner_.size()) return false;
-  for (uint32_t c = first_corner_[u]; c != kNone; c = next_corner_[c]) {
+  for (uint32_t c = first_corner_[u]; c != kNone;) {
     const uint32_t f = c / 3, k = c % 3;
-    const uint32_t* v = face(f);
-    wedges_.push_back({v[(k + 1) % 3], v[(k + 2) % 3], f});
+    const Face& face = faces_[f];
+    wedges_.push_back({face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3], f});
+    c = face.next[k];
   }
   const std::size_t n = wedges_.size();
   if (n == 0) return false;
@@ -163,11 +153,24 @@ bool SplitFans::arc(const Fan& fan, std::size_t i, std::size_t j, std::vector<ui
 
 void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const uint32_t* moved,
                       std::size_t moved_count) {
+  // The moved faces' corners leave u's list in one walk (unlinking each alone would walk
+  // the list once per moved face), then join v's.
+  if (moved_count > 0) {
+    uint32_t* link = &first_corner_[u];
+    while (*link != kNone) {
+      const uint32_t c = *link;
+      uint32_t& after = next_corner(c);
+      if (std::find(moved, moved + moved_count, c / 3) != moved + moved_count) {
+        *link = after;
+      } else {
+        link = &after;
+      }
+    }
+  }
   for (std::size_t m = 0; m < moved_count; ++m) {
     const uint32_t f = moved[m];
-    uint32_t* corners = &corner_vertex_[3 * std::size_t{f}];
+    uint32_t* corners = faces_[f].vertex;
     const uint32_t k = corners[0] == u ? 0 : corners[1] == u ? 1 : 2;
-    unlink(3 * f + k, u);
     corners[k] = v;
     link(3 * f + k, v);
   }
@@ -177,8 +180,7 @@ void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const ui
 }
 
 std::size_t SplitFans::memory_bytes() const {
-  return 4 * (corner_vertex_.capacity() + next_corner_.capacity() + first_corner_.capacity() +
-              seconds_.capacity()) +
+  return sizeof(Face) * faces_.capacity() + 4 * (first_corner_.capacity() + seconds_.capacity()) +
          sizeof(Wedge) * wedges_.capacity();
 }
 

@@ -32,8 +32,8 @@ class SplitFans {
   // Room for this many vertices and faces; keeps nothing. Faces are then added in order.
   void reset(std::size_t vertex_count, std::size_t face_count);
   void add_face(uint32_t a, uint32_t b, uint32_t c);
-  std::size_t face_count() const { return corner_vertex_.size() / 3; }
-  const uint32_t* face(uint32_t f) const { return &corner_vertex_[3 * std::size_t{f}]; }
+  std::size_t face_count() const { return faces_.size(); }
+  const uint32_t* face(uint32_t f) const { return faces_[f].vertex; }
 
   struct Fan {
     std::vector<uint32_t> ring;   // n + 1 vertices (ring[n] == ring[0] when closed)
@@ -62,10 +62,15 @@ class SplitFans {
   static constexpr std::size_t kSmallFan = 16;
   bool small_fan(Fan& out);
   void link(uint32_t corner, uint32_t vertex);
-  void unlink(uint32_t corner, uint32_t vertex);
+  uint32_t& next_corner(uint32_t corner) { return faces_[corner / 3].next[corner % 3]; }
 
-  std::vector<uint32_t> corner_vertex_;  // 3 per face: the current vertex of each corner
-  std::vector<uint32_t> next_corner_;    // per corner: the next corner of the same vertex
+  // A face's corners: the current vertex of each, and the next corner (3f + k) of the same
+  // vertex, together: a walk around a vertex reads one place per face, not two arrays.
+  struct Face {
+    uint32_t vertex[3];
+    uint32_t next[3];
+  };
+  std::vector<Face> faces_;
   std::vector<uint32_t> first_corner_;   // per vertex: its first corner, or kNone
   struct Wedge {                         // one face of a fan being assembled
     uint32_t a, b, face;

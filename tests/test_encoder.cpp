@@ -449,17 +449,19 @@ TEST(FastLoop, SmallMeshesOfEveryKindRoundTripExactly) {
 }
 
 // In regions (EncodeOptions::fast_partition_vertices), the fast loop makes its own
-// sequence, the same every time (the threads' timing must not show), and every level of it
+// sequence, the same every time and for any number of threads (their timing must not
+// show), and every level of it
 // a valid mesh (EveryMesh's _fast_regions cases check the levels on every test mesh).
 TEST(FastLoop, RegionsMakeTheSameSequenceEveryTime) {
   for (const char* name : {"terrain_holes.obj", "sphere.obj"}) {
     SCOPED_TRACE(name);
     Mesh input;
     ASSERT_TRUE(read_mesh(test::sample_mesh_path(name), input).is_ok());
-    auto encoded_bytes = [&](std::size_t partition_vertices) {
+    auto encoded_bytes = [&](std::size_t partition_vertices, unsigned threads = 0) {
       EncodeOptions options;
       options.fast = true;
       options.fast_partition_vertices = partition_vertices;
+      options.threads = threads;
       ProgressiveMesh pm;
       EncodeStats stats;
       EXPECT_TRUE(encode(input, options, pm, &stats).is_ok());
@@ -472,6 +474,9 @@ TEST(FastLoop, RegionsMakeTheSameSequenceEveryTime) {
     };
     const std::string regions = encoded_bytes(1);
     for (int run = 0; run < 4; ++run) ASSERT_EQ(encoded_bytes(1), regions) << "run " << run;
+    // Nor the number of threads: one, as many as the regions, more.
+    for (const unsigned threads : {1u, 2u, 3u, 8u, 12u})
+      EXPECT_EQ(encoded_bytes(1, threads), regions) << threads << " threads";
     // Below the threshold, one heap: another order, so the rounds did run above.
     EXPECT_NE(encoded_bytes(input.vertex_count() + 1), regions);
     EXPECT_EQ(encoded_bytes(input.vertex_count() + 1), encoded_bytes(0));

@@ -72,16 +72,17 @@ class FastSimplifier {
                                 : std::set<std::pair<uint32_t, uint32_t>>{}),
         cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)),
-        features_(cos_feature_angle_ > -1.0) {}
+        features_(cos_feature_angle_ > -1.0),
+        threads_(thread_count(options.threads)) {}
 
   void run() {
     const std::size_t n_vertices = vertex_.size();
     initialize_quadrics();
-    run_in_slices(n_vertices, [&](std::size_t lo, std::size_t hi) {
+    run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
       for (auto v = static_cast<uint32_t>(lo); v < hi; ++v)
         vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
     });
-    best_.assign(n_vertices, Best{kNone, kNone});
+    best_.assign(n_vertices, Best{kNone, kNone, 0});
     faces_alive_ = half_.size() / 3;
     vertices_alive_ = n_vertices;
     out_.collapses.reserve(n_vertices);
@@ -112,7 +113,8 @@ class FastSimplifier {
     std::vector<Best>().swap(best_);
     out_.points.resize(3 * vertex_.size());
     for (std::size_t i = 0; i < vertex_of_.size(); ++i)
-      for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = vertex_[i].position[c];
+      for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
+    std::vector<float>().swap(xyz_);
     dead_vertex_.resize(vertex_.size());
     for (std::size_t i = 0; i < vertex_.size(); ++i) dead_vertex_[i] = vertex_[i].dead;
     std::vector<VertexRecord>().swap(vertex_);
@@ -138,6 +140,7 @@ class FastSimplifier {
     const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
     const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
     const std::size_t size = (n + kRegions - 1) / kRegions;
+    const std::size_t shift = std::max<std::size_t>(size / 2, 1);  // odd rounds' first region
     band_.assign(n, 0);
     std::vector<Worker> regions;
     std::vector<float> keys;
@@ -146,19 +149,37 @@ class FastSimplifier {
          ++round) {
       regions.clear();
       for (std::size_t lo = 0; lo < n;) {
-        const std::size_t hi = std::min(n, round % 2 == 0 || lo > 0 ? lo + size : size / 2);
+        const std::size_t hi = std::min(n, round % 2 == 0 || lo > 0 ? lo + size : shift);
         regions.emplace_back();
         regions.back().lo = static_cast<uint32_t>(lo);
         regions.back().hi = static_cast<uint32_t>(hi);
         lo = hi;
       }
       cut_ = round;
+      // The band: the vertices of every face across regions (an edge between two regions
+      // is in such a face, and all three of its vertices then have a neighbour elsewhere).
+      const std::size_t offset = round % 2 == 0 ? 0 : size - shift;
+      std::fill(band_.begin(), band_.end(), 0);
+      for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+        if (face_dead_[f]) continue;
+        const uint32_t a = half_[3 * f].vertex, b = half_[3 * f + 1].vertex,
+                       c = half_[3 * f + 2].vertex;
+        const std::size_t region = (a + offset) / size;
+        if ((b + offset) / size != region || (c + offset) / size != region)
+          band_[a] = band_[b] = band_[c] = 1;
+      }
       in_turn(regions, [&](Worker& w) {
         w.heap = IndexedHeap(w.hi - w.lo);
-        // Every vertex's place first: a vertex's cheapest target may come later.
-        for (uint32_t v = w.lo; v < w.hi; ++v) band_[v] = !vertex_[v].dead && next_to_cut(v, w);
-        for (uint32_t v = w.lo; v < w.hi; ++v)
-          if (!vertex_[v].dead) evaluate(w, v);
+        // A vertex queued before keeps its candidate: every collapse since that changed its
+        // options had it evaluated again (apply()), or else dropped it (best_ says so).
+        for (uint32_t v = w.lo; v < w.hi; ++v) {
+          if (vertex_[v].dead) continue;
+          const Best& best = best_[v];
+          if (best.target != kNone && owns(w, v) && owns(w, best.target))
+            w.queue(v, best.key);
+          else
+            evaluate(w, v);
+        }
       });
       keys.clear();
       for (const Worker& w : regions) w.heap.append_keys(keys);
@@ -193,26 +214,16 @@ class FastSimplifier {
     w.full = false;
   }
 
-  // f on each worker, by this thread and a second one (in_turn.h). Only this thread
-  // reports progress.
+  // f on each worker, by this thread and others (in_turn.h). Only this thread reports
+  // progress.
   template <typename F>
   void in_turn(std::vector<Worker>& workers, F&& f) {
-    run_in_turn(workers.size(), [&](std::size_t i, bool caller) {
+    run_in_turn(workers.size(), threads_, [&](std::size_t i, bool caller) {
       workers[i].reports_progress = caller;
       f(workers[i]);
     });
   }
 
-  // Whether a neighbour of v is outside w's region (or v has too many to tell).
-  bool next_to_cut(uint32_t v, const Worker& w) const {
-    Neighbour ring_v[kMaxValence];
-    bool boundary;
-    const int n = ring(v, ring_v, kMaxValence, &boundary);
-    if (n < 0) return true;
-    for (int i = 0; i < n; ++i)
-      if (!w.holds(ring_v[i].vertex)) return true;
-    return false;
-  }
   // Whether worker w may collapse v, or collapse onto it: always with one heap; in a round,
   // when v and its neighbours are in w's region.
   bool owns(const Worker& w, uint32_t v) const { return cut_ < 0 || (w.holds(v) && !band_[v]); }
@@ -333,7 +344,7 @@ class FastSimplifier {
     }
     // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
     std::atomic<bool> cut{false};
-    run_in_slices(half_.size(), [&](std::size_t lo, std::size_t hi) {
+    run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
       for (auto h = static_cast<uint32_t>(lo); h < hi; ++h) {
         const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
         for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
@@ -361,7 +372,7 @@ class FastSimplifier {
         vertex_[v].outgoing = h;
       }
     }
-    run_in_slices(n_vertices, [&](std::size_t lo, std::size_t hi) {
+    run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
       for (auto v = static_cast<uint32_t>(lo); v < hi; ++v) {
         if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
         uint32_t faces = 0, h = vertex_[v].outgoing;
@@ -374,9 +385,9 @@ class FastSimplifier {
     });
     if (cut) return fail();
 
+    xyz_.resize(3 * n_vertices);
     for (std::size_t i = 0; i < n_vertices; ++i) {
-      for (int c = 0; c < 3; ++c)
-        vertex_[i].position[c] = points[3 * std::size_t{vertex_of_[i]} + c];
+      for (int c = 0; c < 3; ++c) xyz_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
       if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
     }
     face_dead_.assign(n_faces, 0);
@@ -400,7 +411,7 @@ class FastSimplifier {
   }
 
   Vec3 point(uint32_t v) const {
-    const float* p = vertex_[v].position;
+    const float* p = &xyz_[3 * std::size_t{v}];
     return Vec3(p[0], p[1], p[2]);
   }
 
@@ -609,7 +620,9 @@ class FastSimplifier {
   // order stays exactly greedy; one that is not sends v back through here with check_legal,
   // which asks legality in order of cost until an option passes.
   void evaluate(Worker& worker, uint32_t v, bool check_legal = false) {
-    if (!find_best(worker, v, check_legal)) worker.drop(v);
+    if (find_best(worker, v, check_legal)) return;
+    worker.drop(v);
+    if (worker.holds(v)) best_[v].target = kNone;
   }
   // In a round, v waits (false) when the cut is next to it or to its cheapest target.
   bool find_best(Worker& worker, uint32_t v, bool check_legal) {
@@ -665,7 +678,7 @@ class FastSimplifier {
     };
     auto queue = [&](const Option& o) {
       if (!owns(worker, ring_v[o.index].vertex)) return false;
-      best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge};
+      best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
       vertex_[v].simple = kind == VertexKind::kSimple;
       worker.queue(v, static_cast<float>(o.cost));
       return true;
@@ -693,6 +706,9 @@ class FastSimplifier {
     Neighbour ring_v[kMaxValence];
     bool boundary_v;
     const int n = ring(v, ring_v, kMaxValence, &boundary_v);
+    // The neighbours' records are read after the collapse (their re-evaluation): asked for
+    // now, they arrive while legality is decided.
+    for (int i = 0; i < n; ++i) __builtin_prefetch(&vertex_[ring_v[i].vertex]);
     if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v)) {
       evaluate(worker, v, true);
       return;
@@ -882,13 +898,17 @@ class FastSimplifier {
   const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;
   const double cos_feature_angle_, cos_max_flip_;
   const bool features_;             // some edge can be a feature (the angle is below 180 degrees)
+  const unsigned threads_;          // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
-  // What the loop reads of a vertex, in one cache line: a collapse visits a few dozen
-  // vertices, and separate arrays would miss the cache once per array for each.
+  // Positions, three per local vertex, apart from the rest: a collapse reads the positions
+  // of a few dozen neighbours and nothing else of them, and 12 bytes a vertex stay in the
+  // cache where the 64-byte records miss (find_best() spent a third of its time waiting
+  // for neighbours' records). They never change: a half-edge collapse keeps u in place.
+  std::vector<float> xyz_;
+  // What the loop reads of the vertex it evaluates or collapses, in one cache line.
   struct alignas(64) VertexRecord {
-    float position[3] = {0, 0, 0};
-    LocalQuadric quadric;       // its origin: position
+    LocalQuadric quadric;       // its origin: the vertex's position
     uint32_t outgoing = kNone;  // a half-edge leaving it; on a boundary, the one with no twin
     uint8_t dead = 0;
     uint8_t pinned = 0;        // never removed
@@ -904,16 +924,17 @@ class FastSimplifier {
   std::vector<HalfEdge> half_;
   std::vector<uint8_t> face_dead_;
   std::vector<uint8_t> dead_vertex_;  // vertex_[v].dead, kept once vertex_ goes (run())
-  // Per vertex: its cheapest collapse, queued in heap_ while the vertex is there.
-  // (Its cost is its key in heap_.)
+  // Per vertex: its cheapest collapse, queued in a worker's heap while the vertex is there;
+  // target kNone when it has none (or has not been evaluated since it last waited).
   struct Best {
     uint32_t target;  // u
     uint32_t edge;    // a half-edge of a face on v-u (Neighbour::edge)
+    float key;        // its cost, the heap's key
   };
   std::vector<Best> best_;
   bool partitioned_ = false;   // rounds first (run_rounds())
   int cut_ = -1;               // the round, or -1: one heap
-  std::vector<uint8_t> band_;  // per vertex: next to its region's edge (next_to_cut())
+  std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())
   uint32_t new_faces_recorded_ = 0;
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
   float bound_ = 0;

@@ -1,53 +1,61 @@
-// Independent tasks on this thread and one more: each thread takes the next task left
-// (a shared counter), so that tasks of uneven size still end together. For the fast loop's
-// regions (fast_simplifier.cpp) and other work that splits into parts sharing nothing
-// that changes. Two threads: the machines this is measured on have two cores.
+// Independent tasks on several threads: each thread takes the next task left (a shared
+// counter), so that tasks of uneven size still end together. For the fast loop's regions
+// (fast_simplifier.cpp) and other work that splits into parts sharing nothing that changes.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <exception>
+#include <mutex>
 #include <thread>
+#include <vector>
 
 namespace pm {
 
-// Runs f(task, caller) for every task in [0, tasks), caller telling whether this thread
-// runs it (the one that may report progress). On a single core, all on this thread, in
-// order. An exception from f is rethrown here once both threads are done.
+// `requested` threads, or the machine's cores when 0; at least 1.
+inline unsigned thread_count(unsigned requested) {
+  return requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Runs f(task, caller) for every task in [0, tasks), on this thread and up to threads - 1
+// more; `caller` tells whether this thread runs it (the one that may report progress).
+// With one thread, all here, in order. The first exception from f is rethrown here once
+// every thread is done; the others stop taking tasks.
 template <typename F>
-void run_in_turn(std::size_t tasks, F&& f) {
+void run_in_turn(std::size_t tasks, unsigned threads, F&& f) {
   std::atomic<std::size_t> next{0};
   auto work = [&](bool caller) {
     for (std::size_t i = next++; i < tasks; i = next++) f(i, caller);
   };
-  if (tasks < 2 || std::thread::hardware_concurrency() < 2) return work(true);
+  const std::size_t helpers = std::min<std::size_t>(threads, tasks) - (threads > 0 ? 1 : 0);
+  if (tasks < 2 || helpers == 0) return work(true);
   std::exception_ptr failure;
-  std::thread second([&] {
+  std::mutex failure_mutex;
+  auto guarded = [&](bool caller) {
     try {
-      work(false);
+      work(caller);
     } catch (...) {
-      next = tasks;  // the caller's thread stops taking tasks too
-      failure = std::current_exception();
+      next = tasks;
+      const std::lock_guard<std::mutex> lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
     }
-  });
-  try {
-    work(true);
-  } catch (...) {
-    next = tasks;
-    second.join();
-    throw;
-  }
-  second.join();
+  };
+  std::vector<std::thread> others;
+  others.reserve(helpers);
+  for (std::size_t t = 0; t < helpers; ++t) others.emplace_back(guarded, false);
+  guarded(true);
+  for (std::thread& t : others) t.join();
   if (failure) std::rethrow_exception(failure);
 }
 
 // Runs f(begin, end) on slices of [0, n) that cover it, in turn as above; one slice, here,
 // when n is small (a thread costs more than it saves there).
 template <typename F>
-void run_in_slices(std::size_t n, F&& f) {
+void run_in_slices(std::size_t n, unsigned threads, F&& f) {
   constexpr std::size_t kSlices = 16, kSmall = std::size_t{1} << 15;
-  if (n < kSmall) return f(std::size_t{0}, n);
-  run_in_turn(kSlices,
+  if (n < kSmall || threads < 2) return f(std::size_t{0}, n);
+  run_in_turn(kSlices, threads,
               [&](std::size_t slice, bool) { f(n * slice / kSlices, n * (slice + 1) / kSlices); });
 }
 

@@ -3,7 +3,11 @@
 // writing), and an FNV-1a hash of the written .pm, so that two builds' outputs can be
 // compared without keeping the files.
 //
-//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--runs N] [--out FILE.pm]
+//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] [--threads N]
+//                   [--runs N] [--out FILE.pm]
+//
+// --one-heap: the fast loop without regions (EncodeOptions::fast_partition_vertices = 0);
+// --threads: EncodeOptions::threads.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -46,6 +50,10 @@ int main(int argc, char** argv) {
       else die("unknown metric " + m);
     } else if (arg == "--fast") {
       options.fast = true;
+    } else if (arg == "--one-heap") {
+      options.fast_partition_vertices = 0;
+    } else if (arg == "--threads" && i + 1 < argc) {
+      options.threads = static_cast<unsigned>(std::max(0, std::atoi(argv[++i])));
     } else if (arg == "--runs" && i + 1 < argc) {
       runs = std::max(1, std::atoi(argv[++i]));
     } else if (arg == "--out" && i + 1 < argc) {
@@ -53,8 +61,8 @@ int main(int argc, char** argv) {
     } else if (path.empty()) {
       path = arg;
     } else {
-      die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--runs N] [--out "
-          "FILE]");
+      die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] "
+          "[--threads N] [--runs N] [--out FILE]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");

@@ -55,11 +55,15 @@ struct EncodeOptions {
   // (EncodeStats::fast tells which ran).
   bool fast = false;
   // The fast loop on a mesh of at least this many vertices, without welds or faces carried
-  // by the repair: its collapses run in rounds, each on two halves of the mesh at once (two
-  // threads), then merged in order of cost; the last few percent run as one. The sequence
-  // is the same whatever the number of cores, but not exactly the one-heap greedy order
-  // (vertices next to the cut wait for a later round). 0 or SIZE_MAX: never.
+  // by the repair: its collapses run in rounds, each in eight regions of the mesh at once
+  // (on `threads` threads), then merged in order of cost; the last thirty-second run in one
+  // heap. The sequence is the same whatever the number of threads, but not exactly the
+  // one-heap greedy order (vertices next to a region's edge wait for a later round). 0 or SIZE_MAX:
+  // never.
   std::size_t fast_partition_vertices = 131072;
+  // Threads the fast loop may use (its regions, and parts of building its arrays): 0, the
+  // machine's cores. The result is the same for any number.
+  unsigned threads = 0;
   // Stop when the mesh would go below either count (0: no limit).
   std::size_t min_faces = 0;
   std::size_t min_vertices = 0;
