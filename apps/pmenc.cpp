@@ -180,8 +180,9 @@ int main(int argc, char** argv) {
                "recorded errors estimated). Geometry only: with texture coordinates, normals or "
                "materials kept, or --metric schroeder, the default loop runs");
   app.add_option("--threads", settings.encode.threads,
-                 "Threads for --fast on large meshes (0: the cores, or 1 per file when several "
-                 "files are converted at once); the output is the same for any number")
+                 "Threads for --fast on large meshes and for compressing the stream (0: the cores, "
+                 "or 1 per file when several files are converted at once); the output is the "
+                 "same for any number")
       ->capture_default_str();
   app.add_flag("--keep-order", settings.encode.keep_order,
                "Store the input's vertex and face order: full detail lists them as the input did");
@@ -250,6 +251,7 @@ int main(int argc, char** argv) {
   const pm::cli::RunOptions run = command.run_options(kTool);
   // Files at once already use the cores: one thread each, unless asked.
   if (settings.encode.threads == 0 && run.jobs > 1 && tasks.size() > 1) settings.encode.threads = 1;
+  settings.write.threads = settings.encode.threads;
   return pm::cli::run_batch(tasks, run,
                             [&settings](const pm::cli::Task& task, pm::cli::JobProgress& progress) {
                               return encode_file(task, progress, settings);

@@ -33,6 +33,9 @@ struct WriteOptions {
   // The minor version to write: 1 (2.1, the default) or 0 (2.0, for readers that predate
   // 2.1; larger).
   uint16_t minor_version = kFormatMinor;
+  // Threads compressing the sections (0: the machine's cores). The bytes are the same for
+  // any number.
+  unsigned threads = 0;
 };
 
 // Serializes pm (which must be valid) to bytes, as format 2.1 (or 2.0,
