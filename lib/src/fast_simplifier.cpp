@@ -146,6 +146,7 @@ class FastSimplifier {
   // on the mesh alone, never on the cores or their timing.
   void run_rounds() {
     constexpr std::size_t kRegions = 8;  // enough for two threads to end a round together
+    constexpr std::size_t kMostWaiting = 8;  // the rounds end when 1/8 of the vertices wait
     const std::size_t n = vertex_.size();
     const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
     const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
@@ -179,6 +180,11 @@ class FastSimplifier {
         const std::size_t region = region_of(a);
         if (region_of(b) != region || region_of(c) != region) band_[a] = band_[b] = band_[c] = 1;
       }
+      // When the cuts hold a good part of what is left, the waiting vertices would hoard
+      // the coarse levels' vertices (the rest simplified past them): one heap from here.
+      std::size_t waiting = 0;
+      for (std::size_t v = 0; v < n; ++v) waiting += band_[v] && !vertex_[v].dead;
+      if (waiting > vertices_alive_ / kMostWaiting) break;
       in_turn(regions, [&](Worker& w) {
         w.heap = IndexedHeap(w.hi - w.lo);
         // A vertex queued before keeps its candidate: every collapse since that changed its
