@@ -46,8 +46,8 @@ struct EncodeOptions {
   uint32_t layer_chunk_splits = 0;
   // The fast collapse loop (pmenc --fast): the quadric metric on a flat connectivity,
   // without the measured distance the default loop charges each collapse (the removed input
-  // vertices' worst distance to the surface, both ways round). About 16 times faster on
-  // meshes of millions of faces (tests/bench/scale.md), in about 60% of the memory; the
+  // vertices' worst distance to the surface, both ways round). About 22 to 26 times faster
+  // on meshes of millions of faces (tests/bench/scale.md), in about half the memory; the
   // levels keep the same topology rules, but their recorded errors are the
   // quadrics' root-mean-square estimate, not a measured bound, and their distance to the
   // input grows (tests/bench/quality.md). Geometry only: with texture coordinates, normals
