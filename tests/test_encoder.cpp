@@ -306,10 +306,14 @@ TEST(Limits, MinFacesAndMinVerticesStopTheSimplification) {
   // stop short of the limits, and leave the exact stop to the last heap).
   for (const int loop : {0, 1, 2}) {
     SCOPED_TRACE(loop == 0 ? "default loop" : loop == 1 ? "fast loop" : "fast loop, regions");
-    for (const std::size_t min_faces : {input.face_count() / 4, input.face_count() / 40}) {
+    const auto loop_options = [loop] {
       EncodeOptions options;
       options.fast = loop > 0;
       options.fast_partition_vertices = loop == 2 ? 1 : 0;
+      return options;
+    };
+    for (const std::size_t min_faces : {input.face_count() / 4, input.face_count() / 40}) {
+      EncodeOptions options = loop_options();
       options.min_faces = min_faces;
       ProgressiveMesh pm;
       ASSERT_TRUE(encode(input, options, pm).is_ok());
@@ -317,9 +321,7 @@ TEST(Limits, MinFacesAndMinVerticesStopTheSimplification) {
       EXPECT_LE(pm.base_face_count(), options.min_faces + 2);
     }
     for (const std::size_t min_vertices : {100, 700}) {
-      EncodeOptions options;
-      options.fast = loop > 0;
-      options.fast_partition_vertices = loop == 2 ? 1 : 0;
+      EncodeOptions options = loop_options();
       options.min_vertices = min_vertices;
       ProgressiveMesh pm;
       ASSERT_TRUE(encode(input, options, pm).is_ok());

@@ -285,6 +285,35 @@ class FastSimplifier {
     }
   }
 
+  // The vertices (three coordinates each in `points`) along a Morton (Z-order) curve of
+  // their positions in the box [low, high] on a 1024^3 grid (Morton 1966): order[rank] is a
+  // vertex, rank[vertex] its place. `shift` (a fraction of the box) moves the positions
+  // first, wrapping round, so that the curve's cells fall elsewhere; ties go to the smaller
+  // vertex.
+  static void morton_order(const float* points, std::size_t n, const float* low, const float* high,
+                           double shift, std::vector<uint32_t>& order,
+                           std::vector<uint32_t>& rank) {
+    std::vector<uint64_t> keys(n);
+    for (std::size_t v = 0; v < n; ++v) {
+      uint64_t code = 0;
+      for (int c = 0; c < 3; ++c) {
+        const float extent = high[c] - low[c];
+        double t = extent > 0 ? (points[3 * v + c] - low[c]) / double(extent) + shift : 0.0;
+        if (shift > 0 && t >= 1.0) t -= 1.0;
+        const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
+        for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
+      }
+      keys[v] = code << 32 | v;
+    }
+    std::sort(keys.begin(), keys.end());
+    order.resize(n);
+    rank.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      order[i] = static_cast<uint32_t>(keys[i]);
+      rank[order[i]] = static_cast<uint32_t>(i);
+    }
+  }
+
   // The flat connectivity of triangles `tri` (n_faces, ids below n_vertices) on `points`
   // (three per vertex), pinned vertices never removed (null: none). False, with nothing
   // built, unless they make a manifold without repair: no face with a repeated vertex, no
@@ -309,25 +338,7 @@ class FastSimplifier {
       low[i % 3] = std::min(low[i % 3], points[i]);
       high[i % 3] = std::max(high[i % 3], points[i]);
     }
-    std::vector<uint64_t> keys(n_vertices);
-    for (std::size_t v = 0; v < n_vertices; ++v) {
-      uint64_t code = 0;
-      for (int c = 0; c < 3; ++c) {
-        const float extent = high[c] - low[c];
-        const double t = extent > 0 ? (points[3 * v + c] - low[c]) / double(extent) : 0.0;
-        const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
-        for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
-      }
-      keys[v] = code << 32 | v;
-    }
-    std::sort(keys.begin(), keys.end());
-    vertex_of_.resize(n_vertices);
-    local_vertex_.resize(n_vertices);
-    for (std::size_t i = 0; i < n_vertices; ++i) {
-      vertex_of_[i] = static_cast<uint32_t>(keys[i]);
-      local_vertex_[vertex_of_[i]] = static_cast<uint32_t>(i);
-    }
-    std::vector<uint64_t>().swap(keys);
+    morton_order(points, n_vertices, low, high, 0.0, vertex_of_, local_vertex_);
 
     // Faces by their first local vertex (a counting sort); a face with a repeated vertex,
     // or a vertex without faces, needs the repair.
@@ -420,25 +431,7 @@ class FastSimplifier {
       // The second order: Morton codes of the positions moved by 0.37 of the box's extent
       // along each axis, wrapping round (a region may then be in two pieces, which does not
       // matter): its cells' walls fall between the first order's.
-      std::vector<uint64_t> codes(n_vertices);
-      for (std::size_t v = 0; v < n_vertices; ++v) {
-        uint64_t code = 0;
-        for (int c = 0; c < 3; ++c) {
-          const float extent = high[c] - low[c];
-          double t = extent > 0 ? (xyz_[3 * v + c] - low[c]) / double(extent) + 0.37 : 0.0;
-          if (t >= 1.0) t -= 1.0;
-          const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
-          for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
-        }
-        codes[v] = code << 32 | v;
-      }
-      std::sort(codes.begin(), codes.end());
-      order_b_.resize(n_vertices);
-      rank_b_.resize(n_vertices);
-      for (std::size_t r = 0; r < n_vertices; ++r) {
-        order_b_[r] = static_cast<uint32_t>(codes[r]);
-        rank_b_[order_b_[r]] = static_cast<uint32_t>(r);
-      }
+      morton_order(xyz_.data(), n_vertices, low, high, 0.37, order_b_, rank_b_);
     }
     // Only the weld check looks a vertex up by its given id from here on.
     if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
