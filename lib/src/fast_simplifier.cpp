@@ -61,7 +61,6 @@ class FastSimplifier {
     void drop(uint32_t v) {
       if (holds(v)) heap.erase(rank_of(v) - lo);
     }
-    bool reports_progress = false;  // the caller's thread
     std::size_t removed_faces = 0, removed_vertices = 0;
     std::size_t face_budget = 0, vertex_budget = 0;  // set_budgets()
     bool full = false;                               // a collapse would have gone past a budget
@@ -103,7 +102,6 @@ class FastSimplifier {
     Worker& w = one[0];
     w.hi = static_cast<uint32_t>(n_vertices);
     w.heap = IndexedHeap(n_vertices);
-    w.reports_progress = true;
     set_budgets(w, 1);
     for (;;) {
       w.heap.clear();
@@ -168,7 +166,7 @@ class FastSimplifier {
         regions.back().rank = rank;
         regions.back().at = at;
       }
-      cut_ = round;
+      in_rounds_ = true;
       // The band: the vertices of every face across regions (an edge between two regions
       // is in such a face, and all three of its vertices then have a neighbour elsewhere).
       std::fill(band_.begin(), band_.end(), 0);
@@ -215,12 +213,17 @@ class FastSimplifier {
       std::size_t made = 0;
       for (const Worker& w : regions) made += w.collapses.size();
       merge(regions);
+      if (options_.progress) report_progress(out_.collapses.size());
       if (made == 0) break;
     }
-    cut_ = -1;
+    in_rounds_ = false;
     std::vector<uint8_t>().swap(band_);
     std::vector<uint32_t>().swap(order_b_);
     std::vector<uint32_t>().swap(rank_b_);
+  }
+
+  void report_progress(std::size_t collapses) const {
+    options_.progress(std::min(1.0, double(collapses) / double(vertex_.size())));
   }
 
   // The collapses w may make before the mesh would go below the caller's limits
@@ -234,19 +237,15 @@ class FastSimplifier {
     w.full = false;
   }
 
-  // f on each worker, by this thread and others (in_turn.h). Only this thread reports
-  // progress.
+  // f on each worker, by this thread and others (in_turn.h).
   template <typename F>
   void in_turn(std::vector<Worker>& workers, F&& f) {
-    run_in_turn(workers.size(), threads_, [&](std::size_t i, bool caller) {
-      workers[i].reports_progress = caller;
-      f(workers[i]);
-    });
+    run_in_turn(workers.size(), threads_, [&](std::size_t i, bool) { f(workers[i]); });
   }
 
   // Whether worker w may collapse v, or collapse onto it: always with one heap; in a round,
   // when v and its neighbours are in w's region.
-  bool owns(const Worker& w, uint32_t v) const { return cut_ < 0 || (w.holds(v) && !band_[v]); }
+  bool owns(const Worker& w, uint32_t v) const { return !in_rounds_ || (w.holds(v) && !band_[v]); }
 
   // Appends the workers' collapses to the sequence: by cost (each record's own key, kept in
   // its bound until here), ties to the earlier worker, each worker's in its order.
@@ -850,10 +849,9 @@ class FastSimplifier {
       }
       evaluate(worker, w);
     }
-    // Only the caller's thread reports; in a round, the other side has done about as much.
-    const std::size_t done = out_.collapses.size() + (cut_ < 0 ? 1 : 2) * worker.collapses.size();
-    if (options_.progress && worker.reports_progress && worker.collapses.size() % 4096 == 0)
-      options_.progress(std::min(1.0, double(done) / double(vertex_.size())));
+    // With one heap; rounds report after each merge, on the caller's thread.
+    if (options_.progress && !in_rounds_ && worker.collapses.size() % 4096 == 0)
+      report_progress(out_.collapses.size() + worker.collapses.size());
   }
 
   // A boundary vertex's walk starts at its outgoing half-edge with no twin.
@@ -970,7 +968,7 @@ class FastSimplifier {
   };
   std::vector<Best> best_;
   bool partitioned_ = false;   // rounds first (run_rounds())
-  int cut_ = -1;               // the round, or -1: one heap
+  bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap
   std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())
   // run_rounds()'s second order: the vertex at each rank, and each vertex's rank.
   std::vector<uint32_t> order_b_, rank_b_;
