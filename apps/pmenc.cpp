@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <map>
 
 #include "batch_options.h"
@@ -100,8 +101,10 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                   " polygons split into triangles");
 
   pm::EncodeOptions options = settings.encode;
-  // --layered: the layers of independent splits follow the stream's chunks (--chunk-splits).
-  options.layer_chunk_splits = settings.layered ? settings.write.chunk_splits : 0;
+  // The windows of layered splits stay inside the stream's chunks (--chunk-splits);
+  // --layered: whole chunks.
+  options.layer_chunk_splits = settings.write.chunk_splits;
+  if (settings.layered) options.layer_window = std::numeric_limits<double>::infinity();
   options.progress = [&progress](double fraction) { progress.set_fraction(fraction); };
   pm::ProgressiveMesh progressive;
   pm::EncodeStats stats;
@@ -208,9 +211,16 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({0}) | CLI::Range(4, 24));
   app.add_flag("--layered", settings.layered,
-               "Reorder the splits within each chunk into layers of independent splits: a "
-               "smaller .pm, but levels inside a chunk are coarser than the greedy order's "
+               "Layer the splits within whole chunks (--layer-window over each chunk): "
+               "smaller still, but levels inside a chunk are coarser than the greedy order's "
                "(the levels at chunk ends are the same)");
+  app.add_option("--layer-window", settings.encode.layer_window,
+                 "Reorder the splits into layers of independent splits within windows of at "
+                 "most this share of the vertices (a smaller .pm; the levels' distance to the "
+                 "input stays within about 2%); 0: keep the simplifier's order")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0))
+      ->excludes("--layered");
   app.add_option("--chunk-splits", settings.write.chunk_splits,
                  "Largest chunk of vertex splits (each chunk is compressed on its own)")
       ->capture_default_str()

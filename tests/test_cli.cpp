@@ -5,9 +5,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 
+#include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
@@ -112,6 +113,52 @@ TEST(Cli, EveryOutputFormatDecodesTheSameFaces) {
     const Mesh back = read_or_fail(out);
     EXPECT_TRUE(test::same_faces(original, back)) << ext;
   }
+}
+
+// --layer-window SHARE orders the splits as pm::encode with that share does (0: the
+// simplifier's order), --layered as whole chunks do; the two exclude each other.
+TEST(Cli, LayerWindowSetsTheSplitOrder) {
+  TempDir dir;
+  const std::string input = test::sample_mesh_path("terrain_holes.obj");
+  const Mesh mesh = read_or_fail(input);
+  const auto u_order = [](const ProgressiveMesh& pm) {
+    std::vector<uint32_t> u;
+    for (const VertexSplit& split : pm.splits) u.push_back(split.u);
+    return u;
+  };
+  std::vector<std::vector<uint32_t>> orders;
+  for (const double share : {0.0, 1.0 / 16, 0.25, double{INFINITY}}) {
+    EncodeOptions options;
+    options.layer_window = share;
+    ProgressiveMesh expected, written;
+    ASSERT_TRUE(encode(mesh, options, expected).is_ok());
+    std::vector<std::string> args = {input, "-o", dir.file("t.pm"), "-q"};
+    if (share == INFINITY) {
+      args.push_back("--layered");
+    } else if (share != 1.0 / 16) {  // the default
+      args.insert(args.end(), {"--layer-window", std::to_string(share)});
+    }
+    ASSERT_EQ(pmenc(args).exit_code, 0) << share;
+    ASSERT_TRUE(read_pm(test::read_file(dir.file("t.pm")), written).is_ok());
+    EXPECT_EQ(u_order(written), u_order(expected)) << share;
+    orders.push_back(u_order(written));
+  }
+  for (std::size_t a = 0; a < orders.size(); ++a)
+    for (std::size_t b = a + 1; b < orders.size(); ++b) EXPECT_NE(orders[a], orders[b]) << a << b;
+  EXPECT_EQ(pmenc({input, "-o", dir.file("x.pm"), "--layered", "--layer-window", "0.1"}).exit_code,
+            2);
+  EXPECT_EQ(pmenc({input, "-o", dir.file("x.pm"), "--layer-window", "-1"}).exit_code, 2);
+  EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"t.pm"});
+  // The library refuses a share that is no number or below zero, and chunks of no split.
+  ProgressiveMesh pm;
+  EncodeOptions options;
+  for (const double share : {-0.5, double{NAN}}) {
+    options.layer_window = share;
+    EXPECT_EQ(encode(mesh, options, pm).code(), ErrorCode::kInvalidArgument) << share;
+  }
+  options.layer_window = 0.1;
+  options.layer_chunk_splits = 0;
+  EXPECT_EQ(encode(mesh, options, pm).code(), ErrorCode::kInvalidArgument);
 }
 
 TEST(Cli, DashWritesObjToStandardOutput) {

@@ -734,6 +734,10 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
     return Status(ErrorCode::kInvalidArgument, "feature angle must be within [0, 180] degrees");
   if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
     return Status(ErrorCode::kInvalidArgument, "normal flip limit must be within [0, 180] degrees");
+  if (!(options.layer_window >= 0))  // NaN fails here; infinity: whole chunks
+    return Status(ErrorCode::kInvalidArgument, "layer window must be a share >= 0");
+  if (options.layer_window > 0 && options.layer_chunk_splits == 0)
+    return Status(ErrorCode::kInvalidArgument, "layer chunks must hold at least one split");
 
   if (std::string problem; !validate_attributes(input, &problem))
     return Status(ErrorCode::kInvalidArgument, "mesh attributes: " + problem);
@@ -790,7 +794,7 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
         !options.drop_attributes, options.keep_order, out);
   }
   // The progressive mesh, checked as a decoder would check it.
-  if (options.layer_chunk_splits != 0) layer_splits(out, options.layer_chunk_splits);
+  if (options.layer_window > 0) layer_splits(out, options.layer_chunk_splits, options.layer_window);
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
 

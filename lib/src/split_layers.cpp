@@ -21,6 +21,7 @@
 // error at its start, and the same as before at every chunk boundary (the chunk index's
 // error_after does not change).
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <vector>
 
@@ -41,7 +42,26 @@ std::vector<uint32_t> chunk_plan(uint32_t splits, uint32_t largest) {
   return sizes;
 }
 
-void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk) {
+std::vector<uint32_t> layer_windows(uint32_t base_vertices, uint32_t splits, uint32_t largest_chunk,
+                                    double share) {
+  std::vector<uint32_t> windows;
+  uint64_t done = 0;
+  for (const uint32_t chunk : chunk_plan(splits, largest_chunk)) {
+    for (uint32_t left = chunk; left > 0;) {
+      uint32_t size = left;
+      if (share > 0 && std::isfinite(share)) {
+        const double most = std::floor(share * static_cast<double>(base_vertices + done));
+        size = static_cast<uint32_t>(std::clamp(most, double{kLeastLayerWindow}, double{left}));
+      }
+      windows.push_back(size);
+      left -= size;
+      done += size;
+    }
+  }
+  return windows;
+}
+
+void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
   const std::size_t S = pm.splits.size();
   if (S < 2) return;
   const uint32_t B = pm.base_vertex_count;
@@ -82,8 +102,8 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk) {
 
   std::vector<uint32_t> layer(S), touched;
   std::size_t begin = 0, face_cursor = base_faces;
-  uint32_t chunk_number = 0;
-  for (const uint32_t size : chunk_plan(static_cast<uint32_t>(S), largest_chunk)) {
+  uint32_t chunk_number = 0;  // the window's number
+  for (const uint32_t size : layer_windows(B, static_cast<uint32_t>(S), largest_chunk, share)) {
     ++chunk_number;
     const std::size_t end = begin + size;
     const std::size_t chunk_face_begin = face_cursor;

@@ -15,12 +15,15 @@
 //                   OpenMesh's .pm and the raw zstd column hold)
 //   draco q14       draco_encoder -qp 14 -cl 10 (its defaults for the rest: 10-bit texture
 //                   coordinates, 8-bit normals); single resolution
-//   pm q14 layered  the same with pmenc --layered (splits in layers within each chunk)
 //   pm q14          pmenc --quantize 14 --quantize-uv 10 --quantize-normal 8: the same bits
-//                   as draco's, still every level of detail
+//                   as draco's, still every level of detail (splits in layers within windows
+//                   of 1/16 of the vertices, the default)
+//   pm q14 layered  the same with pmenc --layered (splits in layers within whole chunks)
+//   pm q14 greedy   the same with pmenc --layer-window 0 (the simplifier's order)
 // The external tools run as processes (std::system); a missing tool gives "n/a".
 #include <zstd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -93,12 +96,17 @@ int main(int argc, char** argv) {
   const std::size_t lossless = pm_size(progressive, 0, 0, 0);
   const std::size_t q14 = pm_size(progressive, 14, 10, 8);
   // pmenc --layered: each chunk's splits in layers of independent splits (smaller; levels
-  // inside a chunk coarser than the greedy order's).
+  // inside a chunk coarser than the greedy order's); --layer-window 0: the greedy order.
   pm::EncodeOptions layered_options;
-  layered_options.layer_chunk_splits = pm::WriteOptions{}.chunk_splits;
+  layered_options.layer_window = INFINITY;
   pm::ProgressiveMesh layered;
   if (pm::Status s = pm::encode(mesh, layered_options, layered); !s) die("encode: " + s.message());
   const std::size_t q14_layered = pm_size(layered, 14, 10, 8);
+  pm::EncodeOptions greedy_options;
+  greedy_options.layer_window = 0;
+  pm::ProgressiveMesh greedy;
+  if (pm::Status s = pm::encode(mesh, greedy_options, greedy); !s) die("encode: " + s.message());
+  const std::size_t q14_greedy = pm_size(greedy, 14, 10, 8);
   const bool attributes = mesh.has_uvs() || mesh.has_normals() || mesh.has_colors() || mesh.has_materials();
   long long geometry_only = -1;
   if (attributes) {
@@ -144,18 +152,21 @@ int main(int argc, char** argv) {
   const long long raw = static_cast<long long>(zstd19(geometry));
   const long long raw_all = attributes ? static_cast<long long>(zstd19(attributed)) : raw;
   const long long om_size = file_size(om), drc_size = file_size(drc);
-  std::printf("| %s | %zu | %zu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
-              std::filesystem::path(path).filename().c_str(), mesh.vertex_count(), mesh.face_count(),
-              cell(raw).c_str(), attributes ? cell(raw_all).c_str() : "(same)",
-              cell(om_size).c_str(), cell(static_cast<long long>(lossless)).c_str(),
-              ratio(static_cast<long long>(lossless), raw_all).c_str(),
-              ratio(static_cast<long long>(lossless), om_size).c_str(),
-              attributes ? cell(geometry_only).c_str() : "(same)",
-              ratio(attributes ? geometry_only : static_cast<long long>(lossless), om_size).c_str(),
-              cell(drc_size).c_str(),
-              cell(static_cast<long long>(q14)).c_str(),
-              ratio(static_cast<long long>(q14), drc_size).c_str(),
-              cell(static_cast<long long>(q14_layered)).c_str(),
-              ratio(static_cast<long long>(q14_layered), drc_size).c_str(), attributes ? "yes" : "no");
+  std::printf(
+      "| %s | %zu | %zu | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s "
+      "| %s |\n",
+      std::filesystem::path(path).filename().c_str(), mesh.vertex_count(), mesh.face_count(),
+      cell(raw).c_str(), attributes ? cell(raw_all).c_str() : "(same)", cell(om_size).c_str(),
+      cell(static_cast<long long>(lossless)).c_str(),
+      ratio(static_cast<long long>(lossless), raw_all).c_str(),
+      ratio(static_cast<long long>(lossless), om_size).c_str(),
+      attributes ? cell(geometry_only).c_str() : "(same)",
+      ratio(attributes ? geometry_only : static_cast<long long>(lossless), om_size).c_str(),
+      cell(drc_size).c_str(), cell(static_cast<long long>(q14)).c_str(),
+      ratio(static_cast<long long>(q14), drc_size).c_str(),
+      cell(static_cast<long long>(q14_layered)).c_str(),
+      ratio(static_cast<long long>(q14_layered), drc_size).c_str(),
+      cell(static_cast<long long>(q14_greedy)).c_str(),
+      ratio(static_cast<long long>(q14_greedy), drc_size).c_str(), attributes ? "yes" : "no");
   return 0;
 }

@@ -124,6 +124,16 @@ std::vector<uint32_t> chunk_plan(uint32_t splits, uint32_t largest);
 // 2000, "Compressed progressive meshes", §3), renumbering vertex and face ids to match; the
 // mesh at the end of every chunk is unchanged. A split's error becomes the largest original
 // error from it to the end of its chunk. pm must be valid; it stays valid.
-void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk);
+//
+// share > 0 (and finite) bounds the reordering further: the splits are layered in windows inside
+// the chunks, each of at most share times the vertices before it (but at least kLeastLayerWindow),
+// so that a level inside a window has as many vertices as the greedy level it replaces and is never
+// coarser than the greedy level at the window's start, a share fewer vertices away.
+void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share = 0);
+
+// The windows layer_splits reorders within, in order: their sizes.
+inline constexpr uint32_t kLeastLayerWindow = 1;
+std::vector<uint32_t> layer_windows(uint32_t base_vertices, uint32_t splits, uint32_t largest_chunk,
+                                    double share);
 
 }  // namespace pm
