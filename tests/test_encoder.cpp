@@ -529,7 +529,8 @@ TEST(FastLoop, RegionsMakeTheSameSequenceEveryTime) {
     ProgressiveMesh again;
     ASSERT_EQ(encoded(1, 0, again), regions) << "run " << run;
   }
-  // Nor the number of threads: one, fewer than the regions, more.
+  // Nor the number of threads: one, fewer than the regions, more. (With more than one, the
+  // splits' layers, layer_splits, run in two stages on two threads too.)
   for (const unsigned threads : {1u, 3u, 12u}) {
     ProgressiveMesh again;
     EXPECT_EQ(encoded(1, threads, again), regions) << threads << " threads";

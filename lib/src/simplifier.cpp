@@ -794,7 +794,8 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
         !options.drop_attributes, options.keep_order, out);
   }
   // The progressive mesh, checked as a decoder would check it.
-  if (options.layer_window > 0) layer_splits(out, options.layer_chunk_splits, options.layer_window);
+  if (options.layer_window > 0)
+    layer_splits(out, options.layer_chunk_splits, options.layer_window, options.threads);
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
 

@@ -22,9 +22,14 @@
 // error_after does not change).
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <numeric>
+#include <thread>
+#include <utility>
 #include <vector>
 
+#include "in_turn.h"
 #include "pm/progressive_mesh.h"
 
 namespace pm {
@@ -61,54 +66,54 @@ std::vector<uint32_t> layer_windows(uint32_t base_vertices, uint32_t splits, uin
   return windows;
 }
 
-void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
+void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, unsigned threads) {
   const std::size_t S = pm.splits.size();
   if (S < 2) return;
   const uint32_t B = pm.base_vertex_count;
   const std::size_t vertex_count = pm.vertex_count();
   const std::size_t base_faces = pm.base_face_count();
-  std::size_t split_faces = 0;
-  for (const VertexSplit& s : pm.splits) split_faces += s.new_face_count();
+  // Each split's first new face (original order and ids), and the faces in all.
+  std::vector<std::size_t> first_face(S + 1);
+  first_face[0] = base_faces;
+  uint32_t most_moved = 0;
+  for (std::size_t i = 0; i < S; ++i) {
+    first_face[i + 1] = first_face[i] + pm.splits[i].new_face_count();
+    most_moved = std::max(most_moved, pm.splits[i].moved_count);
+  }
+  const std::size_t split_faces = first_face[S] - base_faces;
   const std::size_t carried = pm.carried_faces.size() / 3;
   const std::size_t total_faces = base_faces + split_faces + carried;
+  const std::vector<uint32_t> windows =
+      layer_windows(B, static_cast<uint32_t>(S), largest_chunk, share);
+  std::vector<std::size_t> window_begin(windows.size() + 1, 0);
+  for (std::size_t w = 0; w < windows.size(); ++w)
+    window_begin[w + 1] = window_begin[w] + windows[w];
+  const uint32_t largest_window = *std::max_element(windows.begin(), windows.end());
 
+  // Everything either stage below writes is allocated here, so that neither allocates (nor
+  // throws) while the other runs on another thread.
+  //
+  // Stage 1, the layers (in window order; reads pm, writes corners, marks, layer):
   // Corners of the current level, in the original order and ids (to know the vertices of
   // each split's moved faces when it is applied).
   std::vector<uint32_t> corners(pm.base_faces);
   corners.reserve(3 * (base_faces + split_faces));
-
-  // Old -> new ids. Vertices and faces before the chunk being processed are final.
-  std::vector<uint32_t> vertex_map(vertex_count);
-  std::iota(vertex_map.begin(), vertex_map.end(), 0u);
-  std::vector<uint32_t> face_map(total_faces);
-  std::iota(face_map.begin(), face_map.end(), 0u);
-  // Old face id -> first new-face index of each split (original order).
-  std::vector<std::size_t> first_face(S);
-
-  // Per vertex (old ids): the largest layer + 1 of a split of this chunk that touches it
-  // (X) or whose u or v it is (UV); stamped by chunk.
-  std::vector<uint32_t> in_x(vertex_count, 0), in_uv(vertex_count, 0);
-  std::vector<uint32_t> stamp_x(vertex_count, 0), stamp_uv(vertex_count, 0);
-
-  std::vector<VertexSplit> new_splits(S);
-  std::vector<uint32_t> new_moved;
-  new_moved.reserve(pm.moved_faces.size());
-  std::vector<uint32_t> new_moved_uvs, new_moved_normals;
-  std::vector<float> new_positions(pm.positions);
-  std::vector<float> new_colors(pm.colors);
-  const std::size_t cc = pm.color_components;
-  std::vector<uint32_t> new_face_uvs(pm.face_uvs), new_face_normals(pm.face_normals);
-  std::vector<uint32_t> new_face_materials(pm.face_materials);
-
+  // Per vertex (old ids), for the window `window`: the largest layer + 1 of a split of this
+  // window that touches it (x) or whose u or v it is (uv). One record: one cache miss.
+  struct Mark {
+    uint32_t window = 0, x = 0, uv = 0;
+  };
+  std::vector<Mark> marks(vertex_count);
   std::vector<uint32_t> layer(S), touched;
-  std::size_t begin = 0, face_cursor = base_faces;
-  uint32_t chunk_number = 0;  // the window's number
-  for (const uint32_t size : layer_windows(B, static_cast<uint32_t>(S), largest_chunk, share)) {
-    ++chunk_number;
-    const std::size_t end = begin + size;
-    const std::size_t chunk_face_begin = face_cursor;
-    // Layers, replaying the chunk in its original order.
-    for (std::size_t i = begin; i < end; ++i) {
+  touched.reserve(4 + 3 * std::size_t{most_moved});
+  const auto layer_window = [&](std::size_t w) {
+    const auto number = static_cast<uint32_t>(w + 1);
+    const auto mark = [&](uint32_t vertex) -> Mark& {
+      Mark& m = marks[vertex];
+      if (m.window != number) m = Mark{number, 0, 0};
+      return m;
+    };
+    for (std::size_t i = window_begin[w]; i < window_begin[w + 1]; ++i) {
       const VertexSplit& s = pm.splits[i];
       const uint32_t v = B + static_cast<uint32_t>(i);
       touched.assign({s.u, v});
@@ -118,18 +123,16 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
         const uint32_t* f = &corners[3 * std::size_t{pm.moved_faces[k]}];
         touched.insert(touched.end(), f, f + 3);
       }
-      uint32_t depth = stamp_x[s.u] == chunk_number ? in_x[s.u] : 0;
-      for (uint32_t w : touched) {
-        if (stamp_uv[w] == chunk_number) depth = std::max(depth, in_uv[w]);
-      }
+      uint32_t depth = mark(s.u).x;
+      for (uint32_t t : touched) depth = std::max(depth, mark(t).uv);
       layer[i] = depth;  // 0-based
-      for (uint32_t w : touched) {
-        if (stamp_x[w] != chunk_number) stamp_x[w] = chunk_number, in_x[w] = 0;
-        in_x[w] = std::max(in_x[w], depth + 1);
+      for (uint32_t t : touched) {
+        Mark& m = mark(t);
+        m.x = std::max(m.x, depth + 1);
       }
-      for (uint32_t w : {s.u, v}) {
-        if (stamp_uv[w] != chunk_number) stamp_uv[w] = chunk_number, in_uv[w] = 0;
-        in_uv[w] = std::max(in_uv[w], depth + 1);
+      for (uint32_t t : {s.u, v}) {
+        Mark& m = mark(t);
+        m.uv = std::max(m.uv, depth + 1);
       }
       // Apply (original ids).
       for (uint32_t k = s.moved_begin; k < s.moved_begin + s.moved_count; ++k) {
@@ -137,31 +140,56 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
         for (int c = 0; c < 3; ++c)
           if (f[c] == s.u) f[c] = v;
       }
-      first_face[i] = face_cursor;
-      if (s.vl != kNoVertex) corners.insert(corners.end(), {v, s.u, s.vl}), ++face_cursor;
-      if (s.vr != kNoVertex) corners.insert(corners.end(), {s.u, v, s.vr}), ++face_cursor;
+      if (s.vl != kNoVertex) corners.insert(corners.end(), {v, s.u, s.vl});
+      if (s.vr != kNoVertex) corners.insert(corners.end(), {s.u, v, s.vr});
     }
-    // The new order: by layer, then by u's new id (known for the earlier layers when a
-    // layer is sorted, since a split's u is never the v of a split of its own layer).
-    std::vector<std::size_t> order(size);
-    std::iota(order.begin(), order.end(), begin);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return layer[a] < layer[b]; });
-    std::size_t at = 0;
+  };
+
+  // Stage 2, the new order and ids (in window order, each window once stage 1 is done with
+  // it; reads pm and layer, writes the maps and the new arrays).
+  // Old -> new ids. Vertices and faces before the window being reordered are final.
+  std::vector<uint32_t> vertex_map(vertex_count);
+  std::iota(vertex_map.begin(), vertex_map.end(), 0u);
+  std::vector<uint32_t> face_map(total_faces);
+  std::iota(face_map.begin(), face_map.end(), 0u);
+  std::vector<VertexSplit> new_splits(S);
+  std::vector<uint32_t> new_moved;
+  new_moved.reserve(pm.moved_faces.size());
+  std::vector<uint32_t> new_moved_uvs, new_moved_normals;
+  new_moved_uvs.reserve(pm.moved_uvs.size());
+  new_moved_normals.reserve(pm.moved_normals.size());
+  std::vector<float> new_positions(pm.positions);
+  std::vector<float> new_colors(pm.colors);
+  const std::size_t cc = pm.color_components;
+  std::vector<uint32_t> new_face_uvs(pm.face_uvs), new_face_normals(pm.face_normals);
+  std::vector<uint32_t> new_face_materials(pm.face_materials);
+  // A window's splits (original index), by layer then by u's new id, and the sort keys.
+  std::vector<uint32_t> order(largest_window), layer_start;
+  std::vector<std::pair<uint32_t, uint32_t>> keyed(largest_window);
+  layer_start.reserve(largest_window + 2);
+  const auto reorder_window = [&](std::size_t w) {
+    const std::size_t begin = window_begin[w], size = windows[w];
+    // By layer (a counting sort, stable), then each layer by u's new id: known for the
+    // earlier layers when a layer is sorted, since a split's u is never the v of a split of
+    // its own layer.
+    uint32_t layers = 0;
+    for (std::size_t i = begin; i < begin + size; ++i) layers = std::max(layers, layer[i] + 1);
+    layer_start.assign(layers + 1, 0);
+    for (std::size_t i = begin; i < begin + size; ++i) ++layer_start[layer[i] + 1];
+    for (uint32_t l = 0; l < layers; ++l) layer_start[l + 1] += layer_start[l];
+    for (std::size_t i = begin; i < begin + size; ++i)
+      order[layer_start[layer[i]]++] = static_cast<uint32_t>(i);  // now each layer's end
     uint32_t next_vertex = B + static_cast<uint32_t>(begin);
-    std::size_t next_face = chunk_face_begin;
-    while (at < order.size()) {
-      std::size_t stop = at;
-      while (stop < order.size() && layer[order[stop]] == layer[order[at]]) ++stop;
-      std::stable_sort(order.begin() + at, order.begin() + stop, [&](std::size_t a, std::size_t b) {
-        return vertex_map[pm.splits[a].u] < vertex_map[pm.splits[b].u];
-      });
-      for (std::size_t k = at; k < stop; ++k) {
-        const std::size_t i = order[k];
+    auto next_face = static_cast<uint32_t>(first_face[begin]);
+    for (uint32_t l = 0, at = 0; l < layers; ++l) {
+      const uint32_t stop = layer_start[l];
+      for (uint32_t k = at; k < stop; ++k) keyed[k] = {vertex_map[pm.splits[order[k]].u], order[k]};
+      std::sort(keyed.begin() + at, keyed.begin() + stop);
+      for (uint32_t k = at; k < stop; ++k) {
+        const std::size_t i = keyed[k].second;
+        order[k] = keyed[k].second;
         vertex_map[B + i] = next_vertex++;
-        std::size_t f = first_face[i];
-        for (uint32_t n = 0; n < pm.splits[i].new_face_count(); ++n)
-          face_map[f++] = static_cast<uint32_t>(next_face++);
+        for (std::size_t f = first_face[i]; f < first_face[i + 1]; ++f) face_map[f] = next_face++;
       }
       at = stop;
     }
@@ -169,7 +197,6 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
     float suffix_max = 0.0f;
     for (std::size_t k = size; k-- > 0;) {
       suffix_max = std::max(suffix_max, pm.splits[order[k]].error);
-      layer[order[k]] = 0;  // reuse: not needed any more
       new_splits[begin + k].error = suffix_max;
     }
     for (std::size_t k = 0; k < size; ++k) {
@@ -191,8 +218,8 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
       std::copy_n(pm.positions.begin() + 3 * std::size_t{old_v}, 3,
                   new_positions.begin() + 3 * std::size_t{new_v});
       if (cc != 0) std::copy_n(pm.colors.begin() + cc * old_v, cc, new_colors.begin() + cc * new_v);
-      for (uint32_t n = 0; n < s.new_face_count(); ++n) {
-        const std::size_t from = first_face[i] + n, to = face_map[from];
+      for (std::size_t from = first_face[i]; from < first_face[i + 1]; ++from) {
+        const std::size_t to = face_map[from];
         if (!pm.face_uvs.empty())
           std::copy_n(pm.face_uvs.begin() + 3 * from, 3, new_face_uvs.begin() + 3 * to);
         if (!pm.face_normals.empty())
@@ -200,8 +227,35 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share) {
         if (!pm.face_materials.empty()) new_face_materials[to] = pm.face_materials[from];
       }
     }
-    begin = end;
+  };
+
+  // The two stages in a pipeline: stage 1 on a thread of its own a window ahead, stage 2
+  // here (each is about half of the work; they share no array either writes).
+  constexpr std::size_t kPipelineSplits = std::size_t{1} << 16;
+  if (thread_count(threads) < 2 || S < kPipelineSplits) {
+    for (std::size_t w = 0; w < windows.size(); ++w) layer_window(w), reorder_window(w);
+  } else {
+    std::mutex mutex;
+    std::condition_variable layered;
+    std::size_t windows_layered = 0;
+    std::thread first_stage([&] {
+      for (std::size_t w = 0; w < windows.size(); ++w) {
+        layer_window(w);
+        const std::lock_guard<std::mutex> lock(mutex);
+        windows_layered = w + 1;
+        layered.notify_one();
+      }
+    });
+    for (std::size_t w = 0; w < windows.size(); ++w) {
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        layered.wait(lock, [&] { return windows_layered > w; });
+      }
+      reorder_window(w);
+    }
+    first_stage.join();
   }
+
   pm.splits = std::move(new_splits);
   pm.moved_faces = std::move(new_moved);
   if (!pm.moved_uvs.empty()) pm.moved_uvs = std::move(new_moved_uvs);

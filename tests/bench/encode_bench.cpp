@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
       options.fast_partition_vertices = 0;
     } else if (arg == "--threads" && i + 1 < argc) {
       options.threads = static_cast<unsigned>(std::max(0, std::atoi(argv[++i])));
+    } else if (arg == "--layer-window" && i + 1 < argc) {
+      options.layer_window = std::atof(argv[++i]);
     } else if (arg == "--runs" && i + 1 < argc) {
       runs = std::max(1, std::atoi(argv[++i]));
     } else if (arg == "--out" && i + 1 < argc) {
@@ -62,7 +64,7 @@ int main(int argc, char** argv) {
       path = arg;
     } else {
       die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] "
-          "[--threads N] [--runs N] [--out FILE]");
+          "[--threads N] [--layer-window SHARE] [--runs N] [--out FILE]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");

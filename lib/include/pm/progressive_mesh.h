@@ -129,7 +129,10 @@ std::vector<uint32_t> chunk_plan(uint32_t splits, uint32_t largest);
 // the chunks, each of at most share times the vertices before it (but at least kLeastLayerWindow),
 // so that a level inside a window has as many vertices as the greedy level it replaces and is never
 // coarser than the greedy level at the window's start, a share fewer vertices away.
-void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share = 0);
+// On two threads when `threads` allows (0: the machine's cores) and there are many splits;
+// the same result on any number.
+void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share = 0,
+                  unsigned threads = 1);
 
 // The windows layer_splits reorders within, in order: their sizes.
 inline constexpr uint32_t kLeastLayerWindow = 1;
