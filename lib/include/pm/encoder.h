@@ -67,8 +67,9 @@ struct EncodeOptions {
   // one-heap greedy order (vertices next to a region's edge wait for a later round). 0 or SIZE_MAX:
   // never.
   std::size_t fast_partition_vertices = 131072;
-  // Threads the fast loop may use (its regions, and parts of building its arrays): 0, the
-  // machine's cores. The result is the same for any number.
+  // Threads the fast loop may use (its regions, and parts of building its arrays), and the
+  // splits' layers (two stages at once): 0, the machine's cores. The result is the same for
+  // any number.
   unsigned threads = 0;
   // Stop when the mesh would go below either count (0: no limit).
   std::size_t min_faces = 0;
