@@ -66,11 +66,6 @@ constexpr uint32_t kTagIndex = make_tag("INDX");
 constexpr uint32_t kTagChunk = make_tag("CHNK");
 constexpr uint32_t kTagOrder = make_tag("ORDR");
 
-// Header offsets (§3.1) that differ from 1.x.
-constexpr std::size_t kOffsetBits = 84;     // position_bits, uv_bits, normal_bits: u8 each
-constexpr std::size_t kOffsetReserved = 87;  // u8, zero
-constexpr std::size_t kOffsetOptions = 88;   // u32
-
 struct Header2 {
   uint16_t major = kMajor2, minor = kMinor2;
   uint32_t flags = 0;
@@ -109,7 +104,7 @@ void append_header2(const Header2& h, std::string& out) {
                          h.material_count, h.material_library_count, h.material_string_bytes}) {
     w.put_u32(field);
   }
-  w.put_u8(h.position_bits);
+  w.put_u8(h.position_bits);  // offset 84 (§3.1): the fields that differ from 1.x
   w.put_u8(h.uv_bits);
   w.put_u8(h.normal_bits);
   w.put_u8(0);

@@ -773,10 +773,13 @@ TEST(PmStream, LayeredSplitsKeepEveryWindowsMesh) {
         const Mesh a = extract_level(plain, level), b = extract_level(layered, level);
         EXPECT_EQ(a.face_count(), b.face_count());
         EXPECT_EQ(sorted_triangles(a), sorted_triangles(b));
-        for (std::size_t k = level - size; k < level; ++k)
+        for (std::size_t k = level - size; k < level; ++k) {
           reordered += layered.splits[k].u != plain.splits[k].u;
+        }
       }
-      if (S > 1000) EXPECT_GT(reordered, S / 4);  // the layers did reorder
+      if (S > 1000) {
+        EXPECT_GT(reordered, S / 4);  // the layers did reorder
+      }
       expect_identical(with_sorted_moves(read(write(layered))), with_sorted_moves(layered));
       // The written stream's index describes each chunk's level; every split inside a chunk
       // is a valid level too (extract_level validates), with a non-increasing error.

@@ -56,7 +56,8 @@ std::vector<uint32_t> layer_windows(uint32_t base_vertices, uint32_t splits, uin
       uint32_t size = left;
       if (share > 0 && std::isfinite(share)) {
         const double most = std::floor(share * static_cast<double>(base_vertices + done));
-        size = static_cast<uint32_t>(std::clamp(most, double{kLeastLayerWindow}, double{left}));
+        size = static_cast<uint32_t>(
+            std::clamp(most, static_cast<double>(kLeastLayerWindow), static_cast<double>(left)));
       }
       windows.push_back(size);
       left -= size;

@@ -41,7 +41,8 @@ struct EncodeOptions {
   // of at most this share of the vertices before it is reordered on its own, inside the
   // stream's chunks of layer_chunk_splits (which should be WriteOptions::chunk_splits). The
   // levels at window ends are the simplifier's; a level inside a window has as many
-  // vertices as the greedy level it replaces and is never coarser than the window's first.
+  // vertices as the greedy level it replaces, and an error bound no larger than the
+  // window's first level's.
   // The default, 1/16: the lossless .pm 2 to 10% smaller and the 14-bit one 4 to 21% on
   // the shared meshes (25% lossless on a 1.6M-face mesh), the levels' RMS distance to the
   // input within 2% of the greedy order's (tests/bench/size.md). 0: keep the simplifier's

@@ -125,10 +125,11 @@ std::vector<uint32_t> chunk_plan(uint32_t splits, uint32_t largest);
 // mesh at the end of every chunk is unchanged. A split's error becomes the largest original
 // error from it to the end of its chunk. pm must be valid; it stays valid.
 //
-// share > 0 (and finite) bounds the reordering further: the splits are layered in windows inside
-// the chunks, each of at most share times the vertices before it (but at least kLeastLayerWindow),
-// so that a level inside a window has as many vertices as the greedy level it replaces and is never
-// coarser than the greedy level at the window's start, a share fewer vertices away.
+// share > 0 (and finite) bounds the reordering further: the splits are layered in windows
+// inside the chunks, each of at most share times the vertices before it (but at least
+// kLeastLayerWindow), so that a level inside a window has as many vertices as the greedy
+// level it replaces, and an error bound no larger than the greedy level's at the window's
+// start, a share fewer vertices away.
 // On two threads when `threads` allows (0: the machine's cores) and there are many splits;
 // the same result on any number.
 void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share = 0,
