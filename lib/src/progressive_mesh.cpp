@@ -116,12 +116,21 @@ bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vert
 bool check_splits(const ProgressiveMesh& pm, std::string* message) {
   std::size_t total_new_faces = 0;
   for (const VertexSplit& split : pm.splits) total_new_faces += split.new_face_count();
-  std::vector<uint32_t> faces;
-  faces.reserve(pm.base_faces.size() + 3 * total_new_faces);
-  faces.assign(pm.base_faces.begin(), pm.base_faces.end());
-  // last_split_moving[f] == i marks face f as already moved by split i (duplicate check
-  // without clearing a set per split).
-  std::vector<uint32_t> last_split_moving(pm.base_face_count() + total_new_faces, UINT32_MAX);
+  // Each face's corners and the last split that moved it (a duplicate check without
+  // clearing a set per split), side by side: the moved faces are scattered over the mesh,
+  // and one 16-byte record is one cache miss where two arrays were two (this runs on every
+  // stream read and every encode).
+  struct FaceRecord {
+    uint32_t corner[3];
+    uint32_t last_mover;
+  };
+  std::vector<FaceRecord> faces;
+  faces.reserve(pm.base_face_count() + total_new_faces);
+  constexpr std::size_t kFetchAhead = 32;
+  for (std::size_t f = 0; f < pm.base_face_count(); ++f) {
+    faces.push_back(FaceRecord{
+        {pm.base_faces[3 * f], pm.base_faces[3 * f + 1], pm.base_faces[3 * f + 2]}, UINT32_MAX});
+  }
 
   uint64_t next_moved = 0;  // where the next split's moved range must begin
   for (std::size_t i = 0; i < pm.splits.size(); ++i) {
@@ -146,30 +155,37 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
     }
     next_moved = moved_end;
 
-    const std::size_t face_count = faces.size() / 3;
+    const std::size_t face_count = faces.size();
     for (uint64_t k = split.moved_begin; k < moved_end; ++k) {
+      // The faces to move are known ahead: fetched that far ahead, their misses overlap.
+      if (k + kFetchAhead < pm.moved_faces.size()) {
+        const uint32_t ahead = pm.moved_faces[k + kFetchAhead];
+        if (ahead < faces.capacity()) __builtin_prefetch(faces.data() + ahead, 1);
+      }
       const uint32_t f = pm.moved_faces[k];
       if (f >= face_count) {
         return fail(message, where() + " moves face " + std::to_string(f) + " of " +
                                  std::to_string(face_count));
       }
-      if (last_split_moving[f] == i) {
+      FaceRecord& face = faces[f];
+      if (face.last_mover == i) {
         return fail(message, where() + " moves face " + std::to_string(f) + " twice");
       }
-      last_split_moving[f] = static_cast<uint32_t>(i);
-      uint32_t* face = &faces[3 * std::size_t{f}];
-      const int u_corners = (face[0] == split.u) + (face[1] == split.u) + (face[2] == split.u);
+      face.last_mover = static_cast<uint32_t>(i);
+      uint32_t* corner = face.corner;
+      const int u_corners =
+          (corner[0] == split.u) + (corner[1] == split.u) + (corner[2] == split.u);
       if (u_corners != 1) {
-        return fail(message, where() + " moves face " + std::to_string(f) + " " + face_text(face) +
-                                 ", which does not hold u " + std::to_string(split.u) +
-                                 " exactly once");
+        return fail(message, where() + " moves face " + std::to_string(f) + " " +
+                                 face_text(corner) + ", which does not hold u " +
+                                 std::to_string(split.u) + " exactly once");
       }
-      for (int corner = 0; corner < 3; ++corner) {
-        if (face[corner] == split.u) face[corner] = v;
+      for (int c = 0; c < 3; ++c) {
+        if (corner[c] == split.u) corner[c] = v;
       }
     }
-    if (split.vl != kNoVertex) faces.insert(faces.end(), {v, split.u, split.vl});
-    if (split.vr != kNoVertex) faces.insert(faces.end(), {split.u, v, split.vr});
+    if (split.vl != kNoVertex) faces.push_back(FaceRecord{{v, split.u, split.vl}, UINT32_MAX});
+    if (split.vr != kNoVertex) faces.push_back(FaceRecord{{split.u, v, split.vr}, UINT32_MAX});
   }
   if (next_moved != pm.moved_faces.size()) {
     return fail(message, "the splits move " + std::to_string(next_moved) +

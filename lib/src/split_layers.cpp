@@ -105,6 +105,7 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, uns
     uint32_t window = 0, x = 0, uv = 0;
   };
   std::vector<Mark> marks(vertex_count);
+  constexpr std::size_t kFetchAhead = 16;  // splits
   std::vector<uint32_t> layer(S), touched;
   touched.reserve(4 + 3 * std::size_t{most_moved});
   const auto layer_window = [&](std::size_t w) {
@@ -115,6 +116,27 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, uns
       return m;
     };
     for (std::size_t i = window_begin[w]; i < window_begin[w + 1]; ++i) {
+      // The splits ahead name the faces and vertices they will read: fetched now, the
+      // cache misses of several splits overlap (each alone waits for memory).
+      if (i + kFetchAhead < S) {
+        const VertexSplit& ahead = pm.splits[i + kFetchAhead];
+        for (uint32_t k = ahead.moved_begin; k < ahead.moved_begin + ahead.moved_count; ++k) {
+          const std::size_t f = pm.moved_faces[k];
+          if (3 * f < corners.capacity()) __builtin_prefetch(corners.data() + 3 * f, 1);
+        }
+        __builtin_prefetch(marks.data() + ahead.u, 1);
+        if (ahead.vl != kNoVertex) __builtin_prefetch(marks.data() + ahead.vl, 1);
+        if (ahead.vr != kNoVertex) __builtin_prefetch(marks.data() + ahead.vr, 1);
+      }
+      if (i + kFetchAhead / 2 < S) {  // the vertices of the faces fetched before
+        const VertexSplit& ahead = pm.splits[i + kFetchAhead / 2];
+        for (uint32_t k = ahead.moved_begin; k < ahead.moved_begin + ahead.moved_count; ++k) {
+          const std::size_t f = pm.moved_faces[k];
+          if (3 * f + 2 < corners.size()) {
+            for (int c = 0; c < 3; ++c) __builtin_prefetch(marks.data() + corners[3 * f + c], 1);
+          }
+        }
+      }
       const VertexSplit& s = pm.splits[i];
       const uint32_t v = B + static_cast<uint32_t>(i);
       touched.assign({s.u, v});
@@ -184,7 +206,12 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, uns
     auto next_face = static_cast<uint32_t>(first_face[begin]);
     for (uint32_t l = 0, at = 0; l < layers; ++l) {
       const uint32_t stop = layer_start[l];
-      for (uint32_t k = at; k < stop; ++k) keyed[k] = {vertex_map[pm.splits[order[k]].u], order[k]};
+      for (uint32_t k = at; k < stop; ++k) {
+        if (k + kFetchAhead < stop) __builtin_prefetch(&pm.splits[order[k + kFetchAhead]]);
+        if (k + kFetchAhead / 2 < stop)
+          __builtin_prefetch(vertex_map.data() + pm.splits[order[k + kFetchAhead / 2]].u);
+        keyed[k] = {vertex_map[pm.splits[order[k]].u], order[k]};
+      }
       std::sort(keyed.begin() + at, keyed.begin() + stop);
       for (uint32_t k = at; k < stop; ++k) {
         const std::size_t i = keyed[k].second;
@@ -201,6 +228,17 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, uns
       new_splits[begin + k].error = suffix_max;
     }
     for (std::size_t k = 0; k < size; ++k) {
+      if (k + kFetchAhead < size) __builtin_prefetch(&pm.splits[order[k + kFetchAhead]]);
+      if (k + kFetchAhead / 2 < size) {  // what the split fetched before names
+        const std::size_t i = order[k + kFetchAhead / 2];
+        const VertexSplit& ahead = pm.splits[i];
+        __builtin_prefetch(vertex_map.data() + ahead.u);
+        if (ahead.vl != kNoVertex) __builtin_prefetch(vertex_map.data() + ahead.vl);
+        if (ahead.vr != kNoVertex) __builtin_prefetch(vertex_map.data() + ahead.vr);
+        for (uint32_t m = ahead.moved_begin; m < ahead.moved_begin + ahead.moved_count; ++m)
+          __builtin_prefetch(face_map.data() + pm.moved_faces[m]);
+        __builtin_prefetch(pm.positions.data() + 3 * (B + i));
+      }
       const std::size_t i = order[k];
       const VertexSplit& s = pm.splits[i];
       VertexSplit& t = new_splits[begin + k];
