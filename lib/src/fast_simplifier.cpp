@@ -11,6 +11,8 @@
 #include <cmath>
 #include <functional>
 #include <set>
+#include <system_error>
+#include <thread>
 
 #include "collapse_legality.h"
 #include "geometry.h"
@@ -288,11 +290,12 @@ class FastSimplifier {
   // their positions in the box [low, high] on a 1024^3 grid (Morton 1966): order[rank] is a
   // vertex, rank[vertex] its place. `shift` (a fraction of the box) moves the positions
   // first, wrapping round, so that the curve's cells fall elsewhere; ties go to the smaller
-  // vertex.
+  // vertex. With `id`, vertex v of `points` is called id[v] (in the order, the ranks and the
+  // ties). `keys`, `order` and `rank` hold n each: nothing is allocated here, so that this
+  // may run on a thread of its own.
   static void morton_order(const float* points, std::size_t n, const float* low, const float* high,
-                           double shift, std::vector<uint32_t>& order,
-                           std::vector<uint32_t>& rank) {
-    std::vector<uint64_t> keys(n);
+                           double shift, const uint32_t* id, std::vector<uint64_t>& keys,
+                           std::vector<uint32_t>& order, std::vector<uint32_t>& rank) {
     for (std::size_t v = 0; v < n; ++v) {
       uint64_t code = 0;
       for (int c = 0; c < 3; ++c) {
@@ -302,11 +305,9 @@ class FastSimplifier {
         const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
         for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
       }
-      keys[v] = code << 32 | v;
+      keys[v] = code << 32 | (id ? id[v] : v);
     }
     std::sort(keys.begin(), keys.end());
-    order.resize(n);
-    rank.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       order[i] = static_cast<uint32_t>(keys[i]);
       rank[order[i]] = static_cast<uint32_t>(i);
@@ -337,34 +338,93 @@ class FastSimplifier {
       low[i % 3] = std::min(low[i % 3], points[i]);
       high[i % 3] = std::max(high[i % 3], points[i]);
     }
-    morton_order(points, n_vertices, low, high, 0.0, vertex_of_, local_vertex_);
+    std::vector<uint64_t> keys(n_vertices);
+    vertex_of_.resize(n_vertices);
+    local_vertex_.resize(n_vertices);
+    morton_order(points, n_vertices, low, high, 0.0, nullptr, keys, vertex_of_, local_vertex_);
+    // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
+    // which look anywhere on the mesh, to be idle.
+    const std::size_t partition = options_.fast_partition_vertices;
+    partitioned_ =
+        welds_.empty() && carried_edges_.empty() && partition != 0 && n_vertices >= partition;
+    // run_rounds()'s second order, on another thread while the connectivity is built here:
+    // the Morton codes of the positions moved by 0.37 of the box's extent along each axis,
+    // wrapping round (a region may then be in two pieces, which does not matter), so that
+    // its cells' walls fall between the first order's; in local ids, ties to the smaller.
+    std::thread second_order;
+    const auto join = [&] {
+      if (second_order.joinable()) second_order.join();
+    };
+    struct JoinOnExit {  // also when an allocation below throws
+      std::thread& thread;
+      ~JoinOnExit() {
+        if (thread.joinable()) thread.join();
+      }
+    } join_on_exit{second_order};
+    const auto give_up = [&] {
+      join();
+      return fail();
+    };
+    if (partitioned_) {
+      order_b_.resize(n_vertices);
+      rank_b_.resize(n_vertices);
+      const auto order = [this, points, n_vertices, low, high, &keys] {
+        morton_order(points, n_vertices, low, high, 0.37, local_vertex_.data(), keys, order_b_,
+                     rank_b_);
+      };
+      if (threads_ < 2) {
+        order();
+      } else {
+        try {
+          second_order = std::thread(order);
+        } catch (const std::system_error&) {  // no thread to be had: here, then
+          order();
+        }
+      }
+    }
 
     // Faces by their first local vertex (a counting sort); a face with a repeated vertex,
     // or a vertex without faces, needs the repair.
+    // The lookups by vertex id are scattered: the ones a few faces ahead are fetched first,
+    // so that their cache misses overlap.
+    constexpr std::size_t kFetchAhead = 16;
     std::vector<uint32_t> begin(n_vertices + 1, 0);  // per local vertex: its faces' slots
+    face_of_.resize(n_faces);  // first each face's first local vertex, then the sorted faces
     for (std::size_t f = 0; f < n_faces; ++f) {
+      if (f + kFetchAhead < n_faces) {
+        for (int k = 0; k < 3; ++k)
+          __builtin_prefetch(local_vertex_.data() + tri[3 * (f + kFetchAhead) + k]);
+      }
       const uint32_t* t = tri + 3 * f;
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return fail();
-      ++begin[std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]}) + 1];
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return give_up();
+      face_of_[f] = std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]});
+      ++begin[face_of_[f] + 1];
     }
     for (std::size_t v = 0; v < n_vertices; ++v) begin[v + 1] += begin[v];
-    face_of_.resize(n_faces);
-    for (std::size_t f = 0; f < n_faces; ++f) {
-      const uint32_t* t = tri + 3 * f;
-      face_of_[begin[std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]})]++] =
-          static_cast<uint32_t>(f);
+    {
+      std::vector<uint32_t> first_vertex(n_faces);
+      first_vertex.swap(face_of_);
+      for (std::size_t f = 0; f < n_faces; ++f)
+        face_of_[begin[first_vertex[f]]++] = static_cast<uint32_t>(f);
     }
     half_.assign(3 * n_faces, HalfEdge{kNone, kNone});
-    for (std::size_t i = 0; i < n_faces; ++i)
+    for (std::size_t i = 0; i < n_faces; ++i) {
+      if (i + 2 * kFetchAhead < n_faces)
+        __builtin_prefetch(tri + 3 * std::size_t{face_of_[i + 2 * kFetchAhead]});
+      if (i + kFetchAhead < n_faces) {
+        const uint32_t* ahead = tri + 3 * std::size_t{face_of_[i + kFetchAhead]};
+        for (int k = 0; k < 3; ++k) __builtin_prefetch(local_vertex_.data() + ahead[k]);
+      }
       for (int k = 0; k < 3; ++k)
         half_[3 * i + k].vertex = local_vertex_[tri[3 * std::size_t{face_of_[i]} + k]];
+    }
 
     // The half-edges leaving each vertex (compressed rows), then each half-edge's twin:
     // the one way back, if any; two the same way, or two back, is an edge the repair cuts.
     std::fill(begin.begin(), begin.end(), 0);
     for (uint32_t h = 0; h < half_.size(); ++h) ++begin[half_[h].vertex + 1];
     for (std::size_t v = 0; v < n_vertices; ++v) {
-      if (begin[v + 1] == 0 && !faceless_allowed) return fail();  // a vertex no face uses
+      if (begin[v + 1] == 0 && !faceless_allowed) return give_up();  // a vertex no face uses
       begin[v + 1] += begin[v];
     }
     std::vector<uint32_t> leaving(half_.size());
@@ -387,7 +447,7 @@ class FastSimplifier {
         }
       }
     });
-    if (cut) return fail();
+    if (cut) return give_up();
     std::vector<uint32_t>().swap(leaving);
     // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
     // around the vertex (ring()) starts. Two such, or a walk that misses some of the
@@ -396,7 +456,8 @@ class FastSimplifier {
     for (uint32_t h = 0; h < half_.size(); ++h) {
       const uint32_t v = half_[h].vertex;
       if (half_[h].twin == kNone) {
-        if (vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone) return fail();
+        if (vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone)
+          return give_up();
         vertex_[v].outgoing = h;
       } else if (vertex_[v].outgoing == kNone) {
         vertex_[v].outgoing = h;
@@ -413,25 +474,17 @@ class FastSimplifier {
         if (faces != begin[v + 1] - begin[v]) return cut.store(true);
       }
     });
-    if (cut) return fail();
+    if (cut) return give_up();
 
     xyz_.resize(3 * n_vertices);
     for (std::size_t i = 0; i < n_vertices; ++i) {
+      if (i + kFetchAhead < n_vertices)
+        __builtin_prefetch(points + 3 * std::size_t{vertex_of_[i + kFetchAhead]});
       for (int c = 0; c < 3; ++c) xyz_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
       if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
     }
     face_dead_.assign(n_faces, 0);
-    // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
-    // which look anywhere on the mesh, to be idle.
-    const std::size_t partition = options_.fast_partition_vertices;
-    partitioned_ =
-        welds_.empty() && carried_edges_.empty() && partition != 0 && n_vertices >= partition;
-    if (partitioned_) {
-      // The second order: Morton codes of the positions moved by 0.37 of the box's extent
-      // along each axis, wrapping round (a region may then be in two pieces, which does not
-      // matter): its cells' walls fall between the first order's.
-      morton_order(xyz_.data(), n_vertices, low, high, 0.37, order_b_, rank_b_);
-    }
+    join();
     // Only the weld check looks a vertex up by its given id from here on.
     if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
     return true;
@@ -899,7 +952,19 @@ class FastSimplifier {
   // The records in the given ids: in one pass at the end, where each lookup is independent
   // of the next, instead of a dependent cache miss in every collapse.
   void to_given_ids() {
-    for (Collapse& c : out_.collapses) {
+    constexpr std::size_t kFetchAhead = 16;  // records: their lookups' misses overlap
+    auto& collapses = out_.collapses;
+    for (std::size_t k = 0; k < collapses.size(); ++k) {
+      if (k + kFetchAhead < collapses.size()) {
+        const Collapse& ahead = collapses[k + kFetchAhead];
+        for (const uint32_t x : {ahead.v, ahead.u, ahead.vl, ahead.vr}) {
+          if (x != kNoVertex) __builtin_prefetch(vertex_of_.data() + x);
+        }
+        for (const int f : {ahead.fl, ahead.fr}) {
+          if (f >= 0) __builtin_prefetch(face_of_.data() + f);
+        }
+      }
+      Collapse& c = collapses[k];
       c.v = vertex_of_[c.v];
       c.u = vertex_of_[c.u];
       if (c.vl != kNoVertex) c.vl = vertex_of_[c.vl];
@@ -907,7 +972,12 @@ class FastSimplifier {
       if (c.fl >= 0) c.fl = static_cast<int>(face_of_[c.fl]);
       if (c.fr >= 0) c.fr = static_cast<int>(face_of_[c.fr]);
     }
-    for (uint32_t& f : out_.moved_faces) f = face_of_[f];
+    auto& moved = out_.moved_faces;
+    for (std::size_t k = 0; k < moved.size(); ++k) {
+      if (k + kFetchAhead < moved.size())
+        __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
+      moved[k] = face_of_[moved[k]];
+    }
   }
 
   // What is left, in the given ids, increasing.
