@@ -819,6 +819,9 @@ struct Writer {
       fans.add_face(pm.base_faces[3 * f], pm.base_faces[3 * f + 1], pm.base_faces[3 * f + 2]);
     }
     SplitFans::Fan fan;
+    SplitFans::Prefetch prefetch(fans, &positions.units);
+    for (std::size_t k = 0; k < SplitFans::Prefetch::kAhead; ++k)
+      prefetch.step(k < pm.splits.size() ? pm.splits[k].u : SplitFans::kNone);
     std::vector<uint32_t> arc, record, sorted_arc, sorted_record, neighbours;
     std::vector<uint32_t> predicted(3), color_predicted(colors.components);
     ByteWriter index_out(index);
@@ -864,6 +867,8 @@ struct Writer {
         previous_error = split.error;
         record.assign(pm.moved_faces.begin() + split.moved_begin,
                       pm.moved_faces.begin() + split.moved_begin + split.moved_count);
+        const std::size_t ahead = i + SplitFans::Prefetch::kAhead;
+        prefetch.step(ahead < pm.splits.size() ? pm.splits[ahead].u : SplitFans::kNone);
         // One-ring coding when the moved faces are the arc from vl to vr around u.
         bool coded = false;
         std::size_t place_l = 0, place_r = 0;
@@ -1199,6 +1204,7 @@ struct PmStreamReader::State {
   VertexValues positions, colors;
   std::unique_ptr<CornerPredictor> uv_codes, normal_codes;
   SplitFans fans;
+  std::vector<uint32_t> chunk_u;        // 2.1: the u of each split of the chunk being decoded
   std::unique_ptr<ChunkModels> models;  // 2.1's range-coder models, from chunk to chunk
   std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> dctx{nullptr, ZSTD_freeDCtx};
   std::string raw;
@@ -1630,11 +1636,12 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     return failed(color_in);
   }
   std::size_t next_position = 0, next_color = 0;
-  for (uint32_t j = 0; j < entry.splits; ++j) {
-    const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size());
-    VertexSplit split;
-    uint32_t u_offset, vl_code = 0, vr_code = 0;
-    if (ranged) {
+  // 2.1: u has a range code of its own, so the chunk's u are decoded first, and their fans
+  // fetched a few splits ahead of their turn (SplitFans::Prefetch).
+  if (ranged) {
+    chunk_u.resize(entry.splits);
+    for (uint32_t j = 0; j < entry.splits; ++j) {
+      const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size() + j);
       if (j > 0 && u_rc->bit(models->restart) != 0) previous_u = -1;
       if (j == 0) previous_u = -1;
       uint64_t gap = 0;
@@ -1643,8 +1650,21 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (gap >= uint64_t{v} || previous_u + 1 + static_cast<int64_t>(gap) >= int64_t{v}) {
         return bad(v, "names u beyond the vertices before it");
       }
-      split.u = static_cast<uint32_t>(previous_u + 1 + static_cast<int64_t>(gap));
-      previous_u = split.u;
+      chunk_u[j] = static_cast<uint32_t>(previous_u + 1 + static_cast<int64_t>(gap));
+      previous_u = chunk_u[j];
+    }
+  }
+  SplitFans::Prefetch prefetch(fans, &positions.units);
+  constexpr std::size_t kAhead = SplitFans::Prefetch::kAhead;
+  for (std::size_t k = 0; ranged && k < kAhead; ++k)
+    prefetch.step(k < entry.splits ? chunk_u[k] : SplitFans::kNone);
+  for (uint32_t j = 0; j < entry.splits; ++j) {
+    const auto v = static_cast<uint32_t>(h.base_vertex_count + pm.splits.size());
+    VertexSplit split;
+    uint32_t u_offset, vl_code = 0, vr_code = 0;
+    if (ranged) {
+      split.u = chunk_u[j];
+      prefetch.step(j + kAhead < entry.splits ? chunk_u[j + kAhead] : SplitFans::kNone);
     } else {
       if (!u_in.read_varint(u_offset)) return failed(u_in);
       if (u_offset >= v)

@@ -179,6 +179,47 @@ void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const ui
   if (vr != kNone) add_face(u, v, vr);
 }
 
+SplitFans::Prefetch::Prefetch(const SplitFans& fans, const std::vector<uint32_t>* values)
+    : fans_(fans), values_(values) {
+  std::fill(vertex_, vertex_ + kAhead, kNone);
+  std::fill(corner_, corner_ + kAhead, kNone);
+}
+
+void SplitFans::Prefetch::step(uint32_t u_ahead) {
+  const std::size_t faces = fans_.faces_.size(), vertices = fans_.first_corner_.size();
+  const uint32_t* values = values_ ? values_->data() : nullptr;
+  const std::size_t value_count = values_ ? values_->size() / 3 : 0;
+  for (std::size_t s = 0; s < kAhead; ++s) {
+    uint32_t corner = corner_[s];
+    if (corner == kNone) continue;
+    if (corner == kFirst) {  // asked for a step ago
+      corner = vertex_[s] < vertices ? fans_.first_corner_[vertex_[s]] : kNone;
+    } else {  // this face's record was asked for a step ago: its ring vertices, then on
+      const Face& face = fans_.faces_[corner / 3];
+      const uint32_t k = corner % 3;
+      for (const uint32_t w : {face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3]}) {
+        if (w < value_count) __builtin_prefetch(values + 3 * std::size_t{w});
+        // A split links its new faces into the corner lists of vl and vr, ring vertices.
+        if (w < vertices) __builtin_prefetch(&fans_.first_corner_[w], 1);
+      }
+      corner = face.next[k];
+    }
+    if (corner != kNone && corner / 3 >= faces) corner = kNone;
+    corner_[s] = corner;
+    if (corner != kNone) __builtin_prefetch(&fans_.faces_[corner / 3]);
+  }
+  // The oldest walk's vertex is the one split now: its slot starts u_ahead's walk.
+  const std::size_t s = next_slot_;
+  next_slot_ = (next_slot_ + 1) % kAhead;
+  vertex_[s] = u_ahead;
+  corner_[s] = kNone;
+  if (u_ahead < vertices) {
+    __builtin_prefetch(&fans_.first_corner_[u_ahead]);
+    if (u_ahead < value_count) __builtin_prefetch(values + 3 * std::size_t{u_ahead});
+    corner_[s] = kFirst;
+  }
+}
+
 std::size_t SplitFans::memory_bytes() const {
   return sizeof(Face) * faces_.capacity() + 4 * (first_corner_.capacity() + seconds_.capacity()) +
          sizeof(Wedge) * wedges_.capacity();

@@ -58,6 +58,33 @@ class SplitFans {
 
   std::size_t memory_bytes() const;
 
+  // Walks the fans of the vertices to be split next a step at a time, a few splits ahead,
+  // fetching each face record (and the ring vertices' values, 3 per vertex in `values`,
+  // when not null) into the cache: a fan is a chain of face records scattered over the
+  // mesh, each found in the one before, and walked when asked for it waits for memory at
+  // every face (the coder's largest cost). Ahead, the walks of kAhead vertices overlap.
+  // Only a hint: splits made meanwhile may change a fan; whatever the walk finds then is
+  // fetched for nothing, and fan() is the same either way.
+  class Prefetch {
+   public:
+    static constexpr std::size_t kAhead = 16;
+    // `values`: 3 per vertex, as many as there are so far (null: none). Its storage must not
+    // move while this lives (a reserved vector).
+    Prefetch(const SplitFans& fans, const std::vector<uint32_t>* values);
+    Prefetch(const Prefetch&) = delete;
+    Prefetch& operator=(const Prefetch&) = delete;
+    // Once per split, before its fan(): u of the split kAhead further on (kNone: none).
+    void step(uint32_t u_ahead);
+
+   private:
+    static constexpr uint32_t kFirst = 0xFFFFFFFEu;  // a walk waiting for its first corner
+    const SplitFans& fans_;
+    const std::vector<uint32_t>* values_;
+    uint32_t vertex_[kAhead];  // each walk's vertex
+    uint32_t corner_[kAhead];  // the corner it reached (fetched a step ago), kFirst or kNone
+    std::size_t next_slot_ = 0;
+  };
+
  private:
   static constexpr std::size_t kSmallFan = 16;
   bool small_fan(Fan& out);
