@@ -21,6 +21,7 @@
 
 #include "../formats/byte_io.h"
 #include "../formats/pm_layout.h"
+#include "../formats/split_fans.h"
 #include "pm/encoder.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
@@ -1732,3 +1733,46 @@ TEST(PmValidate, TooManyVerticesForIds) {
 
 }  // namespace
 }  // namespace pm
+
+// SplitFans::Prefetch only reads ahead: with walks started on every kind of vertex (a fan,
+// one without faces, one beyond the mesh, none) and splits made while they run, every fan
+// is what it is without it.
+TEST(SplitFans, PrefetchLeavesTheFansAsTheyAre) {
+  using pm::detail::SplitFans;
+  // A hexagon of faces around vertex 0 (ring 1..6), and vertex 7 with none.
+  const auto build = [](SplitFans& fans) {
+    fans.reset(9, 8);
+    for (uint32_t k = 1; k <= 6; ++k) fans.add_face(0, k, k % 6 + 1);
+  };
+  SplitFans plain, fetched;
+  build(plain);
+  build(fetched);
+  std::vector<uint32_t> values(3 * 8, 7);
+  values.reserve(3 * 9);
+  SplitFans::Prefetch prefetch(fetched, &values);
+  const uint32_t walks[] = {0, 7, 1, 1000000, SplitFans::kNone, 3, 0, 6};
+  const auto same_fans = [&](uint32_t vertex_count) {
+    for (uint32_t u = 0; u < vertex_count; ++u) {
+      SplitFans::Fan a, b;
+      const bool has_a = plain.fan(u, a), has_b = fetched.fan(u, b);
+      EXPECT_EQ(has_a, has_b) << "vertex " << u;
+      EXPECT_EQ(a.ring, b.ring) << "vertex " << u;
+      EXPECT_EQ(a.faces, b.faces) << "vertex " << u;
+      EXPECT_EQ(a.closed, b.closed) << "vertex " << u;
+    }
+  };
+  for (int round = 0; round < 3; ++round) {
+    for (const uint32_t u : walks) prefetch.step(u);
+    same_fans(8);
+  }
+  // Split 0 -> 0 and 8, vertex 8 taking faces 0 and 1 (between ring vertices 1 and 3).
+  const uint32_t moved[] = {0, 1};
+  plain.split(0, 8, 1, 3, moved, 2);
+  fetched.split(0, 8, 1, 3, moved, 2);
+  values.insert(values.end(), {1, 2, 3});
+  for (int step = 0; step < 40; ++step) prefetch.step(walks[step % 8] == 7 ? 8 : walks[step % 8]);
+  same_fans(9);
+  SplitFans::Fan fan;
+  ASSERT_TRUE(fetched.fan(8, fan));
+  EXPECT_EQ(fan.faces.size(), 4u);  // faces 0 and 1, and the new (8, 0, 1) and (0, 8, 3)
+}
