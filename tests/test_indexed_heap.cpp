@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iterator>
 #include <map>
 #include <random>
 #include <utility>
@@ -77,6 +78,9 @@ TEST(IndexedHeap, AgreesWithASortedReferenceUnderRandomUpdates) {
     if (!reference.empty()) {
       ASSERT_EQ(heap.top(), reference.begin()->first.second) << "step " << step;
       ASSERT_EQ(heap.key(heap.top()), reference.begin()->first.first);
+      // The runner-up: the second of the order (the top itself when alone).
+      const auto second = reference.size() > 1 ? std::next(reference.begin()) : reference.begin();
+      ASSERT_EQ(heap.runner_up(), second->first.second) << "step " << step;
     }
   }
 }

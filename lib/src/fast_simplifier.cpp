@@ -57,6 +57,7 @@ class FastSimplifier {
     uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
     bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }
     uint32_t cheapest() const { return vertex_at(heap.top() + lo); }
+    uint32_t next_cheapest() const { return vertex_at(heap.runner_up() + lo); }
     bool queued(uint32_t v) const { return holds(v) && heap.contains(rank_of(v) - lo); }
     float key(uint32_t v) const { return heap.key(rank_of(v) - lo); }
     void queue(uint32_t v, float key) { heap.set(rank_of(v) - lo, key); }
@@ -109,7 +110,10 @@ class FastSimplifier {
       w.heap.clear();
       for (uint32_t v = 0; v < n_vertices; ++v) evaluate(w, v);
       // The least key first, ties to the smaller (local) id.
-      while (!w.heap.empty() && !w.full) apply(w, w.cheapest());
+      while (!w.heap.empty() && !w.full) {
+        fetch(w.next_cheapest());
+        apply(w, w.cheapest());
+      }
       const bool more = !w.collapses.empty();
       merge(one);
       set_budgets(w, 1);
@@ -208,8 +212,10 @@ class FastSimplifier {
       in_turn(regions, [&](Worker& w) {
         set_budgets(w, regions.size());
         w.vertex_budget = std::min(w.vertex_budget, (vertices_alive_ - tail) / regions.size());
-        while (!w.heap.empty() && !w.full && w.key(w.cheapest()) <= last_key)
+        while (!w.heap.empty() && !w.full && w.key(w.cheapest()) <= last_key) {
+          fetch(w.next_cheapest());
           apply(w, w.cheapest());
+        }
         w.heap = IndexedHeap(0);
       });
       std::size_t made = 0;
@@ -781,6 +787,14 @@ class FastSimplifier {
       if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v)) return queue(options[i]);
     }
     return false;
+  }
+
+  // The vertex likely to be collapsed next (the heap's runner-up) is anywhere in the
+  // region: its records, asked for one collapse ahead, are there when its turn comes.
+  void fetch(uint32_t v) const {
+    __builtin_prefetch(&vertex_[v]);
+    __builtin_prefetch(&best_[v]);
+    __builtin_prefetch(&xyz_[3 * std::size_t{v}]);
   }
 
   // Applies v's queued collapse if it is still legal, or finds v's best again.

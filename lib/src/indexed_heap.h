@@ -23,6 +23,17 @@ class IndexedHeap {
   uint32_t top() const { return entries_.front().id; }
   // id's key. contains(id).
   float key(uint32_t id) const { return entries_[position_[id]].key; }
+  // The id that comes to the top once top() leaves, if no key changes meanwhile: the least
+  // of the top's children (the top itself when alone). Not empty.
+  uint32_t runner_up() const {
+    const std::size_t n = entries_.size();
+    if (n < 2) return entries_.front().id;
+    const std::size_t end = n < 1 + kArity ? n : 1 + kArity;
+    std::size_t least = 1;
+    for (std::size_t c = 2; c < end; ++c)
+      if (less(entries_[c], entries_[least])) least = c;
+    return entries_[least].id;
+  }
 
   // Inserts id with `key`, or changes its key.
   void set(uint32_t id, float key) {
