@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "huge_pages.h"
+
 namespace pm::detail {
 
 void SplitFans::reset(std::size_t vertex_count, std::size_t face_count) {
@@ -11,6 +13,9 @@ void SplitFans::reset(std::size_t vertex_count, std::size_t face_count) {
   first_corner_.clear();
   faces_.reserve(face_count);
   first_corner_.reserve(vertex_count);
+  // Fans are walked at random over the whole mesh: huge pages spare most TLB misses.
+  prefer_huge_pages(faces_);
+  prefer_huge_pages(first_corner_);
 }
 
 void SplitFans::link(uint32_t corner, uint32_t vertex) {

@@ -17,6 +17,7 @@
 #include "../formats/byte_io.h"
 #include "../formats/pm_layout.h"
 #include "../formats/range_coder.h"
+#include "huge_pages.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
@@ -725,6 +726,27 @@ TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
   bool refused = false;
   for (int i = 0; i < 100 && !refused; ++i) refused = !detail::get_eg(ones, eg, x);
   EXPECT_TRUE(refused || !ones.ok());
+}
+
+// The huge-page hint (huge_pages.h) is only a hint: whatever the kernel does with it, the
+// memory keeps what was written before and takes what is written after, over the aligned
+// interior and the unaligned ends alike, and odd ranges (null, empty, small, unaligned) are
+// left alone.
+TEST(PmStream, HugePageHintsKeepTheMemoryAsItIs) {
+  std::vector<uint32_t> values;
+  values.reserve((std::size_t{24} << 20) / sizeof(uint32_t) + 3);  // 24 MiB and a bit
+  const std::size_t half = values.capacity() / 2;
+  for (std::size_t i = 0; i < half; ++i) values.push_back(static_cast<uint32_t>(i * 2654435761u));
+  detail::prefer_huge_pages(values);
+  detail::prefer_huge_pages(values.data() + 1, values.capacity() * sizeof(uint32_t) - 5);
+  detail::prefer_huge_pages(nullptr, std::size_t{1} << 30);
+  detail::prefer_huge_pages(values.data(), 0);
+  detail::prefer_huge_pages(values.data() + 3, 4096);
+  for (std::size_t i = half; i < values.capacity(); ++i) values.push_back(static_cast<uint32_t>(i * 2654435761u));
+  std::size_t wrong = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) wrong += values[i] != static_cast<uint32_t>(i * 2654435761u);
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(values.size(), values.capacity());
 }
 
 // The windows the layers are made in: each at most the share of the vertices before it

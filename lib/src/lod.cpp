@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "huge_pages.h"
 #include "level_output.h"
 
 namespace pm {
@@ -87,6 +88,7 @@ class LevelWalker {
   void advance(std::size_t level) {
     level = std::min(level, pm_.splits.size());
     faces_.reserve(3 * faces_at_level(pm_, level));
+    detail::prefer_huge_pages(faces_);  // written at random, split by split (huge_pages.h)
     // The faces a split moves are scattered over the mesh, and named in advance: fetched a
     // few splits ahead, their cache misses overlap instead of coming one after the other.
     constexpr std::size_t kFetchAhead = 16;

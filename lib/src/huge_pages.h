@@ -1,0 +1,29 @@
+// Transparent huge pages for the large arrays that are read at random: the connectivity a
+// .pm stream is decoded against, the collapse loop's flat mesh, the positions. Each split or
+// collapse touches a few records scattered over tens of megabytes, and with 4 KiB pages
+// nearly every one of those touches also misses the TLB (a few thousand entries cover a few
+// MiB); a 2 MiB page covers 512 times as much. Linux gives such pages to a process's
+// anonymous memory only where it is asked to (MADV_HUGEPAGE), when the system's setting is
+// "madvise", Debian's default (Linux admin guide, "Transparent Hugepage Support").
+//
+// Only a hint: elsewhere, on small arrays, or when the kernel declines, nothing changes.
+// It never changes a result. Internal to the library.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace pm::detail {
+
+// Asks for huge pages over the 2 MiB-aligned part of [data, data + bytes), when that part is
+// large enough to matter. Best before the memory is first written: pages already touched
+// stay small until the kernel's background collapsing gets to them.
+void prefer_huge_pages(const void* data, std::size_t bytes);
+
+// The same over a vector's whole capacity (call it after reserve()).
+template <class T>
+void prefer_huge_pages(const std::vector<T>& values) {
+  prefer_huge_pages(values.data(), values.capacity() * sizeof(T));
+}
+
+}  // namespace pm::detail
