@@ -11,6 +11,18 @@ Status usage(const std::string& message) {
 
 }  // namespace
 
+const CLI::Validator& whole_number() {
+  static const CLI::Validator check(
+      [](std::string& text) {
+        const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+          return c >= '0' && c <= '9';
+        });
+        return digits ? std::string() : "must be a whole number, 0 or more, not " + text;
+      },
+      "COUNT");
+  return check;
+}
+
 void BatchCommandLine::add_options(CLI::App& app, const std::string& input_help,
                                    const std::string& output_help) {
   app.add_option("inputs", inputs, input_help)->type_name("FILE|DIR|-");

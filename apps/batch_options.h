@@ -49,4 +49,8 @@ struct PlanSettings {
 Status plan_tasks(const BatchCommandLine& command, const PlanSettings& settings,
                   std::vector<Task>& tasks);
 
+// A check for count options (faces, vertices): digits only. CLI11 reads "-3" into an unsigned
+// option as 2^64 - 3, so a typo would silently mean "no limit".
+const CLI::Validator& whole_number();
+
 }  // namespace pm::cli

@@ -733,9 +733,11 @@ int main(int argc, char** argv) {
   app.add_option("--format", settings.output_format,
                  "Output format, overriding the extension (obj, ply, off, stl)");
   auto* by_vertices =
-      app.add_option("--vertices", vertices, "Level with at least this many vertices");
+      app.add_option("--vertices", vertices, "Level with at least this many vertices")
+          ->check(pm::cli::whole_number());
   auto* by_faces = app.add_option("--faces", faces,
-                                  "Level with this many faces (one more where a split adds two)");
+                                  "Level with this many faces (one more where a split adds two)")
+                       ->check(pm::cli::whole_number());
   auto* by_ratio = app.add_option("--ratio", ratio, "Level with this fraction of the full faces")
                        ->check(CLI::Range(0.0, 1.0));
   auto* by_error = app.add_option(

@@ -625,5 +625,55 @@ TEST(Cli, ManPagesDescribeEveryOptionAndExitCode) {
   }
 }
 
+// Meshes of at least --fast-from faces take the fast loop without --fast, and say so: the
+// stream is then --fast's, byte for byte. Below it, with 0, or when the mesh keeps
+// attributes, the default loop runs, silently.
+TEST(Cli, LargeMeshesTakeTheFastLoopFromAFaceCount) {
+  TempDir dir;
+  const std::string block = test::sample_mesh_path("block_features.obj");
+  const std::size_t faces = read_or_fail(block).face_count();
+  ASSERT_GT(faces, 2u);
+  ASSERT_EQ(pmenc({block, "-o", dir.file("default.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({block, "--fast", "-o", dir.file("fast.pm"), "-q"}).exit_code, 0);
+  ASSERT_NE(test::read_file(dir.file("fast.pm")), test::read_file(dir.file("default.pm")));
+
+  const std::string at = std::to_string(faces);
+  const CommandResult large = pmenc({block, "--fast-from", at, "-o", dir.file("at.pm"), "--json"});
+  ASSERT_EQ(large.exit_code, 0) << large.err;
+  EXPECT_NE(large.out.find("\"loop\":\"fast\""), std::string::npos) << large.out;
+  EXPECT_NE(large.err.find(block + ": " + at + " faces, at least --fast-from " + at +
+                           ": the fast loop ran"),
+            std::string::npos)
+      << large.err;
+  EXPECT_EQ(test::read_file(dir.file("at.pm")), test::read_file(dir.file("fast.pm")));
+  ASSERT_EQ(pmdec({dir.file("at.pm"), "-o", dir.file("at.obj"), "-q"}).exit_code, 0);
+  EXPECT_TRUE(test::same_faces(read_or_fail(block), read_or_fail(dir.file("at.obj"))));
+
+  for (const std::string& from : {std::to_string(faces + 1), std::string("0")}) {
+    const CommandResult small = pmenc({block, "--fast-from", from, "-o", dir.file("s.pm"), "--json"});
+    ASSERT_EQ(small.exit_code, 0) << small.err;
+    EXPECT_NE(small.out.find("\"loop\":\"default\""), std::string::npos) << from << small.out;
+    EXPECT_EQ(small.err.find("fast"), std::string::npos) << from << small.err;
+    EXPECT_EQ(test::read_file(dir.file("s.pm")), test::read_file(dir.file("default.pm"))) << from;
+  }
+  const std::string textured = test::sample_mesh_path("textured.obj");
+  const CommandResult kept = pmenc({textured, "--fast-from", "1", "-o", dir.file("t.pm"), "--json"});
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_NE(kept.out.find("\"loop\":\"default\""), std::string::npos) << kept.out;
+  EXPECT_EQ(kept.err.find("fast"), std::string::npos) << kept.err;
+  // A negative count is a usage error, not 2^64 - 3 (no limit), in every count option.
+  for (const char* option : {"--fast-from", "--min-faces", "--min-vertices"}) {
+    const CommandResult negative = pmenc({block, option, "-3", "-o", dir.file("x.pm")});
+    EXPECT_EQ(negative.exit_code, 2) << option;
+    EXPECT_NE(negative.err.find(std::string(option) + ": must be a whole number"), std::string::npos)
+        << negative.err;
+    EXPECT_FALSE(test::file_exists(dir.file("x.pm")));
+  }
+  for (const char* option : {"--faces", "--vertices"}) {
+    EXPECT_EQ(pmdec({dir.file("at.pm"), option, "-3", "-o", dir.file("x.obj")}).exit_code, 2) << option;
+    EXPECT_FALSE(test::file_exists(dir.file("x.obj")));
+  }
+}
+
 }  // namespace
 }  // namespace pm
