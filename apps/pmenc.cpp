@@ -24,8 +24,9 @@ struct Settings {
   bool create_directories = false;  // --out-dir: the mirrored tree is made as needed
   bool layered = false;             // --layered
   // --fast-from: the fast loop on meshes of at least this many faces (0: only with --fast).
-  // The default loop's measured error costs about 50 microseconds a face: a minute and a half
-  // on 1.6 million faces, against 3 s for the fast loop (tests/bench/scale.md).
+  // The default loop's measured error costs 30 to 55 microseconds a face: 46 to 87 s on 1.6
+  // million faces (by the machine's load), against under 3 s for the fast loop
+  // (tests/bench/scale.md).
   std::size_t fast_from = 1000000;
 };
 

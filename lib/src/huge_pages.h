@@ -1,13 +1,14 @@
 // Transparent huge pages for the large arrays that are read at random: the connectivity a
-// .pm stream is decoded against, the collapse loop's flat mesh, the positions. Each split or
-// collapse touches a few records scattered over tens of megabytes, and with 4 KiB pages
+// .pm stream is decoded against, the decoded positions, the faces a level is replayed on.
+// Each split touches a few records scattered over tens of megabytes, and with 4 KiB pages
 // nearly every one of those touches also misses the TLB (a few thousand entries cover a few
 // MiB); a 2 MiB page covers 512 times as much. Linux gives such pages to a process's
 // anonymous memory only where it is asked to (MADV_HUGEPAGE), when the system's setting is
 // "madvise", Debian's default (Linux admin guide, "Transparent Hugepage Support").
 //
 // Only a hint: elsewhere, on small arrays, or when the kernel declines, nothing changes.
-// It never changes a result. Internal to the library.
+// It never changes a result. (The fast collapse loop's arrays do not ask: it measured no
+// faster with huge pages.) Internal to the library.
 #pragma once
 
 #include <cstddef>

@@ -87,8 +87,11 @@ class LevelWalker {
   // Applies the splits up to `level` (never backwards).
   void advance(std::size_t level) {
     level = std::min(level, pm_.splits.size());
+    const std::size_t capacity = faces_.capacity();
     faces_.reserve(3 * faces_at_level(pm_, level));
-    detail::prefer_huge_pages(faces_);  // written at random, split by split (huge_pages.h)
+    // Written at random, split by split (huge_pages.h); asked once per new allocation, not
+    // at every step of an incremental walk.
+    if (faces_.capacity() != capacity) detail::prefer_huge_pages(faces_);
     // The faces a split moves are scattered over the mesh, and named in advance: fetched a
     // few splits ahead, their cache misses overlap instead of coming one after the other.
     constexpr std::size_t kFetchAhead = 16;
