@@ -206,7 +206,8 @@ int main(int argc, char** argv) {
                  "same for any number")
       ->capture_default_str();
   app.add_flag("--keep-order", settings.encode.keep_order,
-               "Store the input's vertex and face order: full detail lists them as the input did");
+               "Store the input's vertex, face and attribute-table order: full detail lists them as the "
+               "input did");
   app.add_flag("--drop-attributes", settings.encode.drop_attributes,
                "Encode geometry only: no colours, texture coordinates, normals or materials");
   app.add_option("--min-faces", settings.encode.min_faces, "Stop simplifying at this many faces")

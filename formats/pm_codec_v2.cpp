@@ -41,11 +41,13 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "byte_io.h"
 #include "corner_codes.h"
+#include "wedge_codes.h"
 #include "huge_pages.h"
 #include "in_turn.h"
 #include "pm/pm_codec.h"
@@ -58,7 +60,7 @@ namespace detail {
 namespace {
 
 constexpr uint16_t kMajor2 = 2;
-constexpr uint16_t kMinor2 = 1;             // the newest minor this reader knows (2.1)
+constexpr uint16_t kMinor2 = 2;             // the newest minor this reader knows (2.2)
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 
@@ -628,7 +630,9 @@ uint64_t raw_bound(const Header2& h, uint32_t tag) {
   if (tag == kTagWelds) return 10 * uint64_t{h.weld_count};
   if (tag == kTagCarried) return 15 * C + 5 * C + 30 * C;
   if (tag == kTagTables) {
-    return 32 + 10 * uint64_t{h.uv_count} + 15 * uint64_t{h.normal_count} +
+    // 2.2: each entry listed with its id's gap (§5.4).
+    const uint64_t gap = h.minor >= 2 ? 5 : 0;
+    return 32 + 10 + (10 + gap) * uint64_t{h.uv_count} + (15 + gap) * uint64_t{h.normal_count} +
            h.material_string_bytes + 3 * strings;
   }
   if (tag == kTagIndex) return 19 * uint64_t{h.chunk_count};
@@ -642,6 +646,12 @@ uint64_t chunk_raw_bound(const Header2& h, const ChunkEntry& c) {
   // 2.1: a range-coded decision costs at most 6.05 bits (probabilities stay within
   // [31, 2017] / 2048), and u, vl, vr and each position take at most 66 decisions: 400 bytes
   // per split cover them, and 30 the four codes' ends.
+  // 2.2: a corner's id takes at most 8 decisions and a 40-bit exp-Golomb code, and a new
+  // id's value up to three more: 80 bytes per corner cover them, 10 each kind's code's end.
+  if (h.minor >= 2) {
+    return 5 * kChunkStreams + 50 + n * (400 + 10 * uint64_t{h.color_components}) +
+           (15 * n + 5 * m) + 5 * a + 2 * 80 * (m + 3 * a);
+  }
   if (h.minor >= 1) {
     return 5 * kChunkStreams + 30 + n * (400 + 10 * uint64_t{h.color_components}) +
            (15 * n + 5 * m) + 5 * a + 2 * 5 * (m + 3 * a);
@@ -679,6 +689,18 @@ MemoryPlan plan_memory(const Header2& h) {
       (h.uv_ids() ? 4 * h.split_vertices() : 0) + (h.normal_ids() ? 4 * h.split_vertices() : 0) +
       sizeof(ChunkEntry) * uint64_t{h.chunk_count} + kZstdContextBytes + 65536 +
       sizeof(ChunkModels);
+  // 2.2's wedge coders (§5.11): per kind, the values and known flags of the ids, a Fenwick
+  // tree, three recent ids per vertex, the ids of the level's corners, the models.
+  if (h.minor >= 2) {
+    for (const auto& [present, count, components] :
+         {std::tuple{h.uv_ids(), uint64_t{h.uv_count}, uint64_t{2}},
+          std::tuple{h.normal_ids(), uint64_t{h.normal_count}, uint64_t{3}}}) {
+      if (present) {
+        plan.decoding += (4 * components + 9) * count + 12 * h.split_vertices() +
+                         12 * split_faces + sizeof(WedgeModels);
+      }
+    }
+  }
   if ((h.options & kOptionKeepsOrder) != 0) plan.mesh += 4 * (V + T);
   plan.validating = 16 * split_faces + 8 * ((uint64_t{h.base_vertex_count} + 63) / 64) +
                     ((h.options & kOptionKeepsOrder) != 0 ? (V + T) / 8 + 16 : 0);
@@ -718,6 +740,96 @@ struct Writer {
   Grid position_grid, uv_grid, normal_grid;
   VertexValues positions, colors;
   CornerPredictor uv_codes, normal_codes;
+  // 2.2 (§5.11): per kind (texture coordinates, normals), the ids TABL lists (those of the
+  // base and carried faces, and those no corner uses), and the coder of the splits' corners.
+  std::vector<uint8_t> listed[2];
+  WedgeCoder wedges[2];
+
+  const std::vector<float>& table(int kind) const { return kind == 0 ? pm.uvs : pm.normals; }
+  const Grid& grid(int kind) const { return kind == 0 ? uv_grid : normal_grid; }
+  bool has_ids(int kind) const { return kind == 0 ? pm.has_uvs() : pm.has_normals(); }
+  // Entry `id`'s values in the integers residuals are taken in: grid indices or float bits.
+  void units_of(int kind, uint32_t id, uint32_t* out) const {
+    const std::size_t components = kind == 0 ? 2 : 3;
+    for (std::size_t c = 0; c < components; ++c) {
+      const float x = table(kind)[components * std::size_t{id} + c];
+      out[c] = grid(kind).bits != 0 ? quantize(grid(kind), x, c) : ordered_from_float(x);
+    }
+  }
+
+  void plan_tables() {
+    const std::size_t base_corners = pm.base_faces.size();
+    const std::size_t carried_first = 3 * (pm.total_face_count() - pm.carried_faces.size() / 3);
+    for (int kind = 0; kind < 2; ++kind) {
+      const std::size_t count = kind == 0 ? pm.uv_count() : pm.normal_count();
+      std::vector<uint8_t> early(count, 0), used(count, 0);
+      if (has_ids(kind)) {
+        const std::vector<uint32_t>& ids = kind == 0 ? pm.face_uvs : pm.face_normals;
+        const std::vector<uint32_t>& moved = kind == 0 ? pm.moved_uvs : pm.moved_normals;
+        for (std::size_t slot = 0; slot < ids.size(); ++slot) {
+          if (ids[slot] == kNoAttribute) continue;
+          used[ids[slot]] = 1;
+          if (slot < base_corners || slot >= carried_first) early[ids[slot]] = 1;
+        }
+        for (uint32_t id : moved) {
+          if (id != kNoAttribute) used[id] = 1;
+        }
+      }
+      listed[kind].assign(count, 0);
+      for (std::size_t id = 0; id < count; ++id) listed[kind][id] = early[id] != 0 || used[id] == 0;
+    }
+  }
+
+  // 2.2 (§5.4): the listed entries, each with the gap from the previous one's id.
+  void put_listed(ByteWriter& out, int kind) {
+    const std::size_t components = kind == 0 ? 2 : 3;
+    if (listed[kind].empty()) return;  // no table: no grid, no count
+    if (grid(kind).bits != 0) put_grid(out, grid(kind));
+    uint32_t listed_count = 0;
+    for (uint8_t x : listed[kind]) listed_count += x;
+    out.put_varint(listed_count);
+    int64_t previous = -1;
+    for (std::size_t id = 0; id < listed[kind].size(); ++id) {
+      if (listed[kind][id] == 0) continue;
+      out.put_varint(static_cast<uint32_t>(int64_t(id) - previous - 1));
+      previous = int64_t(id);
+      for (std::size_t c = 0; c < components; ++c) {
+        const float x = table(kind)[components * id + c];
+        if (grid(kind).bits != 0) {
+          out.put_varint(quantize(grid(kind), x, c));
+        } else {
+          out.put_f32(x);
+        }
+      }
+    }
+  }
+
+  // 2.2: the wedge coders, having seen the listed values and the corners before the splits.
+  void start_wedges() {
+    const std::size_t level_faces = pm.base_face_count() + h.split_face_count;
+    const std::size_t carried_first = 3 * (pm.total_face_count() - pm.carried_faces.size() / 3);
+    for (int kind = 0; kind < 2; ++kind) {
+      if (!has_ids(kind)) continue;
+      const std::size_t components = kind == 0 ? 2 : 3;
+      const uint32_t count = static_cast<uint32_t>(kind == 0 ? pm.uv_count() : pm.normal_count());
+      const uint64_t top = grid(kind).bits != 0 ? (uint64_t{1} << grid(kind).bits) - 1 : 0xFFFFFFFFull;
+      WedgeCoder& coder = wedges[kind];
+      coder.reset(components, count, top, h.split_vertices(), level_faces);
+      uint32_t units[3];
+      for (uint32_t id = 0; id < count; ++id) {
+        if (listed[kind][id] == 0) continue;
+        units_of(kind, id, units);
+        coder.learn(id, units);
+      }
+      const std::vector<uint32_t>& ids = kind == 0 ? pm.face_uvs : pm.face_normals;
+      for (std::size_t slot = 0; slot < pm.base_faces.size(); ++slot) {
+        coder.pass(pm.base_faces[slot], ids[slot], true);
+      }
+      for (std::size_t k = 0; k < pm.carried_faces.size(); ++k) {
+        coder.pass(pm.carried_faces[k], ids[carried_first + k], false);
+      }
+    }
+  }
 
   Writer(const ProgressiveMesh& mesh, const WriteOptions& o)
       : pm(mesh),
@@ -787,8 +899,13 @@ struct Writer {
   std::string tables() {
     std::string raw;
     ByteWriter out(raw);
-    put_table(out, pm.uvs, 2, uv_grid.bits != 0 ? &uv_grid : nullptr);
-    put_table(out, pm.normals, 3, normal_grid.bits != 0 ? &normal_grid : nullptr);
+    if (h.minor >= 2) {
+      put_listed(out, 0);
+      put_listed(out, 1);
+    } else {
+      put_table(out, pm.uvs, 2, uv_grid.bits != 0 ? &uv_grid : nullptr);
+      put_table(out, pm.normals, 3, normal_grid.bits != 0 ? &normal_grid : nullptr);
+    }
     for (const std::string& library : pm.material_libraries) put_string(out, library);
     for (const std::string& name : pm.material_names) put_string(out, name);
     return raw;
@@ -830,13 +947,17 @@ struct Writer {
     uint32_t next_face = static_cast<uint32_t>(pm.base_face_count());
     std::size_t i = 0;
     std::vector<uint64_t> position_codes, color_codes;
-    const bool ranged = h.minor >= 1;
+    const bool ranged = h.minor >= 1, wedged = h.minor >= 2;
     // The models carry over from chunk to chunk (§5.10): chunks are decoded in order anyway.
     auto models = std::make_unique<ChunkModels>();
+    if (wedged) start_wedges();
+    uint32_t wedge_units[3];
     for (uint32_t size : plan_chunks(h.split_count, options.chunk_splits)) {
       std::string streams[kChunkStreams];
       RangeEncoder u_rc(streams[kStreamU]), vl_rc(streams[kStreamVl]), vr_rc(streams[kStreamVr]),
-          position_rc(streams[kStreamPositions]);
+          position_rc(streams[kStreamPositions]), uv_rc(streams[kStreamUvCodes]),
+          normal_rc(streams[kStreamNormalCodes]);
+      RangeEncoder* wedge_rc[2] = {&uv_rc, &normal_rc};
       int64_t previous_u = -1;
       position_codes.clear();
       color_codes.clear();
@@ -966,6 +1087,19 @@ struct Writer {
         for (uint32_t f : arc) {
           const std::size_t k = split.moved_begin +
                                 (std::find(record.begin(), record.end(), f) - record.begin());
+          if (wedged) {  // 2.2 (§5.11)
+            const uint32_t* face = fans.face(f);
+            const int slot = face[0] == split.u ? 0 : face[1] == split.u ? 1 : 2;
+            const WedgeCoder::Corner at{kRoleMoved, v, f, face, slot, v};
+            for (int kind = 0; kind < 2; ++kind) {
+              if (!has_ids(kind)) continue;
+              const uint32_t id = (kind == 0 ? pm.moved_uvs : pm.moved_normals)[k];
+              if (id != kNoAttribute) units_of(kind, id, wedge_units);
+              wedges[kind].encode(*wedge_rc[kind], positions.units, at, id, wedge_units);
+              wedges[kind].move(f, slot, id);
+            }
+            continue;
+          }
           if (pm.has_uvs()) uv_out.put_varint(uv_codes.encode(v, pm.moved_uvs[k]));
           if (pm.has_normals()) normal_out.put_varint(normal_codes.encode(v, pm.moved_normals[k]));
         }
@@ -973,7 +1107,21 @@ struct Writer {
           const uint32_t other = side == 0 ? split.vl : split.vr;
           if (other == kNoVertex) continue;
           const uint32_t corners[3] = {side == 0 ? v : split.u, side == 0 ? split.u : v, other};
-          for (int c = 0; c < 3; ++c) put_corner(uv_out, normal_out, corners[c], 3 * std::size_t{next_face} + c);
+          for (int c = 0; c < 3; ++c) {
+            const std::size_t slot = 3 * std::size_t{next_face} + c;
+            if (!wedged) {
+              put_corner(uv_out, normal_out, corners[c], slot);
+              continue;
+            }
+            const WedgeRole role = c == 2 ? kRoleNewAtOther : corners[c] == v ? kRoleNewAtV : kRoleNewAtU;
+            const WedgeCoder::Corner at{role, corners[c]};
+            for (int kind = 0; kind < 2; ++kind) {
+              if (!has_ids(kind)) continue;
+              const uint32_t id = (kind == 0 ? pm.face_uvs : pm.face_normals)[slot];
+              if (id != kNoAttribute) units_of(kind, id, wedge_units);
+              wedges[kind].encode(*wedge_rc[kind], positions.units, at, id, wedge_units);
+            }
+          }
           if (pm.has_materials()) put_optional_id(material_out, pm.face_materials[next_face]);
           ++next_face;
           ++entry.new_faces;
@@ -986,6 +1134,11 @@ struct Writer {
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
       index_out.put_f32(entry.error_after);
+      if (wedged) {
+        for (int kind = 0; kind < 2; ++kind) {
+          if (has_ids(kind)) wedge_rc[kind]->finish();
+        }
+      }
       if (ranged) {
         for (RangeEncoder* rc : {&u_rc, &vl_rc, &vr_rc, &position_rc}) rc->finish();
       } else {
@@ -1031,7 +1184,7 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
   }
   if (options.minor_version > kMinor2) {
     return Status(ErrorCode::kInvalidArgument, "format 2." + std::to_string(options.minor_version) +
-                                                   " (this writer writes 2.0 and 2.1)");
+                                                   " (this writer writes 2.0, 2.1 and 2.2)");
   }
   if (options.chunk_splits < 1 || options.chunk_splits > (1u << 20)) {
     return Status(ErrorCode::kInvalidArgument, "chunks of " + std::to_string(options.chunk_splits) +
@@ -1058,6 +1211,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   for (const VertexSplit& split : pm.splits) h.split_face_count += split.new_face_count();
   h.chunk_count = static_cast<uint32_t>(plan_chunks(h.split_count, options.chunk_splits).size());
   h.minor = options.minor_version;
+  if (h.minor >= 2) w.plan_tables();
   h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
   h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
                  (pm.has_materials() ? kAttributeMaterialIds : 0);
@@ -1201,9 +1355,13 @@ struct PmStreamReader::State {
   bool carried_attached = false;
   uint64_t decoded_faces = 0;
 
-  Grid position_grid;
+  Grid position_grid, uv_grid, normal_grid;  // uv and normal grids: 2.2 (§5.11)
   VertexValues positions, colors;
   std::unique_ptr<CornerPredictor> uv_codes, normal_codes;
+  // 2.2 (§5.11): the splits' corners, per kind; set up by TABL, or by the first chunk when
+  // there is no TABL.
+  WedgeCoder wedges[2];
+  bool wedges_ready = false;
   SplitFans fans;
   std::vector<uint32_t> chunk_u;        // 2.1: the u of each split of the chunk being decoded
   std::unique_ptr<ChunkModels> models;  // 2.1's range-coder models, from chunk to chunk
@@ -1245,6 +1403,9 @@ struct PmStreamReader::State {
   bool decode_welds(ByteReader& in);
   bool decode_carried(ByteReader& in);
   bool decode_tables(ByteReader& in);
+  bool read_listed(ByteReader& in, int kind);
+  void reset_wedges();
+  bool start_wedges(ByteReader& in);
   bool decode_index(ByteReader& in);
   bool decode_chunk(ByteReader& in);
   bool decode_loose(ByteReader& in);
@@ -1538,9 +1699,100 @@ bool PmStreamReader::State::decode_carried(ByteReader& in) {
   return read_corners(in, pm.carried_faces, &carried_uvs, &carried_normals);
 }
 
+// 2.2 (§5.11): the wedge coders of the kinds the corners have.
+void PmStreamReader::State::reset_wedges() {
+  const uint64_t level_faces = uint64_t{h.base_face_count} + h.split_face_count;
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
+    const int bits = kind == 0 ? h.uv_bits : h.normal_bits;
+    wedges[kind].reset(kind == 0 ? 2 : 3, kind == 0 ? h.uv_count : h.normal_count,
+                       bits != 0 ? (uint64_t{1} << bits) - 1 : 0xFFFFFFFFull, h.split_vertices(),
+                       level_faces);
+  }
+}
+
+// 2.2: the corners before the splits, whose ids TABL must have listed.
+bool PmStreamReader::State::start_wedges(ByteReader& in) {
+  wedges_ready = true;
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
+    const std::vector<uint32_t>& base = kind == 0 ? pm.face_uvs : pm.face_normals;
+    const std::vector<uint32_t>& carried = kind == 0 ? carried_uvs : carried_normals;
+    for (int part = 0; part < 2; ++part) {
+      const std::vector<uint32_t>& vertices = part == 0 ? pm.base_faces : pm.carried_faces;
+      const std::vector<uint32_t>& ids = part == 0 ? base : carried;
+      for (std::size_t k = 0; k < vertices.size(); ++k) {
+        if (ids[k] != kNoAttribute && !wedges[kind].known(ids[k])) {
+          return in.fail(ErrorCode::kCorruptStream,
+                         in.where() + ": a " + (part == 0 ? "base" : "carried") + " face's corner has " +
+                             (kind == 0 ? "texture coordinate " : "normal ") + std::to_string(ids[k]) +
+                             ", which the table does not list");
+        }
+        wedges[kind].pass(vertices[k], ids[k], part == 0);
+      }
+    }
+  }
+  return true;
+}
+
+// 2.2 (§5.4): the entries listed with their ids' gaps; the others are 0 until a split
+// introduces them (§5.11).
+bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
+  const uint32_t count = kind == 0 ? h.uv_count : h.normal_count;
+  const int bits = kind == 0 ? h.uv_bits : h.normal_bits;
+  const std::size_t components = kind == 0 ? 2 : 3;
+  std::vector<float>& values = kind == 0 ? pm.uvs : pm.normals;
+  values.assign(components * std::size_t{count}, 0.0f);
+  if (count == 0) return true;
+  Grid& grid = kind == 0 ? uv_grid : normal_grid;
+  if (bits != 0 && !read_grid(in, bits, components, grid)) return false;
+  uint32_t listed = 0;
+  if (!in.read_varint(listed)) return false;
+  if (listed > count) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": lists " + std::to_string(listed) +
+                                                  " entries of " + std::to_string(count));
+  }
+  const bool ids = kind == 0 ? h.uv_ids() : h.normal_ids();
+  if (!ids && listed != count) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": a table no corner uses must list every entry");
+  }
+  const uint32_t top = bits != 0 ? (uint32_t{1} << bits) - 1 : 0;
+  int64_t previous = -1;
+  uint32_t units[3];
+  for (uint32_t k = 0; k < listed; ++k) {
+    uint32_t gap;
+    if (!in.read_varint(gap)) return false;
+    const int64_t id = previous + 1 + int64_t{gap};
+    if (id >= int64_t{count}) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": lists entry " + std::to_string(id) +
+                                                    " of " + std::to_string(count));
+    }
+    previous = id;
+    for (std::size_t c = 0; c < components; ++c) {
+      float x;
+      if (bits != 0) {
+        if (!in.read_varint(units[c])) return false;
+        if (units[c] > top) return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid index beyond the grid");
+        x = static_cast<float>(grid.value(units[c], c));
+      } else {
+        if (!in.read_f32(x)) return false;
+        units[c] = ordered_from_float(x);
+      }
+      values[components * std::size_t(id) + c] = x;
+    }
+    if (ids) wedges[kind].learn(static_cast<uint32_t>(id), units);
+  }
+  return true;
+}
+
 bool PmStreamReader::State::decode_tables(ByteReader& in) {
-  if (!read_table(in, h.uv_count, 2, h.uv_bits, pm.uvs)) return false;
-  if (!read_table(in, h.normal_count, 3, h.normal_bits, pm.normals)) return false;
+  if (h.minor >= 2) {
+    reset_wedges();
+    if (!read_listed(in, 0) || !read_listed(in, 1) || !start_wedges(in)) return false;
+  } else {
+    if (!read_table(in, h.uv_count, 2, h.uv_bits, pm.uvs)) return false;
+    if (!read_table(in, h.normal_count, 3, h.normal_bits, pm.normals)) return false;
+  }
   uint64_t budget = h.material_string_bytes;
   if (!read_strings(in, h.material_library_count, "material library", budget, pm.material_libraries) ||
       !read_strings(in, h.material_count, "material name", budget, pm.material_names)) {
@@ -1620,6 +1872,39 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   // 2.1 (§5.10): u, vl, vr and the positions are range codes, with fresh models per chunk.
   const bool ranged = h.minor >= 1;
   std::optional<RangeDecoder> u_rc, vl_rc, vr_rc, position_rc;
+  // 2.2 (§5.11): the corners' ids and new values, a range code per kind.
+  const bool wedged = h.minor >= 2;
+  std::optional<RangeDecoder> wedge_rc[2];
+  if (wedged) {
+    if (!wedges_ready) {  // no TABL: no table entries
+      reset_wedges();
+      if (!start_wedges(in)) return false;
+    }
+    if (h.uv_ids()) wedge_rc[0].emplace(stream_bytes[kStreamUvCodes]);
+    if (h.normal_ids()) wedge_rc[1].emplace(stream_bytes[kStreamNormalCodes]);
+  }
+  std::string wedge_problem;
+  const auto wedge_corner = [&](int kind, const WedgeCoder::Corner& at, uint32_t& id) {
+    if (!wedges[kind].decode(*wedge_rc[kind], positions.units, at, id, wedge_problem) ||
+        !wedge_rc[kind]->ok()) {
+      return in.fail(ErrorCode::kCorruptStream,
+                     where + " (" + kStreamNames[kind == 0 ? kStreamUvCodes : kStreamNormalCodes] +
+                         "): a corner of vertex " + std::to_string(at.vertex) + " " +
+                         (wedge_problem.empty() ? "is cut short" : wedge_problem));
+    }
+    if (id != kNoAttribute) {
+      std::vector<float>& values = kind == 0 ? pm.uvs : pm.normals;
+      const Grid& grid = kind == 0 ? uv_grid : normal_grid;
+      const std::size_t components = kind == 0 ? 2 : 3;
+      const uint32_t* units = wedges[kind].units(id);
+      for (std::size_t c = 0; c < components; ++c) {
+        values[components * std::size_t{id} + c] =
+            (kind == 0 ? h.uv_bits : h.normal_bits) != 0 ? static_cast<float>(grid.value(units[c], c))
+                                                          : float_from_ordered(units[c]);
+      }
+    }
+    return true;
+  };
   if (ranged) {
     if (!models) models = std::make_unique<ChunkModels>();  // kept from chunk to chunk
     u_rc.emplace(stream_bytes[kStreamU]);
@@ -1811,6 +2096,19 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     // Attributes: the moved corners, then the new faces' corners and materials.
     for (std::size_t k = 0; k < arc.size(); ++k) {
       uint32_t id;
+      if (wedged) {  // 2.2 (§5.11)
+        const uint32_t f = arc[k];
+        const uint32_t* face = fans.face(f);
+        const int slot = face[0] == split.u ? 0 : face[1] == split.u ? 1 : 2;
+        const WedgeCoder::Corner at{kRoleMoved, v, f, face, slot, v};
+        for (int kind = 0; kind < 2; ++kind) {
+          if (!wedge_rc[kind]) continue;
+          if (!wedge_corner(kind, at, id)) return false;
+          wedges[kind].move(f, slot, id);
+          (kind == 0 ? pm.moved_uvs : pm.moved_normals).push_back(id);
+        }
+        continue;
+      }
       if (uv_codes) {
         if (!read_corner(uv_in, 0, v, id)) return failed(uv_in);
         pm.moved_uvs.push_back(id);
@@ -1824,7 +2122,18 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       const uint32_t other = side == 0 ? split.vl : split.vr;
       if (other == kNoVertex) continue;
       const uint32_t corners[3] = {side == 0 ? v : split.u, side == 0 ? split.u : v, other};
+      for (int c = 0; c < 3 && wedged; ++c) {  // 2.2 (§5.11)
+        const WedgeRole role = c == 2 ? kRoleNewAtOther : corners[c] == v ? kRoleNewAtV : kRoleNewAtU;
+        const WedgeCoder::Corner at{role, corners[c]};
+        for (int kind = 0; kind < 2; ++kind) {
+          if (!wedge_rc[kind]) continue;
+          uint32_t id;
+          if (!wedge_corner(kind, at, id)) return false;
+          (kind == 0 ? pm.face_uvs : pm.face_normals).push_back(id);
+        }
+      }
       for (uint32_t corner : corners) {
+        if (wedged) break;
         uint32_t id;
         if (uv_codes) {
           if (!read_corner(uv_in, 0, corner, id)) return failed(uv_in);
@@ -1865,6 +2174,15 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     }
     for (int k : {kStreamU, kStreamVl, kStreamVr, kStreamPositions})
       streams[k].skip(streams[k].remaining());
+  }
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!wedge_rc[kind]) continue;
+    if (!wedge_rc[kind]->ok() || !wedge_rc[kind]->at_end()) {
+      return in.fail(ErrorCode::kCorruptStream,
+                     where + ": a corner attribute code is corrupt, ends early or has bytes left over");
+    }
+    ByteReader& stream = streams[kind == 0 ? kStreamUvCodes : kStreamNormalCodes];
+    stream.skip(stream.remaining());
   }
   for (ByteReader& stream : streams) {
     if (!stream.at_end()) {

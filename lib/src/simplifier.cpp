@@ -812,6 +812,7 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   // The progressive mesh, checked as a decoder would check it.
   if (options.layer_window > 0)
     layer_splits(out, options.layer_chunk_splits, options.layer_window, options.threads);
+  order_attribute_tables(out);  // after the splits' order is final
   std::string problem;
   if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
 

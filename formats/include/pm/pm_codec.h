@@ -14,8 +14,9 @@ namespace pm {
 
 // The version write_pm writes. read_pm reads it and every 1.x stream (1.0, 1.1).
 inline constexpr uint16_t kFormatMajor = 2;
-// 2.0: chunked splits, one-ring coding, quantization; 2.1: u, vl, vr and positions range-coded
-inline constexpr uint16_t kFormatMinor = 1;
+// 2.0: chunked splits, one-ring coding, quantization; 2.1: u, vl, vr and positions range-coded;
+// 2.2: the splits' corner attributes range-coded as wedges, new values where first used
+inline constexpr uint16_t kFormatMinor = 2;
 
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
@@ -30,15 +31,15 @@ struct WriteOptions {
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
   // smaller (256, 512, ...) so that a stream cut early still refines. 1..2^20.
   uint32_t chunk_splits = 4096;
-  // The minor version to write: 1 (2.1, the default) or 0 (2.0, for readers that predate
-  // 2.1; larger).
+  // The minor version to write: 2 (2.2, the default), 1 (2.1) or 0 (2.0), for readers that
+  // predate the newer ones (2.1 and 2.0 are larger).
   uint16_t minor_version = kFormatMinor;
   // Threads compressing the sections (0: the machine's cores). The bytes are the same for
   // any number.
   unsigned threads = 0;
 };
 
-// Serializes pm (which must be valid) to bytes, as format 2.1 (or 2.0,
+// Serializes pm (which must be valid) to bytes, as format 2.2 (or 2.1, 2.0,
 // WriteOptions::minor_version). Errors: kInvalidArgument when validate(pm) fails, a material name
 // or library holds a NUL, an option is out of range, or positions to quantize are not finite;
 // kResourceLimit when a count exceeds the format's limits (2^30; 2^20 materials and libraries) or a

@@ -135,6 +135,13 @@ std::vector<uint32_t> chunk_plan(uint32_t splits, uint32_t largest);
 void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share = 0,
                   unsigned threads = 1);
 
+// Renumbers the texture-coordinate and normal tables in the order in which a decoder first
+// meets their entries (corner order, pm-format.md §5.1), entries no corner uses last, which
+// is what the .pm stream codes cheapest (§5.11). Nothing when pm keeps the input's order
+// (its full detail lists the tables as the input did). pm must be valid; it stays valid,
+// and every level's corners keep their values.
+void order_attribute_tables(ProgressiveMesh& pm);
+
 // The windows layer_splits reorders within, in order: their sizes.
 inline constexpr uint32_t kLeastLayerWindow = 1;
 std::vector<uint32_t> layer_windows(uint32_t base_vertices, uint32_t splits, uint32_t largest_chunk,
