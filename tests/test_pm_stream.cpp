@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <numeric>
 #include <set>
 #include <string>
@@ -691,21 +692,26 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     v21.minor_version = 1;
     test::write_file(dir + "quantized-v2.1.pm", write(surface, v21));
   }
-  // An encoded surface (the sphere sample: closed fans, layers, normals), quantized, in 2.0
-  // and 2.1 from the same progressive mesh: the two files decode to the same mesh. (Both
-  // committed, so that a change of the encoder does not change what is compared.)
-  if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
-    Mesh sphere;
-    ASSERT_TRUE(read_mesh(test::sample_mesh_path("sphere.obj"), sphere).is_ok());
+  // Files of an encoded sample in several minor versions, from one progressive mesh (all
+  // committed, so that a change of the encoder does not change what is compared).
+  const auto write_versions = [&](const char* sample, const std::string& stem, WriteOptions options,
+                                  std::initializer_list<uint16_t> minors) {
+    Mesh mesh;
+    ASSERT_TRUE(read_mesh(test::sample_mesh_path(sample), mesh).is_ok());
     ProgressiveMesh pm;
-    ASSERT_TRUE(encode(sphere, EncodeOptions{}, pm).is_ok());
+    ASSERT_TRUE(encode(mesh, EncodeOptions{}, pm).is_ok());
+    for (const uint16_t minor : minors) {
+      options.minor_version = minor;
+      test::write_file(dir + stem + "-v2." + std::to_string(minor) + ".pm", write(pm, options));
+    }
+  };
+  // An encoded surface (the sphere sample: closed fans, layers), quantized, in 2.0 and 2.1:
+  // the two files decode to the same mesh. Frozen: PM_REGENERATE_GOLDEN_OLD rewrites them.
+  if (std::getenv("PM_REGENERATE_GOLDEN_OLD") != nullptr) {
     WriteOptions options;
     options.position_bits = 12;
     options.chunk_splits = 512;
-    options.minor_version = 1;
-    test::write_file(dir + "sphere-q12-v2.1.pm", write(pm, options));
-    options.minor_version = 0;
-    test::write_file(dir + "sphere-q12-v2.0.pm", write(pm, options));
+    write_versions("sphere.obj", "sphere-q12", options, {0, 1});
   }
   {
     const ProgressiveMesh v20 = read(test::read_file(dir + "sphere-q12-v2.0.pm"));
@@ -716,17 +722,11 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
   // An encoded textured mesh (UV seams, materials), quantized, in 2.1 and 2.2 (the splits'
   // corners as wedges, §5.11) from the same progressive mesh: the two decode the same.
   if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
-    Mesh textured;
-    ASSERT_TRUE(read_mesh(test::sample_mesh_path("textured.obj"), textured).is_ok());
-    ProgressiveMesh pm;
-    ASSERT_TRUE(encode(textured, EncodeOptions{}, pm).is_ok());
     WriteOptions options;
     options.position_bits = 12;
     options.uv_bits = 10;
     options.chunk_splits = 64;
-    test::write_file(dir + "textured-q12-v2.2.pm", write(pm, options));
-    options.minor_version = 1;
-    test::write_file(dir + "textured-q12-v2.1.pm", write(pm, options));
+    write_versions("textured.obj", "textured-q12", options, {1, 2});
   }
   {
     const ProgressiveMesh v21 = read(test::read_file(dir + "textured-q12-v2.1.pm"));
