@@ -35,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <new>
@@ -1404,6 +1405,7 @@ struct PmStreamReader::State {
   bool decode_carried(ByteReader& in);
   bool decode_tables(ByteReader& in);
   bool read_listed(ByteReader& in, int kind);
+  void drop_unknown_entries();
   void reset_wedges();
   bool start_wedges(ByteReader& in);
   bool decode_index(ByteReader& in);
@@ -1733,6 +1735,38 @@ bool PmStreamReader::State::start_wedges(ByteReader& in) {
     }
   }
   return true;
+}
+
+// 2.2 (§7): a prefix's tables keep the entries it knows (listed or introduced by its
+// splits); the others, whose values have not arrived, go, and the ids are renumbered in
+// order. Only once decoding has ended: the wedge coders work on the stream's ids.
+void PmStreamReader::State::drop_unknown_entries() {
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!wedges_ready || !(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
+    const uint32_t count = kind == 0 ? h.uv_count : h.normal_count;
+    const std::size_t components = kind == 0 ? 2 : 3;
+    std::vector<uint32_t> new_id(count, kNoAttribute);
+    uint32_t next = 0;
+    for (uint32_t id = 0; id < count; ++id) {
+      if (wedges[kind].known(id)) new_id[id] = next++;
+    }
+    if (next == count) continue;
+    std::vector<float>& table = kind == 0 ? pm.uvs : pm.normals;
+    for (uint32_t id = 0; id < count; ++id) {
+      if (new_id[id] == kNoAttribute) continue;
+      for (std::size_t c = 0; c < components; ++c)
+        table[components * new_id[id] + c] = table[components * std::size_t{id} + c];
+    }
+    table.resize(components * std::size_t{next});
+    std::vector<uint32_t>& face_ids = kind == 0 ? pm.face_uvs : pm.face_normals;
+    std::vector<uint32_t>& moved_ids = kind == 0 ? pm.moved_uvs : pm.moved_normals;
+    for (std::vector<uint32_t>* ids : {&face_ids, &moved_ids}) {
+      for (uint32_t& id : *ids) {
+        if (id != kNoAttribute) id = new_id[id];  // every id a corner has is known
+      }
+    }
+  }
+  wedges_ready = false;  // the coders' ids are the stream's: no more of this
 }
 
 // 2.2 (§5.4): the entries listed with their ids' gaps; the others are 0 until a split
@@ -2286,6 +2320,7 @@ Status PmStreamReader::finish(ReadResult* result) {
   s.attach_carried();
   if (!version1) {
     r.partial = s.pm.splits.size() < s.h.split_count;
+    if (r.partial && s.h.minor >= 2) s.drop_unknown_entries();
     r.chunks_decoded = static_cast<uint32_t>(s.chunks_decoded);
     r.chunk_count = s.h.chunk_count;
   }

@@ -644,6 +644,39 @@ TEST(PmStream, Version22CodesAttributesInFirstUseOrderCompactly) {
   }
 }
 
+// 2.2 (§7): a prefix holds only the table entries its splits introduced (and those listed
+// up front), renumbered in order: its finest level has every corner's value, and no entry
+// whose value has not arrived.
+TEST(PmStream, APrefixOf22HasOnlyTheEntriesItsSplitsIntroduced) {
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(test::seamed_grid(24), EncodeOptions{}, pm).is_ok());
+  WriteOptions options;
+  options.chunk_splits = 64;
+  const std::string bytes = write(pm, options);
+  const ProgressiveMesh whole = read(bytes);
+  for (const uint32_t splits : {1u, 200u}) {
+    SCOPED_TRACE(std::to_string(splits) + " splits wanted");
+    ReadOptions prefix_options;
+    prefix_options.max_splits = splits;
+    ReadResult result;
+    const ProgressiveMesh prefix = read(bytes, prefix_options, &result);
+    ASSERT_TRUE(result.partial);
+    ASSERT_LT(prefix.splits.size(), whole.splits.size());
+    EXPECT_LT(prefix.uv_count(), whole.uv_count());
+    const Mesh level = extract_level(prefix, prefix.splits.size());
+    const Mesh expected = extract_level(whole, prefix.splits.size());
+    ASSERT_EQ(level.triangles, expected.triangles);
+    // Every corner has the value it has in the whole stream's level.
+    for (std::size_t c = 0; c < expected.uv_indices.size(); ++c) {
+      ASSERT_EQ(level.uv_indices[c] == kNoAttribute, expected.uv_indices[c] == kNoAttribute);
+      if (level.uv_indices[c] == kNoAttribute) continue;
+      const uint32_t a = level.uv_indices[c], b = expected.uv_indices[c];
+      EXPECT_EQ(level.uvs[2 * a], expected.uvs[2 * b]);
+      EXPECT_EQ(level.uvs[2 * a + 1], expected.uvs[2 * b + 1]);
+    }
+  }
+}
+
 TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
   const std::string bytes = write(generated_mesh(5000));
   ReadOptions options;

@@ -78,7 +78,9 @@ struct ReadOptions {
 // What read_pm decoded, when the stream or the request left out a part of it.
 struct ReadResult {
   bool truncated = false;    // the stream ended early (allow_truncated)
-  bool partial = false;      // the mesh holds fewer splits than the stream (truncated or max_splits)
+  // The mesh holds fewer splits than the stream (truncated or max_splits); from a 2.2 stream,
+  // its texture-coordinate and normal tables then hold only the entries that had arrived.
+  bool partial = false;
   uint32_t chunks_decoded = 0, chunk_count = 0;  // 2.x streams
   std::string warning;       // one line when truncated: where the stream ends
 };
