@@ -244,7 +244,34 @@ pm::MeshFormat output_format_for(const std::string& output, const std::string& f
   return pm::mesh_format_from_path(output);
 }
 
-int print_info(const std::string& input, const pm::ReadOptions& read_options) {
+// --sizes: where the bytes go (pm::measure_pm_sizes), the chunk streams in bits per split.
+int print_sizes(const std::string& input, const std::string& bytes, uint32_t splits,
+                const pm::ReadOptions& read_options) {
+  pm::PmSizes sizes;
+  if (pm::Status s = pm::measure_pm_sizes(bytes, sizes, read_options); !s)
+    return pm::cli::fail(kTool, input, s);
+  std::string sections = "header " + std::to_string(sizes.header) + " B";
+  for (const auto& [tag, size] : sizes.sections) {
+    sections += ", " + tag + " " + std::to_string(size) + " B";
+    if (tag == "CHNK") sections += " (" + std::to_string(sizes.chunks) + " chunks)";
+  }
+  std::printf("sections:         %s\n", sections.c_str());
+  if (splits == 0) return pm::cli::kExitOk;
+  // Each stream compressed alone: about what it costs in the file.
+  std::string streams;
+  for (std::size_t k = 0; k < sizes.chunk_streams.size(); ++k) {
+    if (sizes.chunk_streams[k].second == 0) continue;
+    char text[96];
+    std::snprintf(text, sizeof text, "%s%s %.2f", streams.empty() ? "" : ", ",
+                  sizes.chunk_streams[k].first.c_str(),
+                  8.0 * double(sizes.chunk_streams_compressed[k]) / double(splits));
+    streams += text;
+  }
+  std::printf("chunk streams:    bits per split, each alone with zstd -19: %s\n", streams.c_str());
+  return pm::cli::kExitOk;
+}
+
+int print_info(const std::string& input, const pm::ReadOptions& read_options, bool with_sizes) {
   std::string bytes;
   if (pm::Status s = pm::cli::read_whole_input(input, bytes, read_options.max_memory); !s)
     return pm::cli::fail(kTool, input, s);
@@ -298,6 +325,7 @@ int print_info(const std::string& input, const pm::ReadOptions& read_options) {
     }
     std::printf("\n");
   }
+  if (with_sizes) return print_sizes(input, bytes, info.split_count, read_options);
   return pm::cli::kExitOk;
 }
 
@@ -725,6 +753,7 @@ int main(int argc, char** argv) {
   std::size_t vertices = 0, faces = 0;
   double ratio = 1.0;
   bool info = false;
+  bool sizes = false;
   command.add_options(
       app, "Input .pm files, directories (with -r), or - for standard input",
       "Output mesh, - for OBJ on standard output, or a template: {stem} {ext} {name} {dir} "
@@ -824,7 +853,12 @@ int main(int argc, char** argv) {
   stdin_flag->excludes(by_vertices)->excludes(by_faces)->excludes(by_ratio)->excludes(by_error)
       ->excludes(by_lods)->excludes(by_morph)->excludes(compare)->excludes(by_view)
       ->excludes(by_region)->excludes(by_viewpoint);
-  app.add_flag("--info", info, "Print the header, counts, attributes and error range, and exit");
+  CLI::Option* info_option =
+      app.add_flag("--info", info, "Print the header, counts, attributes and error range, and exit");
+  app.add_flag("--sizes", sizes,
+               "With --info: decode the stream and print each section's bytes and the chunk "
+               "streams' bits per split (u, vl, vr, positions, attribute ids, ...)")
+      ->needs(info_option);
   app.footer(
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 cannot read input, 4 invalid or\n"
       "truncated .pm, 5 cannot write output, 6 unsupported format or version, 7 too large\n"
@@ -853,7 +887,7 @@ int main(int argc, char** argv) {
     std::size_t failures = 0;
     for (std::size_t i = 0; i < inputs.size(); ++i) {
       if (i > 0) std::printf("\n");
-      exit_code = inputs[i].problem ? print_info(inputs[i].path, settings.read)
+      exit_code = inputs[i].problem ? print_info(inputs[i].path, settings.read, sizes)
                                     : pm::cli::fail(kTool, inputs[i].path, inputs[i].problem);
       if (exit_code != pm::cli::kExitOk) ++failures;
     }

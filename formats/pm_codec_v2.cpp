@@ -2372,6 +2372,60 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
   return read_pm(bytes, pm, ReadOptions{}, nullptr);
 }
 
+Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options) {
+  ProgressiveMesh pm;
+  if (Status status = read_pm(bytes, pm, options, nullptr); !status) return status;
+  if ((static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {
+    return Status(ErrorCode::kUnsupportedVersion, "sizes are measured in 2.x streams (this is 1.x)");
+  }
+  PmSizes r;
+  r.header = kHeaderSize;
+  for (int k = 0; k < kChunkStreams; ++k) r.chunk_streams.emplace_back(kStreamNames[k], 0);
+  r.chunk_streams_compressed.assign(kChunkStreams, 0);
+  std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> dctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+  if (!dctx) return Status(ErrorCode::kInternal, "zstd: cannot create a decompression context");
+  std::string raw;
+  // read_pm accepted the stream: every section header and frame is whole and valid.
+  for (std::size_t offset = kHeaderSize; offset < bytes.size();) {
+    SectionHeader section;
+    if (!read_section_header(bytes.substr(offset), section)) break;
+    const uint64_t size = kSectionHeaderSize + section.stored_size;
+    const std::string tag = tag_name(section.tag);
+    if (!r.sections.empty() && r.sections.back().first == tag) {
+      r.sections.back().second += size;
+    } else {
+      r.sections.emplace_back(tag, size);
+    }
+    if (section.tag == kTagChunk) {
+      ++r.chunks;
+      const std::string where = section_name(section.tag, r.chunks - 1);
+      if (Status s = decompress_frame(where, bytes.substr(offset + kSectionHeaderSize, section.stored_size),
+                                      section.raw_size, dctx.get(), raw);
+          !s) {
+        return s;
+      }
+      ByteReader in(raw, where, ErrorCode::kCorruptStream);
+      uint64_t lengths[kChunkStreams];
+      for (int k = 0; k < kChunkStreams; ++k) {
+        if (!read_varint64(in, lengths[k])) return in.status();
+        r.chunk_streams[k].second += lengths[k];
+      }
+      for (int k = 0; k < kChunkStreams; ++k) {
+        std::string_view stream;
+        if (!in.read_bytes(lengths[k], stream)) return in.status();
+        if (stream.empty()) continue;
+        std::string packed(ZSTD_compressBound(stream.size()), '\0');
+        const std::size_t n = ZSTD_compress(packed.data(), packed.size(), stream.data(), stream.size(), 19);
+        if (ZSTD_isError(n)) return Status(ErrorCode::kInternal, std::string("zstd: ") + ZSTD_getErrorName(n));
+        r.chunk_streams_compressed[k] += n;
+      }
+    }
+    offset += size;
+  }
+  sizes = std::move(r);
+  return Status::ok();
+}
+
 Status read_pm_info(std::string_view bytes, PmInfo& info) {
   if (bytes.size() >= 12 && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0 &&
       (static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {

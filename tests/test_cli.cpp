@@ -209,6 +209,35 @@ TEST(Cli, InfoListsTheAttributes) {
             std::string::npos);
 }
 
+// --info --sizes: the sections' bytes add up to the file, and the chunk streams are listed in
+// bits per split, the texture coordinates' ids among them when the mesh has them.
+TEST(Cli, InfoSizesSayWhereTheBytesGo) {
+  TempDir dir;
+  ASSERT_EQ(pmenc({test::sample_mesh_path("textured.obj"), "-o", dir.file("t.pm"), "-q"}).exit_code, 0);
+  ASSERT_EQ(pmenc({test::sample_mesh_path("sphere.obj"), "-o", dir.file("s.pm"), "-q"}).exit_code, 0);
+  for (const char* name : {"t.pm", "s.pm"}) {
+    SCOPED_TRACE(name);
+    const CommandResult r = pmdec({dir.file(name), "--info", "--sizes"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::size_t at = r.out.find("sections:         header 96 B");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    // "TAG n B" items add up to the file's size.
+    const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+    uint64_t total = 0;
+    for (std::size_t p = line.find(' ', 10); p != std::string::npos; p = line.find(" B", p + 1)) {
+      std::size_t start = p;
+      while (start > 0 && std::isdigit(static_cast<unsigned char>(line[start - 1]))) --start;
+      if (start < p) total += std::stoull(line.substr(start, p - start));
+    }
+    EXPECT_EQ(total, test::read_file(dir.file(name)).size()) << line;
+    const bool textured = std::string(name) == "t.pm";
+    EXPECT_NE(r.out.find("chunk streams:    bits per split"), std::string::npos);
+    EXPECT_EQ(r.out.find("texture coordinate ids ") != std::string::npos, textured) << r.out;
+    EXPECT_NE(r.out.find("positions "), std::string::npos);
+  }
+  EXPECT_EQ(pmdec({dir.file("s.pm"), "--sizes"}).exit_code, 2);  // needs --info
+}
+
 // A level lists its faces as the splits made them, materials interleaved; pmdec writes one
 // usemtl group per material (the sample has two), the same faces, and with --keep-order the
 // input's own order at full detail.

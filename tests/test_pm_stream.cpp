@@ -677,6 +677,37 @@ TEST(PmStream, APrefixOf22HasOnlyTheEntriesItsSplitsIntroduced) {
   }
 }
 
+// measure_pm_sizes: the header and the sections add up to the stream; the chunks' streams
+// are those the stream has; 1.x streams and damaged ones are refused.
+TEST(PmStream, SizesAddUpToTheStream) {
+  for (const ProgressiveMesh& pm : {with_attributes(generated_mesh(700)), generated_mesh(300)}) {
+    WriteOptions options;
+    options.chunk_splits = 100;
+    const std::string bytes = write(pm, options);
+    PmSizes sizes;
+    ASSERT_TRUE(measure_pm_sizes(bytes, sizes).is_ok());
+    uint64_t total = sizes.header;
+    for (const auto& [tag, size] : sizes.sections) total += size;
+    EXPECT_EQ(total, bytes.size());
+    EXPECT_EQ(sizes.chunks, chunk_plan(uint32_t(pm.splits.size()), 100).size());
+    ASSERT_EQ(sizes.chunk_streams.size(), 10u);
+    ASSERT_EQ(sizes.chunk_streams_compressed.size(), 10u);
+    EXPECT_EQ(sizes.chunk_streams[5].first, "positions");
+    EXPECT_GT(sizes.chunk_streams[5].second, 3 * pm.splits.size());  // 3 coordinates a split, > 8 bits each
+    EXPECT_EQ(sizes.chunk_streams[8].second > 0, pm.has_uvs());
+    EXPECT_EQ(sizes.chunk_streams[9].second > 0, pm.has_normals());
+    for (std::size_t k = 0; k < 10; ++k)
+      EXPECT_EQ(sizes.chunk_streams_compressed[k] > 0, sizes.chunk_streams[k].second > 0) << k;
+  }
+  std::string v1;
+  ASSERT_TRUE(detail::write_pm_v1(small_mesh(), 19, v1).is_ok());
+  PmSizes sizes;
+  EXPECT_EQ(measure_pm_sizes(v1, sizes).code(), ErrorCode::kUnsupportedVersion);
+  std::string damaged = write(small_mesh());
+  damaged.resize(damaged.size() - 3);
+  EXPECT_EQ(measure_pm_sizes(damaged, sizes).code(), ErrorCode::kTruncatedStream);
+}
+
 TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
   const std::string bytes = write(generated_mesh(5000));
   ReadOptions options;
