@@ -248,5 +248,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   check_levels(pm);
   check_pm_round_trip(pm);
   check_attributes(pm);
+  // pmdec --info --sizes: a stream read_pm accepts is measured, and its parts add up.
+  if (info.major == 2) {
+    PmSizes sizes;
+    const Status measured = measure_pm_sizes(bytes, sizes, options);
+    check(measured.is_ok(), "measure_pm_sizes refuses a stream read_pm accepts");
+    uint64_t total = sizes.header;
+    for (const auto& section : sizes.sections) total += section.second;
+    check(total == size, "measure_pm_sizes: the sections do not add up to the stream");
+  }
   return 0;
 }
