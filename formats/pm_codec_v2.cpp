@@ -35,7 +35,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <new>
@@ -49,6 +48,7 @@
 #include "byte_io.h"
 #include "corner_codes.h"
 #include "wedge_codes.h"
+#include "attribute_renumbering.h"
 #include "huge_pages.h"
 #include "in_turn.h"
 #include "pm/pm_codec.h"
@@ -722,16 +722,19 @@ void put_optional_id(ByteWriter& out, uint32_t id) {
 }
 
 // A value table (UVs or normals), f32 or on a grid (§5.4).
+// One table value, component c: f32, or its grid index (§5.4).
+void put_table_value(ByteWriter& out, const Grid* grid, float x, std::size_t c) {
+  if (grid == nullptr) {
+    out.put_f32(x);
+  } else {
+    out.put_varint(quantize(*grid, x, c));
+  }
+}
+
 void put_table(ByteWriter& out, const std::vector<float>& values, std::size_t components,
                const Grid* grid) {
-  if (grid == nullptr) {
-    for (float x : values) out.put_f32(x);
-    return;
-  }
-  put_grid(out, *grid);
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    out.put_varint(quantize(*grid, values[i], i % components));
-  }
+  if (grid != nullptr) put_grid(out, *grid);
+  for (std::size_t i = 0; i < values.size(); ++i) put_table_value(out, grid, values[i], i % components);
 }
 
 struct Writer {
@@ -795,12 +798,8 @@ struct Writer {
       out.put_varint(static_cast<uint32_t>(int64_t(id) - previous - 1));
       previous = int64_t(id);
       for (std::size_t c = 0; c < components; ++c) {
-        const float x = table(kind)[components * id + c];
-        if (grid(kind).bits != 0) {
-          out.put_varint(quantize(grid(kind), x, c));
-        } else {
-          out.put_f32(x);
-        }
+        put_table_value(out, grid(kind).bits != 0 ? &grid(kind) : nullptr,
+                        table(kind)[components * id + c], c);
       }
     }
   }
@@ -1089,9 +1088,8 @@ struct Writer {
           const std::size_t k = split.moved_begin +
                                 (std::find(record.begin(), record.end(), f) - record.begin());
           if (wedged) {  // 2.2 (§5.11)
-            const uint32_t* face = fans.face(f);
-            const int slot = face[0] == split.u ? 0 : face[1] == split.u ? 1 : 2;
-            const WedgeCoder::Corner at{kRoleMoved, v, f, face, slot, v};
+            const int slot = fans.slot_of(f, split.u);
+            const WedgeCoder::Corner at{kRoleMoved, v, f, fans.face(f), slot, v};
             for (int kind = 0; kind < 2; ++kind) {
               if (!has_ids(kind)) continue;
               const uint32_t id = (kind == 0 ? pm.moved_uvs : pm.moved_normals)[k];
@@ -1114,8 +1112,7 @@ struct Writer {
               put_corner(uv_out, normal_out, corners[c], slot);
               continue;
             }
-            const WedgeRole role = c == 2 ? kRoleNewAtOther : corners[c] == v ? kRoleNewAtV : kRoleNewAtU;
-            const WedgeCoder::Corner at{role, corners[c]};
+            const WedgeCoder::Corner at{new_face_role(c, corners[c], v), corners[c]};
             for (int kind = 0; kind < 2; ++kind) {
               if (!has_ids(kind)) continue;
               const uint32_t id = (kind == 0 ? pm.face_uvs : pm.face_normals)[slot];
@@ -1308,23 +1305,30 @@ bool read_optional_id(ByteReader& in, uint32_t count, const char* what, uint32_t
   return true;
 }
 
+// One table value, component c (§5.4): f32 (grid null), or a grid index, which MUST be on
+// the grid; `unit` gets it in the integers residuals are taken in (§5.11).
+bool read_table_value(ByteReader& in, const Grid* grid, std::size_t c, float& x, uint32_t& unit) {
+  if (grid == nullptr) {
+    if (!in.read_f32(x)) return false;
+    unit = ordered_from_float(x);
+    return true;
+  }
+  if (!in.read_varint(unit)) return false;
+  if (unit > (uint32_t{1} << grid->bits) - 1) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid index beyond the grid");
+  }
+  x = static_cast<float>(grid->value(unit, c));
+  return true;
+}
+
 bool read_table(ByteReader& in, uint32_t count, std::size_t components, int bits,
                 std::vector<float>& values) {
   values.resize(components * std::size_t{count});
-  if (bits == 0) {
-    for (float& x : values) {
-      if (!in.read_f32(x)) return false;
-    }
-    return true;
-  }
   Grid grid;
-  if (!read_grid(in, bits, components, grid)) return false;
-  const uint32_t top = (uint32_t{1} << bits) - 1;
+  if (bits != 0 && !read_grid(in, bits, components, grid)) return false;
+  uint32_t unit;
   for (std::size_t i = 0; i < values.size(); ++i) {
-    uint32_t q;
-    if (!in.read_varint(q)) return false;
-    if (q > top) return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid index beyond the grid");
-    values[i] = static_cast<float>(grid.value(q, i % components));
+    if (!read_table_value(in, bits != 0 ? &grid : nullptr, i % components, values[i], unit)) return false;
   }
   return true;
 }
@@ -1751,19 +1755,11 @@ void PmStreamReader::State::drop_unknown_entries() {
       if (wedges[kind].known(id)) new_id[id] = next++;
     }
     if (next == count) continue;
-    std::vector<float>& table = kind == 0 ? pm.uvs : pm.normals;
-    for (uint32_t id = 0; id < count; ++id) {
-      if (new_id[id] == kNoAttribute) continue;
-      for (std::size_t c = 0; c < components; ++c)
-        table[components * new_id[id] + c] = table[components * std::size_t{id} + c];
-    }
-    table.resize(components * std::size_t{next});
-    std::vector<uint32_t>& face_ids = kind == 0 ? pm.face_uvs : pm.face_normals;
-    std::vector<uint32_t>& moved_ids = kind == 0 ? pm.moved_uvs : pm.moved_normals;
-    for (std::vector<uint32_t>* ids : {&face_ids, &moved_ids}) {
-      for (uint32_t& id : *ids) {
-        if (id != kNoAttribute) id = new_id[id];  // every id a corner has is known
-      }
+    // Every id a corner has is known.
+    if (kind == 0) {
+      renumber_entries(pm.uvs, components, new_id, next, {&pm.face_uvs, &pm.moved_uvs});
+    } else {
+      renumber_entries(pm.normals, components, new_id, next, {&pm.face_normals, &pm.moved_normals});
     }
   }
   wedges_ready = false;  // the coders' ids are the stream's: no more of this
@@ -1790,7 +1786,6 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
   if (!ids && listed != count) {
     return in.fail(ErrorCode::kCorruptStream, in.where() + ": a table no corner uses must list every entry");
   }
-  const uint32_t top = bits != 0 ? (uint32_t{1} << bits) - 1 : 0;
   int64_t previous = -1;
   uint32_t units[3];
   for (uint32_t k = 0; k < listed; ++k) {
@@ -1803,16 +1798,10 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
     }
     previous = id;
     for (std::size_t c = 0; c < components; ++c) {
-      float x;
-      if (bits != 0) {
-        if (!in.read_varint(units[c])) return false;
-        if (units[c] > top) return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid index beyond the grid");
-        x = static_cast<float>(grid.value(units[c], c));
-      } else {
-        if (!in.read_f32(x)) return false;
-        units[c] = ordered_from_float(x);
+      if (!read_table_value(in, bits != 0 ? &grid : nullptr, c, values[components * std::size_t(id) + c],
+                            units[c])) {
+        return false;
       }
-      values[components * std::size_t(id) + c] = x;
     }
     if (ids) wedges[kind].learn(static_cast<uint32_t>(id), units);
   }
@@ -2132,9 +2121,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       uint32_t id;
       if (wedged) {  // 2.2 (§5.11)
         const uint32_t f = arc[k];
-        const uint32_t* face = fans.face(f);
-        const int slot = face[0] == split.u ? 0 : face[1] == split.u ? 1 : 2;
-        const WedgeCoder::Corner at{kRoleMoved, v, f, face, slot, v};
+        const int slot = fans.slot_of(f, split.u);
+        const WedgeCoder::Corner at{kRoleMoved, v, f, fans.face(f), slot, v};
         for (int kind = 0; kind < 2; ++kind) {
           if (!wedge_rc[kind]) continue;
           if (!wedge_corner(kind, at, id)) return false;
@@ -2157,8 +2145,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (other == kNoVertex) continue;
       const uint32_t corners[3] = {side == 0 ? v : split.u, side == 0 ? split.u : v, other};
       for (int c = 0; c < 3 && wedged; ++c) {  // 2.2 (§5.11)
-        const WedgeRole role = c == 2 ? kRoleNewAtOther : corners[c] == v ? kRoleNewAtV : kRoleNewAtU;
-        const WedgeCoder::Corner at{role, corners[c]};
+        const WedgeCoder::Corner at{new_face_role(c, corners[c], v), corners[c]};
         for (int kind = 0; kind < 2; ++kind) {
           if (!wedge_rc[kind]) continue;
           uint32_t id;

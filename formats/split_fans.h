@@ -55,6 +55,11 @@ class SplitFans {
              std::size_t moved_count);
   // Whether face f exists and holds u exactly once.
   bool holds_once(uint32_t f, uint32_t u) const;
+  // The corner (0, 1, 2) of face f that is u (u must be one of its vertices).
+  int slot_of(uint32_t f, uint32_t u) const {
+    const uint32_t* v = face(f);
+    return v[0] == u ? 0 : v[1] == u ? 1 : 2;
+  }
 
   std::size_t memory_bytes() const;
 

@@ -84,6 +84,12 @@ class UnknownIds {
 // corner of a new face at the new vertex, at u, or at vl / vr.
 enum WedgeRole { kRoleMoved, kRoleNewAtV, kRoleNewAtU, kRoleNewAtOther, kWedgeRoles };
 
+// The role of corner c (0, 1, 2) of a new face whose vertex there is `corner`: fl is
+// (v, u, vl), fr is (u, v, vr).
+inline WedgeRole new_face_role(int c, uint32_t corner, uint32_t v) {
+  return c == 2 ? kRoleNewAtOther : corner == v ? kRoleNewAtV : kRoleNewAtU;
+}
+
 constexpr uint32_t kWedgeValueContexts = 26;  // bit lengths 0..24 of the face's spread, then the rest
 constexpr int kWedgeRecent = 3;               // wedges remembered per vertex
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "attribute_renumbering.h"
 #include "pm/progressive_mesh.h"
 
 namespace pm {
@@ -36,17 +37,7 @@ void reorder(std::vector<float>& table, std::size_t components, std::vector<uint
   for (uint32_t& id : new_id) {
     if (id == kUnseen) id = next++;  // entries no corner uses, in their order
   }
-  std::vector<float> ordered(table.size());
-  for (std::size_t id = 0; id < count; ++id) {
-    for (std::size_t c = 0; c < components; ++c)
-      ordered[components * new_id[id] + c] = table[components * id + c];
-  }
-  table = std::move(ordered);
-  for (std::vector<uint32_t>* ids : {&face_ids, &moved_ids}) {
-    for (uint32_t& id : *ids) {
-      if (id != kNoAttribute) id = new_id[id];
-    }
-  }
+  detail::renumber_entries(table, components, new_id, next, {&face_ids, &moved_ids});
 }
 
 }  // namespace
