@@ -72,8 +72,6 @@ class UnknownIds {
     }
     return at;  // ids are 0-based: the tree's index at + 1 is id at
   }
-  std::size_t memory_bytes() const { return tree_.capacity() * 4 + known_.capacity(); }
-
  private:
   uint32_t n_ = 0, unknown_ = 0;
   std::vector<uint32_t> tree_;
@@ -247,11 +245,6 @@ class WedgeCoder {
 
   // Face f's corner at `slot` (a moved corner) now holds `id`.
   void move(uint32_t face, int slot, uint32_t id) { current_[3 * std::size_t{face} + slot] = id; }
-
-  std::size_t memory_bytes() const {
-    return units_.capacity() * 4 + ids_.memory_bytes() + recent_.capacity() * 4 +
-           current_.capacity() * 4 + sizeof(WedgeModels);
-  }
 
  private:
   static int remembered_of(const uint32_t* recent) {
