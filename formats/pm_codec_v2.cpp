@@ -1354,6 +1354,7 @@ struct PmStreamReader::State {
   bool base_done = false;       // every section before the first chunk decoded
 
   ProgressiveMesh pm;
+  ProgressiveMesh trimmed;  // mesh()'s copy of pm without unknown entries (2.2, mid-stream)
   // Carried faces' attribute ids: the mesh's per-face arrays hold them last (creation order),
   // after the faces of the splits decoded so far; they are attached when mesh() is read.
   std::vector<uint32_t> carried_uvs, carried_normals, carried_materials;
@@ -1409,7 +1410,8 @@ struct PmStreamReader::State {
   bool decode_carried(ByteReader& in);
   bool decode_tables(ByteReader& in);
   bool read_listed(ByteReader& in, int kind);
-  void drop_unknown_entries();
+  bool has_unknown_entries() const;
+  void drop_unknown_entries(ProgressiveMesh& target) const;
   void reset_wedges();
   bool start_wedges(ByteReader& in);
   bool decode_index(ByteReader& in);
@@ -1742,9 +1744,15 @@ bool PmStreamReader::State::start_wedges(ByteReader& in) {
 }
 
 // 2.2 (§7): a prefix's tables keep the entries it knows (listed or introduced by its
-// splits); the others, whose values have not arrived, go, and the ids are renumbered in
-// order. Only once decoding has ended: the wedge coders work on the stream's ids.
-void PmStreamReader::State::drop_unknown_entries() {
+// splits); the others, whose values have not arrived, go from `target` (the decoded mesh or
+// a copy of it), and the ids are renumbered in order. The wedge coders keep the stream's
+// ids, so decoding can go on after a copy is trimmed.
+bool PmStreamReader::State::has_unknown_entries() const {
+  if (!wedges_ready) return false;
+  return (h.uv_ids() && wedges[0].unknown() > 0) || (h.normal_ids() && wedges[1].unknown() > 0);
+}
+
+void PmStreamReader::State::drop_unknown_entries(ProgressiveMesh& target) const {
   for (int kind = 0; kind < 2; ++kind) {
     if (!wedges_ready || !(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
     const uint32_t count = kind == 0 ? h.uv_count : h.normal_count;
@@ -1757,12 +1765,12 @@ void PmStreamReader::State::drop_unknown_entries() {
     if (next == count) continue;
     // Every id a corner has is known.
     if (kind == 0) {
-      renumber_entries(pm.uvs, components, new_id, next, {&pm.face_uvs, &pm.moved_uvs});
+      renumber_entries(target.uvs, components, new_id, next, {&target.face_uvs, &target.moved_uvs});
     } else {
-      renumber_entries(pm.normals, components, new_id, next, {&pm.face_normals, &pm.moved_normals});
+      renumber_entries(target.normals, components, new_id, next,
+                       {&target.face_normals, &target.moved_normals});
     }
   }
-  wedges_ready = false;  // the coders' ids are the stream's: no more of this
 }
 
 // 2.2 (§5.4): the entries listed with their ids' gaps; the others are 0 until a split
@@ -2307,7 +2315,10 @@ Status PmStreamReader::finish(ReadResult* result) {
   s.attach_carried();
   if (!version1) {
     r.partial = s.pm.splits.size() < s.h.split_count;
-    if (r.partial && s.h.minor >= 2) s.drop_unknown_entries();
+    if (r.partial && s.has_unknown_entries()) {
+      s.drop_unknown_entries(s.pm);
+      s.wedges_ready = false;  // the coders' ids are the stream's: no more of this
+    }
     r.chunks_decoded = static_cast<uint32_t>(s.chunks_decoded);
     r.chunk_count = s.h.chunk_count;
   }
@@ -2322,8 +2333,17 @@ bool PmStreamReader::complete() const {
   return state_->stage == State::kDone && !state_->stopped;
 }
 const ProgressiveMesh& PmStreamReader::mesh() const {
-  state_->attach_carried();
-  return state_->pm;
+  State& s = *state_;
+  s.attach_carried();
+  // 2.2 (§7): in the middle of a stream, entries that later splits introduce have no value
+  // yet (0 in s.pm, which decoding goes on filling): the caller gets a copy without them,
+  // as finish() leaves a prefix.
+  if (s.has_unknown_entries()) {
+    s.trimmed = s.pm;
+    s.drop_unknown_entries(s.trimmed);
+    return s.trimmed;
+  }
+  return s.pm;
 }
 uint64_t PmStreamReader::decoded_face_count() const {
   return state_->stage == State::kVersion1 ? 0 : state_->decoded_faces;

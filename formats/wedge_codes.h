@@ -126,6 +126,7 @@ class WedgeCoder {
     ids_.mark_known(id);
   }
   bool known(uint32_t id) const { return ids_.known(id); }
+  uint32_t unknown() const { return ids_.unknown(); }
   const uint32_t* units(uint32_t id) const { return units_.data() + components_ * std::size_t{id}; }
 
   // A corner before the splits (base and carried faces, in corner order): its vertex's

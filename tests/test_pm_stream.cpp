@@ -677,6 +677,40 @@ TEST(PmStream, APrefixOf22HasOnlyTheEntriesItsSplitsIntroduced) {
   }
 }
 
+// The same in the middle of a stream (pmdec --stdin --every N): mesh() after some chunks
+// is what finish() makes of that prefix, with no entry whose value has not arrived, and
+// decoding goes on to the whole stream afterwards.
+TEST(PmStream, AMeshInTheMiddleOfA22StreamHasOnlyTheEntriesThatArrived) {
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(test::seamed_grid(24), EncodeOptions{}, pm).is_ok());
+  WriteOptions options;
+  options.chunk_splits = 64;
+  const std::string bytes = write(pm, options);
+  const ProgressiveMesh whole = read(bytes);
+  PmStreamReader reader;
+  std::size_t checked = 0;
+  for (std::size_t at = 0; at < bytes.size(); at += 97) {
+    ASSERT_TRUE(reader.append(std::string_view(bytes).substr(at, 97)).is_ok());
+    if (!reader.has_base() || reader.complete()) continue;
+    const ProgressiveMesh& middle = reader.mesh();
+    if (middle.splits.empty() || middle.splits.size() == whole.splits.size()) continue;
+    ReadOptions prefix_options;
+    prefix_options.max_splits = static_cast<uint32_t>(middle.splits.size());
+    ReadResult result;
+    const ProgressiveMesh prefix = read(bytes, prefix_options, &result);
+    ASSERT_TRUE(result.partial);
+    ASSERT_EQ(prefix.splits.size(), middle.splits.size());
+    EXPECT_LT(middle.uv_count(), whole.uv_count());
+    expect_identical(middle, prefix);
+    std::string message;
+    EXPECT_TRUE(validate(middle, &message)) << message;
+    ++checked;
+  }
+  EXPECT_GE(checked, 3u);
+  ASSERT_TRUE(reader.finish().is_ok());
+  expect_identical(reader.mesh(), whole);
+}
+
 // measure_pm_sizes: the header and the sections add up to the stream; the chunks' streams
 // are those the stream has; 1.x streams and damaged ones are refused.
 TEST(PmStream, SizesAddUpToTheStream) {
