@@ -1125,7 +1125,8 @@ struct Writer {
           ++entry.new_faces;
         }
         entry.moved_faces += split.moved_count;
-        fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size());
+        fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(), coded ? &fan : nullptr,
+                   place_l);
       }
       entry.error_after = i < pm.splits.size() ? pm.splits[i].error : 0.0f;
       index_out.put_varint(entry.splits);
@@ -2022,6 +2023,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (!vr_in.read_varint(vr_code)) return failed(vr_in);
     }
     neighbours.assign(1, split.u);
+    bool ring_coded = false;  // the moved faces are the arc from place ring_first of `fan`
+    std::size_t ring_first = 0;
     if (vl_code == 0 && vr_code == 0) {
       // An explicit split: vl, vr and the moved faces as ids (§5.5).
       uint32_t codes[3];
@@ -2066,6 +2069,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         return bad(v, "has no vr on a closed fan");
       }
       if (!SplitFans::arc(fan, i, end, arc)) return bad(v, "names an impossible arc of u's fan");
+      ring_coded = true;
+      ring_first = i;
       split.vl = vl_code == 0 ? kNoVertex : fan.ring[i];
       split.vr = vr_code == 0 ? kNoVertex : fan.ring[end];
       for (std::size_t k = 0; k <= arc.size(); ++k) neighbours.push_back(fan.ring[fan.closed ? (i + k) % n : i + k]);
@@ -2181,7 +2186,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       ++new_faces;
     }
     if (new_faces > entry.new_faces) return bad(v, "adds more faces than the index says");
-    fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size());
+    fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(), ring_coded ? &fan : nullptr,
+               ring_first);
     pm.splits.push_back(split);
   }
   if (new_faces != entry.new_faces || moved_total != entry.moved_faces) {

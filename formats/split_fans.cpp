@@ -47,12 +47,14 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
   for (uint32_t c = first_corner_[u]; c != kNone;) {
     const uint32_t f = c / 3, k = c % 3;
     const Face& face = faces_[f];
-    wedges_.push_back({face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3], f});
+    wedges_.push_back({face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3], f, c});
     c = face.next[k];
   }
   const std::size_t n = wedges_.size();
   if (n == 0) return false;
-  if (n <= kSmallFan) return small_fan(out);
+  if (chained_fan(out)) return true;
+  ++searches_;
+  if (n <= kSmallFan) return small_fan(u, out);
   // Sorted by a, each a and each b at most once: then every wedge has at most one
   // successor (the wedge whose a is its b), and the wedges form paths and cycles.
   std::sort(wedges_.begin(), wedges_.end(),
@@ -79,23 +81,76 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
   out.closed = start == nullptr;
   if (out.closed) start = &wedges_[0];  // the smallest neighbour first
   const Wedge* w = start;
+  seconds_.clear();  // now the corners in fan order
   out.ring.push_back(w->a);
   for (std::size_t k = 0; k < n; ++k) {
     out.faces.push_back(w->face);
     out.ring.push_back(w->b);
+    seconds_.push_back(w->corner);
     if (k + 1 == n) break;
     w = find(w->b);
     if (w == nullptr || w == start) return false;  // several fans
   }
   // All n wedges walked: a closed fan must come back to its start, an open one must not.
-  return out.closed == (out.ring.back() == out.ring.front());
+  if (out.closed != (out.ring.back() == out.ring.front())) return false;
+  first_corner_[u] = seconds_[0];
+  for (std::size_t k = 0; k + 1 < n; ++k) next_corner(seconds_[k]) = seconds_[k + 1];
+  next_corner(seconds_[n - 1]) = kNone;
+  return true;
+}
+
+// A vertex's corners already in fan order, as split() and small_fan() leave them: each
+// wedge's b is the next one's a. The fan is then the list itself (rotated, when closed, to
+// start at the smallest neighbour), once the checks small_fan() makes hold: each a once, and
+// the last b none of the a's after the first (so each b is once too, and no wedge is (a, a)
+// but a lone one, which small_fan() takes too). Then small_fan() finds this same path or
+// cycle; anything else is left to it.
+bool SplitFans::chained_fan(Fan& out) {
+  const std::size_t n = wedges_.size();
+  const Wedge* w = wedges_.data();
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    if (w[k].b != w[k + 1].a) return false;
+  }
+  const uint32_t last_b = w[n - 1].b;
+  std::size_t smallest = 0;
+  if (n <= kSmallFan) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i > 0 && w[i].a == last_b) return false;
+      for (std::size_t j = i + 1; j < n; ++j) {
+        if (w[j].a == w[i].a) return false;
+      }
+      if (w[i].a < w[smallest].a) smallest = i;
+    }
+  } else {  // the same checks, sorted
+    seconds_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      seconds_.push_back(w[i].a);
+      if (w[i].a < w[smallest].a) smallest = i;
+    }
+    std::sort(seconds_.begin(), seconds_.end());
+    if (std::adjacent_find(seconds_.begin(), seconds_.end()) != seconds_.end()) return false;
+    if (last_b != w[0].a && std::binary_search(seconds_.begin(), seconds_.end(), last_b)) return false;
+  }
+  out.closed = last_b == w[0].a;
+  const std::size_t start = out.closed ? smallest : 0;
+  out.ring.resize(n + 1);
+  out.faces.resize(n);
+  uint32_t* ring = out.ring.data();
+  uint32_t* faces = out.faces.data();
+  ring[0] = w[start].a;
+  for (std::size_t k = 0, at = start; k < n; ++k, at = at + 1 == n ? 0 : at + 1) {
+    faces[k] = w[at].face;
+    ring[k + 1] = w[at].b;
+  }
+  return true;
 }
 
 // The same fan as below for a few wedges (nearly every vertex: valence 6 on average), by
 // linear scans instead of sorts and binary searches: the same ring, start and faces. One
 // pass over the pairs checks that each a and each b is unique and links each wedge to its
-// successor (the wedge whose a is its b), so the walk needs no second scan.
-bool SplitFans::small_fan(Fan& out) {
+// successor (the wedge whose a is its b), so the walk needs no second scan. A fan found
+// relinks u's corners in its order, for chained_fan() next time.
+bool SplitFans::small_fan(uint32_t u, Fan& out) {
   const std::size_t n = wedges_.size();
   uint8_t next[kSmallFan];
   bool is_second[kSmallFan] = {};
@@ -131,8 +186,10 @@ bool SplitFans::small_fan(Fan& out) {
   out.closed = start == n;
   if (out.closed) start = smallest;  // the smallest neighbour first
   std::size_t w = start;
+  uint8_t order[kSmallFan];
   out.ring.push_back(wedges_[w].a);
   for (std::size_t k = 0; k < n; ++k) {
+    order[k] = static_cast<uint8_t>(w);
     out.faces.push_back(wedges_[w].face);
     out.ring.push_back(wedges_[w].b);
     if (k + 1 == n) break;
@@ -140,7 +197,12 @@ bool SplitFans::small_fan(Fan& out) {
     if (following == n || following == start) return false;  // several fans
     w = following;
   }
-  return out.closed == (out.ring.back() == out.ring.front());
+  if (out.closed != (out.ring.back() == out.ring.front())) return false;
+  first_corner_[u] = wedges_[order[0]].corner;
+  for (std::size_t k = 0; k + 1 < n; ++k)
+    next_corner(wedges_[order[k]].corner) = wedges_[order[k + 1]].corner;
+  next_corner(wedges_[order[n - 1]].corner) = kNone;
+  return true;
 }
 
 bool SplitFans::arc(const Fan& fan, std::size_t i, std::size_t j, std::vector<uint32_t>& faces) {
@@ -157,7 +219,8 @@ bool SplitFans::arc(const Fan& fan, std::size_t i, std::size_t j, std::vector<ui
 }
 
 void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const uint32_t* moved,
-                      std::size_t moved_count) {
+                      std::size_t moved_count, const Fan* fan, std::size_t first) {
+  if (fan != nullptr && moved_count > 0) return split_arc(u, v, vl, vr, *fan, first, moved_count);
   // The moved faces' corners leave u's list in one walk (unlinking each alone would walk
   // the list once per moved face), then join v's.
   if (moved_count > 0) {
@@ -182,6 +245,90 @@ void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const ui
   if (v >= first_corner_.size()) first_corner_.resize(std::size_t{v} + 1, kNone);
   if (vl != kNone) add_face(v, u, vl);
   if (vr != kNone) add_face(u, v, vr);
+}
+
+// The split of the arc of `count` faces from place `first` of u's fan (Hoppe 1996, §3:
+// vsplit(s, l, r)), with the corner lists of u, v, vl and vr left in fan order, as the
+// swing order around a vertex of a corner table (Rossignac 2001, "3D compression made
+// simple: Edgebreaker with ZipandWrap on a corner-table", §2). With r the ring, i = first
+// and j = i + count: u keeps the faces from j on (around a closed fan, back to i - 1), then
+// fl = (v, u, vl) and fr = (u, v, vr); v has the arc's faces i .. j-1, fr, then fl (fl
+// first when there is no fr: v's fan then starts at u); vl = r[i] has fl just after face
+// i; vr = r[j] has fr just after face j, or first when the arc ends an open fan. A list that
+// was not in fan order before is not after, and fan() searches it as it would have.
+void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const Fan& fan,
+                          std::size_t first, std::size_t count) {
+  const std::size_t n = fan.faces.size();
+  // Places run to first + n < 2n: one subtraction wraps them (a division per face costs more
+  // than the rest of the split).
+  const uint32_t* fan_faces = fan.faces.data();
+  const auto face_at = [&](std::size_t place) { return fan_faces[place < n ? place : place - n]; };
+  // Branch-free: which corner holds a vertex is as good as random. (3, a vertex twice, only
+  // in a damaged stream, which validate() refuses in the end: kept in the face.)
+  const auto slot = [&](uint32_t f, uint32_t vertex) {
+    const uint32_t* w = faces_[f].vertex;
+    const auto k = static_cast<uint32_t>((w[1] == vertex) + 2 * (w[2] == vertex));
+    return k > 2 ? 2u : k;
+  };
+  const std::size_t end = first + count;  // place j (modulo n around a closed fan)
+  if (v >= first_corner_.size()) first_corner_.resize(std::size_t{v} + 1, kNone);
+  for (std::size_t k = first; k < end; ++k) {
+    const uint32_t f = face_at(k);
+    faces_[f].vertex[slot(f, u)] = v;
+  }
+  const auto new_face = [&](uint32_t a, uint32_t b, uint32_t c) {
+    const auto f = static_cast<uint32_t>(faces_.size());
+    faces_.push_back({{a, b, c}, {kNone, kNone, kNone}});
+    return f;
+  };
+  const uint32_t fl = vl != kNone ? new_face(v, u, vl) : kNone;
+  const uint32_t fr = vr != kNone ? new_face(u, v, vr) : kNone;
+  const auto relink = [&](uint32_t vertex) {
+    first_corner_[vertex] = corners_[0];
+    for (std::size_t k = 0; k + 1 < corners_.size(); ++k) next_corner(corners_[k]) = corners_[k + 1];
+    next_corner(corners_.back()) = kNone;
+  };
+  const auto u_corner = [&](std::size_t place) {
+    const uint32_t f = face_at(place);
+    return 3 * f + slot(f, u);
+  };
+  corners_.clear();
+  if (fan.closed) {
+    for (std::size_t k = end; k < first + n; ++k) corners_.push_back(u_corner(k));
+  } else {
+    for (std::size_t k = 0; k < first; ++k) corners_.push_back(u_corner(k));
+  }
+  if (fl != kNone) corners_.push_back(3 * fl + 1);
+  if (fr != kNone) corners_.push_back(3 * fr);
+  if (!fan.closed) {
+    for (std::size_t k = end; k < n; ++k) corners_.push_back(u_corner(k));
+  }
+  if (corners_.empty()) {
+    first_corner_[u] = kNone;
+  } else {
+    relink(u);
+  }
+  corners_.clear();
+  if (fl != kNone && fr == kNone) corners_.push_back(3 * fl);
+  for (std::size_t k = first; k < end; ++k) {
+    const uint32_t f = face_at(k);
+    corners_.push_back(3 * f + slot(f, v));
+  }
+  if (fr != kNone) corners_.push_back(3 * fr + 1);
+  if (fl != kNone && fr != kNone) corners_.push_back(3 * fl);
+  relink(v);
+  if (fl != kNone) {
+    const uint32_t f = face_at(first);
+    insert_after(3 * f + slot(f, vl), 3 * fl + 2);
+  }
+  if (fr != kNone) {
+    if (fan.closed || end < n) {
+      const uint32_t f = face_at(end);
+      insert_after(3 * f + slot(f, vr), 3 * fr + 2);
+    } else {
+      link(3 * fr + 2, vr);
+    }
+  }
 }
 
 SplitFans::Prefetch::Prefetch(const SplitFans& fans, const std::vector<uint32_t>* values)
@@ -226,7 +373,8 @@ void SplitFans::Prefetch::step(uint32_t u_ahead) {
 }
 
 std::size_t SplitFans::memory_bytes() const {
-  return sizeof(Face) * faces_.capacity() + 4 * (first_corner_.capacity() + seconds_.capacity()) +
+  return sizeof(Face) * faces_.capacity() +
+         4 * (first_corner_.capacity() + seconds_.capacity() + corners_.capacity()) +
          sizeof(Wedge) * wedges_.capacity();
 }
 

@@ -13,6 +13,11 @@
 // boundary neighbours). A vertex whose faces are not one fan (pinched, or faces with
 // inconsistent orientation) has none: such splits are stored explicitly.
 //
+// Each vertex's corners are a linked list, kept in fan order (each face's next counter-
+// clockwise, the swing order of a corner table) by the splits that name their arc: fan() is
+// then a walk of the list. A list out of order (the base mesh's, or after an explicit split)
+// is searched once, and left in order.
+//
 // The split of the half-edge collapse v -> u moves the faces between vl and vr, counter-
 // clockwise around u: with i the place of vl in the ring (0 when vl is none: the open fan's
 // start) and j that of vr (n when vr is none), the faces k = i .. j-1 (modulo n when
@@ -51,8 +56,12 @@ class SplitFans {
   // Applies a split: creates vertex v (the next id), turns corner u of each moved face into
   // v, then appends fl = (v, u, vl) when vl exists and fr = (u, v, vr) when vr exists. The
   // caller has checked that each moved face holds u (holds_once).
+  //
+  // `fan`, when given, is u's fan as fan() returned it, and the moved faces are its arc from
+  // place `first` (arc()): the corner lists of u, v, vl and vr are then left in fan order
+  // (see fan()), so that the next fan() of each is a walk, not a search.
   void split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const uint32_t* moved,
-             std::size_t moved_count);
+             std::size_t moved_count, const Fan* fan = nullptr, std::size_t first = 0);
   // Whether face f exists and holds u exactly once.
   bool holds_once(uint32_t f, uint32_t u) const;
   // The corner (0, 1, 2) of face f that is u (u must be one of its vertices).
@@ -62,6 +71,9 @@ class SplitFans {
   }
 
   std::size_t memory_bytes() const;
+  // How many fan() calls found a vertex's corners out of fan order and searched them (the
+  // base mesh's, once each; after a split without `fan`): a measure of split()'s upkeep.
+  std::size_t searches() const { return searches_; }
 
   // Walks the fans of the vertices to be split next a step at a time, a few splits ahead,
   // fetching each face record (and the ring vertices' values, 3 per vertex in `values`,
@@ -72,7 +84,7 @@ class SplitFans {
   // fetched for nothing, and fan() is the same either way.
   class Prefetch {
    public:
-    static constexpr std::size_t kAhead = 16;
+    static constexpr std::size_t kAhead = 8;
     // `values`: 3 per vertex, as many as there are so far (null: none). Its storage must not
     // move while this lives (a reserved vector).
     Prefetch(const SplitFans& fans, const std::vector<uint32_t>* values);
@@ -92,7 +104,14 @@ class SplitFans {
 
  private:
   static constexpr std::size_t kSmallFan = 16;
-  bool small_fan(Fan& out);
+  bool chained_fan(Fan& out);
+  bool small_fan(uint32_t u, Fan& out);
+  void split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const Fan& fan,
+                 std::size_t first, std::size_t count);
+  void insert_after(uint32_t corner, uint32_t added) {
+    next_corner(added) = next_corner(corner);
+    next_corner(corner) = added;
+  }
   void link(uint32_t corner, uint32_t vertex);
   uint32_t& next_corner(uint32_t corner) { return faces_[corner / 3].next[corner % 3]; }
 
@@ -105,10 +124,12 @@ class SplitFans {
   std::vector<Face> faces_;
   std::vector<uint32_t> first_corner_;   // per vertex: its first corner, or kNone
   struct Wedge {                         // one face of a fan being assembled
-    uint32_t a, b, face;
+    uint32_t a, b, face, corner;
   };
   std::vector<Wedge> wedges_;            // scratch for fan()
   std::vector<uint32_t> seconds_;        // scratch for fan()
+  std::vector<uint32_t> corners_;        // scratch for split_arc()
+  std::size_t searches_ = 0;
 };
 
 }  // namespace pm::detail

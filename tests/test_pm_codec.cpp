@@ -15,6 +15,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -1775,4 +1776,98 @@ TEST(SplitFans, PrefetchLeavesTheFansAsTheyAre) {
   SplitFans::Fan fan;
   ASSERT_TRUE(fetched.fan(8, fan));
   EXPECT_EQ(fan.faces.size(), 4u);  // faces 0 and 1, and the new (8, 0, 1) and (0, 8, 3)
+}
+
+// A split that names u's fan and the arc's first place keeps the corner lists in fan order
+// (split_arc): every fan afterwards, of every vertex, is the one the plain split (the moved
+// faces alone, lists in any order) leaves, with the same faces, over a long run of random
+// splits of interior (closed) and boundary (open) fans, arcs of every length among them.
+TEST(SplitFans, ArcSplitsLeaveTheFansPlainSplitsLeave) {
+  using pm::detail::SplitFans;
+  constexpr uint32_t kSide = 9;  // (kSide + 1)^2 grid vertices, two triangles a square
+  const uint32_t grid_vertices = (kSide + 1) * (kSide + 1);
+  constexpr uint32_t kSplits = 3000;
+  SplitFans arc_split, plain;
+  for (SplitFans* fans : {&arc_split, &plain}) {
+    fans->reset(grid_vertices + kSplits, 2 * kSide * kSide + 2 * kSplits);
+    for (uint32_t y = 0; y < kSide; ++y) {
+      for (uint32_t x = 0; x < kSide; ++x) {
+        const uint32_t a = y * (kSide + 1) + x, b = a + 1, c = a + kSide + 1, d = c + 1;
+        fans->add_face(a, b, d);
+        fans->add_face(a, d, c);
+      }
+    }
+  }
+  // The base mesh's corners are searched once each, then kept in fan order.
+  for (uint32_t w = 0; w < grid_vertices; ++w) {
+    SplitFans::Fan fan;
+    ASSERT_TRUE(arc_split.fan(w, fan));
+  }
+  const std::size_t base_searches = arc_split.searches();
+  EXPECT_GT(base_searches, grid_vertices / 2);
+  std::mt19937 random(20261125);
+  uint32_t closed_splits = 0, open_splits = 0, whole_open_ends = 0;
+  for (uint32_t v = grid_vertices; v < grid_vertices + kSplits; ++v) {
+    SplitFans::Fan fan;
+    uint32_t u = 0;
+    do {
+      u = std::uniform_int_distribution<uint32_t>(0, v - 1)(random);
+    } while (!plain.fan(u, fan) || fan.faces.size() < 2);
+    const std::size_t n = fan.faces.size();
+    std::size_t first = 0, end = 0;
+    uint32_t vl = SplitFans::kNone, vr = SplitFans::kNone;
+    if (fan.closed) {
+      first = std::uniform_int_distribution<std::size_t>(0, n - 1)(random);
+      end = (first + std::uniform_int_distribution<std::size_t>(1, n - 1)(random)) % n;
+      vl = fan.ring[first];
+      vr = fan.ring[end];
+      ++closed_splits;
+    } else {
+      // Places 0 .. n; vl none is place 0 and vr none place n, not both.
+      do {
+        first = std::uniform_int_distribution<std::size_t>(0, n - 1)(random);
+        end = std::uniform_int_distribution<std::size_t>(first + 1, n)(random);
+      } while (first == 0 && end == n);
+      const bool vl_none = first == 0 && random() % 2 == 0;
+      const bool vr_none = !vl_none && end == n && random() % 2 == 0;
+      vl = vl_none ? SplitFans::kNone : fan.ring[first];
+      vr = vr_none ? SplitFans::kNone : fan.ring[end];
+      whole_open_ends += vl_none || vr_none;
+      ++open_splits;
+    }
+    std::vector<uint32_t> moved;
+    ASSERT_TRUE(SplitFans::arc(fan, first, end, moved));
+    SplitFans::Fan arc_fan;
+    ASSERT_TRUE(arc_split.fan(u, arc_fan));
+    ASSERT_EQ(arc_fan.ring, fan.ring);
+    ASSERT_EQ(arc_fan.faces, fan.faces);
+    arc_split.split(u, v, vl, vr, moved.data(), moved.size(), &arc_fan, first);
+    plain.split(u, v, vl, vr, moved.data(), moved.size());
+    // The fans around the split: u, v, the ring's vertices.
+    std::vector<uint32_t> touched = {u, v};
+    touched.insert(touched.end(), fan.ring.begin(), fan.ring.end());
+    for (const uint32_t w : touched) {
+      SplitFans::Fan a, b;
+      const bool has_a = arc_split.fan(w, a), has_b = plain.fan(w, b);
+      ASSERT_EQ(has_a, has_b) << "split " << v << ", vertex " << w;
+      ASSERT_EQ(a.ring, b.ring) << "split " << v << ", vertex " << w;
+      ASSERT_EQ(a.faces, b.faces) << "split " << v << ", vertex " << w;
+      ASSERT_EQ(a.closed, b.closed) << "split " << v << ", vertex " << w;
+    }
+  }
+  EXPECT_EQ(arc_split.searches(), base_searches);  // every fan since was a walk
+  EXPECT_GT(plain.searches(), std::size_t{kSplits});
+  ASSERT_EQ(arc_split.face_count(), plain.face_count());
+  for (uint32_t f = 0; f < plain.face_count(); ++f) {
+    ASSERT_TRUE(std::equal(plain.face(f), plain.face(f) + 3, arc_split.face(f))) << "face " << f;
+  }
+  for (uint32_t w = 0; w < grid_vertices + kSplits; ++w) {
+    SplitFans::Fan a, b;
+    ASSERT_EQ(arc_split.fan(w, a), plain.fan(w, b)) << "vertex " << w;
+    ASSERT_EQ(a.ring, b.ring) << "vertex " << w;
+    ASSERT_EQ(a.faces, b.faces) << "vertex " << w;
+  }
+  EXPECT_GT(closed_splits, 1000u);
+  EXPECT_GT(open_splits, 100u);
+  EXPECT_GT(whole_open_ends, 20u);
 }
