@@ -130,9 +130,12 @@ class LevelWalker {
   // and the carried faces after the others.
   Mesh mesh() const {
     const ProgressiveMesh& pm = pm_;
-    std::vector<uint32_t> faces = faces_, corner_uvs = corner_uvs_, corner_normals = corner_normals_;
-    std::vector<uint32_t> face_materials = face_materials_;
-    faces.insert(faces.end(), pm.carried_faces.begin(), pm.carried_faces.end());
+    // The walker's faces, then the carried ones, are read in place (not copied: at full
+    // detail of a big mesh a copy is tens of MB, each page written once more).
+    std::vector<uint32_t> corner_uvs, corner_normals, face_materials;
+    if (uvs_) corner_uvs = corner_uvs_;
+    if (normals_) corner_normals = corner_normals_;
+    if (materials_) face_materials = face_materials_;
     const std::size_t carried = pm.carried_faces.size() / 3;
     const std::size_t first_carried = pm.total_face_count() - carried;
     if (uvs_) append_created(corner_uvs, pm.face_uvs, 3, first_carried, carried);
@@ -162,9 +165,11 @@ class LevelWalker {
       mesh.colors.insert(mesh.colors.end(), pm.colors.begin() + cc * v,
                          pm.colors.begin() + cc * (v + 1));
     }
-    mesh.triangles.resize(faces.size());
-    for (std::size_t i = 0; i < faces.size(); ++i)
-      mesh.triangles[i] = output_id[canonical[faces[i]]];
+    mesh.triangles.resize(faces_.size() + pm.carried_faces.size());
+    for (std::size_t i = 0; i < faces_.size(); ++i)
+      mesh.triangles[i] = output_id[canonical[faces_[i]]];
+    for (std::size_t i = 0; i < pm.carried_faces.size(); ++i)
+      mesh.triangles[faces_.size() + i] = output_id[canonical[pm.carried_faces[i]]];
 
     if (uvs_) output_attribute(corner_uvs, pm.uvs, 2, full, mesh.uvs, mesh.uv_indices);
     if (normals_)
