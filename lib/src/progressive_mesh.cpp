@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "validate_decoded.h"
+
 namespace pm {
 namespace {
 
@@ -112,8 +114,9 @@ bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vert
 }
 
 // Replays the splits on a face array: each moved face must exist and hold u exactly once,
-// exactly as extract_level() will find it.
-bool check_splits(const ProgressiveMesh& pm, std::string* message) {
+// exactly as extract_level() will find it. Without `replay_faces`, only each split's own
+// fields and its moved range (see validate_decoded()).
+bool check_splits(const ProgressiveMesh& pm, std::string* message, bool replay_faces = true) {
   std::size_t total_new_faces = 0;
   for (const VertexSplit& split : pm.splits) total_new_faces += split.new_face_count();
   // Each face's corners and the last split that moved it (a duplicate check without
@@ -125,9 +128,9 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
     uint32_t last_mover;
   };
   std::vector<FaceRecord> faces;
-  faces.reserve(pm.base_face_count() + total_new_faces);
+  if (replay_faces) faces.reserve(pm.base_face_count() + total_new_faces);
   constexpr std::size_t kFetchAhead = 32;
-  for (std::size_t f = 0; f < pm.base_face_count(); ++f) {
+  for (std::size_t f = 0; replay_faces && f < pm.base_face_count(); ++f) {
     faces.push_back(FaceRecord{
         {pm.base_faces[3 * f], pm.base_faces[3 * f + 1], pm.base_faces[3 * f + 2]}, UINT32_MAX});
   }
@@ -154,6 +157,7 @@ bool check_splits(const ProgressiveMesh& pm, std::string* message) {
                                std::to_string(pm.moved_faces.size()));
     }
     next_moved = moved_end;
+    if (!replay_faces) continue;
 
     const std::size_t face_count = faces.size();
     for (uint64_t k = split.moved_begin; k < moved_end; ++k) {
@@ -329,5 +333,16 @@ bool validate(const ProgressiveMesh& pm, std::string* message) {
          check_welds(pm, message) && check_carried_faces(pm, message) &&
          check_attributes(pm, message) && check_order(pm, message);
 }
+
+namespace detail {
+
+bool validate_decoded(const ProgressiveMesh& pm, std::string* message) {
+  return check_counts(pm, message) && check_base_faces(pm, message) &&
+         check_splits(pm, message, false) && check_welds(pm, message) &&
+         check_carried_faces(pm, message) && check_attributes(pm, message) &&
+         check_order(pm, message);
+}
+
+}  // namespace detail
 
 }  // namespace pm

@@ -77,9 +77,8 @@ struct Decoder {
   std::size_t splits = 0;  // 0: a single-resolution decoder
   std::size_t faces = 0;   // at full detail, checked after every run
   std::vector<double> seconds;
-  // Ours only: the two calls apart, and pm::validate() of the decoded mesh timed alone
-  // afterwards (read_pm runs it last; it replays every split on a face array).
-  std::vector<double> read_seconds, extract_seconds, validate_seconds;
+  // Ours only: the two calls apart.
+  std::vector<double> read_seconds, extract_seconds;
   double time() const { return median(seconds); }
 };
 
@@ -166,9 +165,6 @@ MeshReport run_mesh(const MeshSpec& spec, const Settings& settings) {
     d.read_seconds.push_back(std::chrono::duration<double>(read - start).count());
     d.extract_seconds.push_back(std::chrono::duration<double>(end - read).count());
     d.faces = full.face_count();
-    const auto validate_start = Clock::now();
-    if (!pm::validate(pm, nullptr)) fail("read_pm gave a mesh validate() refuses");
-    d.validate_seconds.push_back(seconds_since(validate_start));
   };
   for (int r = 0; r < settings.runs; ++r) {
     std::fprintf(stderr, "[decode] %s: run %d of %d\n", name.c_str(), r + 1, settings.runs);
@@ -244,15 +240,13 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
     const double draco_ratio = draco.time() / q14.time();
     // Where our time goes, and what the goals leave: 20 times OpenMesh's rate is OpenMesh's
     // time / 20 for our splits; Draco's is its time.
-    md << "\nWhere our time goes (medians of the same runs; validate() timed alone after each "
-          "run, its share of read_pm):\n\n"
-       << "| stream | read_pm (ms) | of which validate() (ms) | extract_level (ms) | ns per split, all | "
+    md << "\nWhere our time goes (medians of the same runs):\n\n"
+       << "| stream | read_pm (ms) | extract_level (ms) | ns per split, all | "
           "20× OpenMesh leaves (ms) | Draco's time (ms) |\n"
-       << "|---|---:|---:|---:|---:|---:|---:|\n";
+       << "|---|---:|---:|---:|---:|---:|\n";
     const double openmesh_goal = om.time() / 20 * double(ours.splits) / double(om.splits);
     for (const Decoder* d : {&ours, &q14}) {
       md << "| " << d->stream << " | " << significant(1e3 * median(d->read_seconds)) << " | "
-         << significant(1e3 * median(d->validate_seconds)) << " | "
          << significant(1e3 * median(d->extract_seconds)) << " | "
          << significant(1e9 * d->time() / double(d->splits)) << " | "
          << significant(1e3 * openmesh_goal) << " | " << significant(1e3 * draco.time()) << " |\n";

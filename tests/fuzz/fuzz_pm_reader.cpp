@@ -228,6 +228,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   const ProgressiveMesh& pm = progressive;
+  // The reader runs validate() less its replay of the moved faces on a 2.x stream, having
+  // replayed them itself (validate_decoded.h): the whole of validate() must agree.
+  std::string problem;
+  if (!validate(pm, &problem)) fail("read_pm returned a mesh validate() refuses: " + problem);
   const std::size_t full = pm.split_count();
   check(info.base_vertex_count == pm.base_vertex_count && info.split_count == full &&
             info.base_face_count == pm.base_face_count() &&
