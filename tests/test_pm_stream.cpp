@@ -644,15 +644,21 @@ TEST(PmStream, Version22CodesAttributesInFirstUseOrderCompactly) {
   }
 }
 
+// A textured mesh's 2.2 stream in chunks of 64 splits: many prefixes, each with part of
+// the table entries.
+std::string seamed_grid_in_small_chunks() {
+  ProgressiveMesh pm;
+  EXPECT_TRUE(encode(test::seamed_grid(24), EncodeOptions{}, pm).is_ok());
+  WriteOptions options;
+  options.chunk_splits = 64;
+  return write(pm, options);
+}
+
 // 2.2 (§7): a prefix holds only the table entries its splits introduced (and those listed
 // up front), renumbered in order: its finest level has every corner's value, and no entry
 // whose value has not arrived.
 TEST(PmStream, APrefixOf22HasOnlyTheEntriesItsSplitsIntroduced) {
-  ProgressiveMesh pm;
-  ASSERT_TRUE(encode(test::seamed_grid(24), EncodeOptions{}, pm).is_ok());
-  WriteOptions options;
-  options.chunk_splits = 64;
-  const std::string bytes = write(pm, options);
+  const std::string bytes = seamed_grid_in_small_chunks();
   const ProgressiveMesh whole = read(bytes);
   for (const uint32_t splits : {1u, 200u}) {
     SCOPED_TRACE(std::to_string(splits) + " splits wanted");
@@ -681,11 +687,7 @@ TEST(PmStream, APrefixOf22HasOnlyTheEntriesItsSplitsIntroduced) {
 // is what finish() makes of that prefix, with no entry whose value has not arrived, and
 // decoding goes on to the whole stream afterwards.
 TEST(PmStream, AMeshInTheMiddleOfA22StreamHasOnlyTheEntriesThatArrived) {
-  ProgressiveMesh pm;
-  ASSERT_TRUE(encode(test::seamed_grid(24), EncodeOptions{}, pm).is_ok());
-  WriteOptions options;
-  options.chunk_splits = 64;
-  const std::string bytes = write(pm, options);
+  const std::string bytes = seamed_grid_in_small_chunks();
   const ProgressiveMesh whole = read(bytes);
   PmStreamReader reader;
   std::size_t checked = 0;
