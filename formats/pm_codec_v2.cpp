@@ -29,11 +29,13 @@
 //
 // The reader trusts nothing, as the 1.x reader: every count is capped, every section header
 // is checked before its payload is decompressed, the memory a decode needs is computed from
-// checked numbers before it is allocated, and the decoded mesh goes through validate().
+// checked numbers before it is allocated, and the decoded mesh goes through validate()
+// (less its replay of the moved faces, which decoding did: validate_decoded.h).
 #include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -1357,6 +1359,7 @@ struct PmStreamReader::State {
 
   ProgressiveMesh pm;
   ProgressiveMesh trimmed;  // mesh()'s copy of pm without unknown entries (2.2, mid-stream)
+  std::size_t trimmed_chunks = SIZE_MAX;  // the chunks decoded when `trimmed` was made
   // Carried faces' attribute ids: the mesh's per-face arrays hold them last (creation order),
   // after the faces of the splits decoded so far; they are attached when mesh() is read.
   std::vector<uint32_t> carried_uvs, carried_normals, carried_materials;
@@ -2024,9 +2027,11 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (!vr_in.read_varint(vr_code)) return failed(vr_in);
     }
     neighbours.assign(1, split.u);
-    bool ring_coded = false;  // the moved faces are the arc from place ring_first of `fan`
-    std::size_t ring_first = 0;
-    if (vl_code == 0 && vr_code == 0) {
+    // Both codes 0: an explicit split; otherwise the moved faces are the arc of `fan` from
+    // place arc_first.
+    const bool explicit_split = vl_code == 0 && vr_code == 0;
+    std::size_t arc_first = 0;
+    if (explicit_split) {
       // An explicit split: vl, vr and the moved faces as ids (§5.5).
       uint32_t codes[3];
       for (uint32_t& code : codes) {
@@ -2070,8 +2075,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         return bad(v, "has no vr on a closed fan");
       }
       if (!SplitFans::arc(fan, i, end, arc)) return bad(v, "names an impossible arc of u's fan");
-      ring_coded = true;
-      ring_first = i;
+      arc_first = i;
       split.vl = vl_code == 0 ? kNoVertex : fan.ring[i];
       split.vr = vr_code == 0 ? kNoVertex : fan.ring[end];
       for (std::size_t k = 0; k <= arc.size(); ++k) neighbours.push_back(fan.ring[fan.closed ? (i + k) % n : i + k]);
@@ -2187,8 +2191,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       ++new_faces;
     }
     if (new_faces > entry.new_faces) return bad(v, "adds more faces than the index says");
-    fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(), ring_coded ? &fan : nullptr,
-               ring_first);
+    fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(),
+               explicit_split ? nullptr : &fan, arc_first);
     pm.splits.push_back(split);
   }
   if (new_faces != entry.new_faces || moved_total != entry.moved_faces) {
@@ -2347,9 +2351,13 @@ const ProgressiveMesh& PmStreamReader::mesh() const {
   // 2.2 (§7): in the middle of a stream, entries that later splits introduce have no value
   // yet (0 in s.pm, which decoding goes on filling): the caller gets a copy without them,
   // as finish() leaves a prefix.
+  // Once per decoded chunk: mesh() is asked for several times for one level.
   if (s.has_unknown_entries()) {
-    s.trimmed = s.pm;
-    s.drop_unknown_entries(s.trimmed);
+    if (s.trimmed_chunks != s.chunks_decoded) {
+      s.trimmed = s.pm;
+      s.drop_unknown_entries(s.trimmed);
+      s.trimmed_chunks = s.chunks_decoded;
+    }
     return s.trimmed;
   }
   return s.pm;

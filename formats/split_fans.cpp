@@ -24,6 +24,12 @@ void SplitFans::link(uint32_t corner, uint32_t vertex) {
   first_corner_[vertex] = corner;
 }
 
+void SplitFans::relink(uint32_t vertex, const uint32_t* corners, std::size_t count) {
+  first_corner_[vertex] = corners[0];
+  for (std::size_t k = 0; k + 1 < count; ++k) next_corner(corners[k]) = corners[k + 1];
+  next_corner(corners[count - 1]) = kNone;
+}
+
 void SplitFans::add_face(uint32_t a, uint32_t b, uint32_t c) {
   const auto corner = static_cast<uint32_t>(3 * faces_.size());
   faces_.push_back({{a, b, c}, {kNone, kNone, kNone}});
@@ -93,9 +99,7 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
   }
   // All n wedges walked: a closed fan must come back to its start, an open one must not.
   if (out.closed != (out.ring.back() == out.ring.front())) return false;
-  first_corner_[u] = seconds_[0];
-  for (std::size_t k = 0; k + 1 < n; ++k) next_corner(seconds_[k]) = seconds_[k + 1];
-  next_corner(seconds_[n - 1]) = kNone;
+  relink(u, seconds_.data(), n);
   return true;
 }
 
@@ -186,10 +190,10 @@ bool SplitFans::small_fan(uint32_t u, Fan& out) {
   out.closed = start == n;
   if (out.closed) start = smallest;  // the smallest neighbour first
   std::size_t w = start;
-  uint8_t order[kSmallFan];
+  uint32_t corners[kSmallFan];  // u's corners in fan order
   out.ring.push_back(wedges_[w].a);
   for (std::size_t k = 0; k < n; ++k) {
-    order[k] = static_cast<uint8_t>(w);
+    corners[k] = wedges_[w].corner;
     out.faces.push_back(wedges_[w].face);
     out.ring.push_back(wedges_[w].b);
     if (k + 1 == n) break;
@@ -198,10 +202,7 @@ bool SplitFans::small_fan(uint32_t u, Fan& out) {
     w = following;
   }
   if (out.closed != (out.ring.back() == out.ring.front())) return false;
-  first_corner_[u] = wedges_[order[0]].corner;
-  for (std::size_t k = 0; k + 1 < n; ++k)
-    next_corner(wedges_[order[k]].corner) = wedges_[order[k + 1]].corner;
-  next_corner(wedges_[order[n - 1]].corner) = kNone;
+  relink(u, corners, n);
   return true;
 }
 
@@ -237,9 +238,8 @@ void SplitFans::split(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, const ui
   }
   for (std::size_t m = 0; m < moved_count; ++m) {
     const uint32_t f = moved[m];
-    uint32_t* corners = faces_[f].vertex;
-    const uint32_t k = corners[0] == u ? 0 : corners[1] == u ? 1 : 2;
-    corners[k] = v;
+    const auto k = static_cast<uint32_t>(slot_of(f, u));
+    faces_[f].vertex[k] = v;
     link(3 * f + k, v);
   }
   if (v >= first_corner_.size()) first_corner_.resize(std::size_t{v} + 1, kNone);
@@ -263,13 +263,7 @@ void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, cons
   // than the rest of the split).
   const uint32_t* fan_faces = fan.faces.data();
   const auto face_at = [&](std::size_t place) { return fan_faces[place < n ? place : place - n]; };
-  // Branch-free: which corner holds a vertex is as good as random. (3, a vertex twice, only
-  // in a damaged stream, which validate() refuses in the end: kept in the face.)
-  const auto slot = [&](uint32_t f, uint32_t vertex) {
-    const uint32_t* w = faces_[f].vertex;
-    const auto k = static_cast<uint32_t>((w[1] == vertex) + 2 * (w[2] == vertex));
-    return k > 2 ? 2u : k;
-  };
+  const auto slot = [&](uint32_t f, uint32_t vertex) { return static_cast<uint32_t>(slot_of(f, vertex)); };
   const std::size_t end = first + count;  // place j (modulo n around a closed fan)
   if (v >= first_corner_.size()) first_corner_.resize(std::size_t{v} + 1, kNone);
   for (std::size_t k = first; k < end; ++k) {
@@ -283,11 +277,6 @@ void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, cons
   };
   const uint32_t fl = vl != kNone ? new_face(v, u, vl) : kNone;
   const uint32_t fr = vr != kNone ? new_face(u, v, vr) : kNone;
-  const auto relink = [&](uint32_t vertex) {
-    first_corner_[vertex] = corners_[0];
-    for (std::size_t k = 0; k + 1 < corners_.size(); ++k) next_corner(corners_[k]) = corners_[k + 1];
-    next_corner(corners_.back()) = kNone;
-  };
   const auto u_corner = [&](std::size_t place) {
     const uint32_t f = face_at(place);
     return 3 * f + slot(f, u);
@@ -306,7 +295,7 @@ void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, cons
   if (corners_.empty()) {
     first_corner_[u] = kNone;
   } else {
-    relink(u);
+    relink(u, corners_.data(), corners_.size());
   }
   corners_.clear();
   if (fl != kNone && fr == kNone) corners_.push_back(3 * fl);
@@ -316,7 +305,7 @@ void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, cons
   }
   if (fr != kNone) corners_.push_back(3 * fr + 1);
   if (fl != kNone && fr != kNone) corners_.push_back(3 * fl);
-  relink(v);
+  relink(v, corners_.data(), corners_.size());
   if (fl != kNone) {
     const uint32_t f = face_at(first);
     insert_after(3 * f + slot(f, vl), 3 * fl + 2);
@@ -370,12 +359,6 @@ void SplitFans::Prefetch::step(uint32_t u_ahead) {
     if (u_ahead < value_count) __builtin_prefetch(values + 3 * std::size_t{u_ahead});
     corner_[s] = kFirst;
   }
-}
-
-std::size_t SplitFans::memory_bytes() const {
-  return sizeof(Face) * faces_.capacity() +
-         4 * (first_corner_.capacity() + seconds_.capacity() + corners_.capacity()) +
-         sizeof(Wedge) * wedges_.capacity();
 }
 
 }  // namespace pm::detail

@@ -64,13 +64,13 @@ class SplitFans {
              std::size_t moved_count, const Fan* fan = nullptr, std::size_t first = 0);
   // Whether face f exists and holds u exactly once.
   bool holds_once(uint32_t f, uint32_t u) const;
-  // The corner (0, 1, 2) of face f that is u (u must be one of its vertices).
+  // The corner (0, 1, 2) of face f that is u (u must be one of its vertices; 2 otherwise).
+  // Branch-free: which corner holds a vertex is as good as random.
   int slot_of(uint32_t f, uint32_t u) const {
     const uint32_t* v = face(f);
-    return v[0] == u ? 0 : v[1] == u ? 1 : 2;
+    return static_cast<int>(v[0] != u) * (2 - static_cast<int>(v[1] == u));
   }
 
-  std::size_t memory_bytes() const;
   // How many fan() calls found a vertex's corners out of fan order and searched them (the
   // base mesh's, once each; after a split without `fan`): a measure of split()'s upkeep.
   std::size_t searches() const { return searches_; }
@@ -113,6 +113,8 @@ class SplitFans {
     next_corner(corner) = added;
   }
   void link(uint32_t corner, uint32_t vertex);
+  // Makes `corners` (count > 0), in this order, the whole list of `vertex`.
+  void relink(uint32_t vertex, const uint32_t* corners, std::size_t count);
   uint32_t& next_corner(uint32_t corner) { return faces_[corner / 3].next[corner % 3]; }
 
   // A face's corners: the current vertex of each, and the next corner (3f + k) of the same

@@ -118,7 +118,8 @@ bool check_split_vertices(const VertexSplit& split, std::size_t i, uint32_t vert
 // fields and its moved range (see validate_decoded()).
 bool check_splits(const ProgressiveMesh& pm, std::string* message, bool replay_faces = true) {
   std::size_t total_new_faces = 0;
-  for (const VertexSplit& split : pm.splits) total_new_faces += split.new_face_count();
+  for (std::size_t i = 0; replay_faces && i < pm.splits.size(); ++i)
+    total_new_faces += pm.splits[i].new_face_count();
   // Each face's corners and the last split that moved it (a duplicate check without
   // clearing a set per split), side by side: the moved faces are scattered over the mesh,
   // and one 16-byte record is one cache miss where two arrays were two (this runs on every
