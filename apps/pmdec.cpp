@@ -312,8 +312,12 @@ int print_info(const std::string& input, const pm::ReadOptions& read_options, bo
               info.max_error);
   if (info.major >= 2) {
     const auto bits = [](uint32_t b) { return b == 0 ? std::string("lossless") : std::to_string(b) + " bits"; };
+    // 2.3: lossless positions on the grid of their decimals.
+    const std::string positions = info.positions_decimal
+                                      ? "lossless (decimals, a " + std::to_string(info.position_bits) + "-bit grid)"
+                                      : bits(info.position_bits);
     std::printf("quantization:     positions %s, texture coordinates %s, normals %s\n",
-                bits(info.position_bits).c_str(), bits(info.uv_bits).c_str(),
+                positions.c_str(), bits(info.uv_bits).c_str(),
                 bits(info.normal_bits).c_str());
     // The index: what a reader decompresses for a level (pm-format.md §5.6).
     std::printf("chunks:           %zu", info.chunks.size());

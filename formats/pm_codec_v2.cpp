@@ -64,9 +64,14 @@ namespace detail {
 namespace {
 
 constexpr uint16_t kMajor2 = 2;
-constexpr uint16_t kMinor2 = 2;             // the newest minor this reader knows (2.2)
+constexpr uint16_t kNewestMinor = 3;        // the newest minor this reader knows (2.3)
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
+// Header `options` bit 1 (2.3): the positions are on a decimal grid (§5.3), lossless.
+constexpr uint32_t kOptionDecimalPositions = 2u;
+constexpr uint32_t kKnownOptions = kOptionKeepsOrder | kOptionDecimalPositions;
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
+// A decimal grid (2.3, §5.3): at most this many bits, and places after the point.
+constexpr int kMaxDecimalBits = 30, kMaxDecimals = 15;
 
 constexpr uint32_t kTagTables = make_tag("TABL");
 constexpr uint32_t kTagIndex = make_tag("INDX");
@@ -74,7 +79,7 @@ constexpr uint32_t kTagChunk = make_tag("CHNK");
 constexpr uint32_t kTagOrder = make_tag("ORDR");
 
 struct Header2 {
-  uint16_t major = kMajor2, minor = kMinor2;
+  uint16_t major = kMajor2, minor = kNewestMinor;
   uint32_t flags = 0;
   uint32_t base_vertex_count = 0, base_face_count = 0, split_count = 0;
   uint32_t loose_vertex_count = 0, weld_count = 0, carried_face_count = 0;
@@ -160,8 +165,9 @@ Status parse_header2(std::string_view bytes, Header2& h) {
   const std::string version = std::to_string(r.major) + "." + std::to_string(r.minor);
   // §3.2: flags and unknown option bits are must-understand; the reserved byte may be used
   // by a later minor. In a version this reader knows, all of them are damage.
-  const bool later = r.minor > kMinor2;
-  if (r.flags != 0 || (r.options & ~kOptionKeepsOrder) != 0) {
+  const bool later = r.minor > kNewestMinor;
+  const uint32_t known_options = r.minor >= 3 ? kKnownOptions : kOptionKeepsOrder;
+  if (r.flags != 0 || (r.options & ~known_options) != 0) {
     return Status(later ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream,
                   "header: flag or option bits this reader does not know (version " + version + ")");
   }
@@ -210,7 +216,15 @@ Status parse_header2(std::string_view bytes, Header2& h) {
     return corrupt("header: material strings longer than the names allow");
   }
   if (!valid_bits(r.position_bits) || !valid_bits(r.uv_bits) || !valid_bits(r.normal_bits)) {
-    return corrupt("header: quantization bits must be 0 or 4 to 24");
+    // 2.3: a decimal grid of positions may have up to 30 bits (§5.3).
+    const bool decimal = (r.options & kOptionDecimalPositions) != 0;
+    if (!decimal || r.position_bits > kMaxDecimalBits || !valid_bits(r.uv_bits) ||
+        !valid_bits(r.normal_bits)) {
+      return corrupt("header: quantization bits must be 0 or 4 to 24 (positions on a decimal grid: 4 to 30)");
+    }
+  }
+  if ((r.options & kOptionDecimalPositions) != 0 && r.position_bits == 0) {
+    return corrupt("header: positions on a decimal grid without grid bits");
   }
   if (uint64_t{r.base_vertex_count} + r.split_count + r.loose_vertex_count >= 0xFFFFFFFFull) {
     return corrupt("header: too many vertices for 32-bit ids");
@@ -311,17 +325,84 @@ bool residual_of(uint64_t code, int64_t& difference) {
 }
 
 // ---------------------------------------------------------------------------------------
-// Quantization grids (§5.3): origin + q * step, q in [0, 2^bits).
+// Quantization grids (§5.3): origin + q * step, q in [0, 2^bits); or, lossless (2.3), the
+// decimals with `decimals` places after the point from first / 10^decimals on.
+
+constexpr double kPowersOf10[kMaxDecimals + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                                  1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+constexpr int64_t kMaxDecimalFirst = int64_t{1} << 52;  // |first|: first + q exact in a double
 
 struct Grid {
   int bits = 0;                 // 0: no quantization
   std::vector<float> origin;    // per component
   float step = 1.0f;
+  int decimals = -1;            // a decimal grid when >= 0 (2.3)
+  std::vector<int64_t> first;   // per component, of a decimal grid
 
+  // The value of index q: as a float, (float)value(q, c) (§5.3). A decimal's division by an
+  // exact power of 10 is correctly rounded, so every reader gets the same float.
   double value(uint32_t q, std::size_t component) const {
+    if (decimals >= 0) return static_cast<double>(first[component] + q) / kPowersOf10[decimals];
     return double{origin[component]} + static_cast<double>(q) * double{step};
   }
 };
+
+// 2.3, lossless (§5.3): a decimal grid for the `components`-vectors `values`, when each is
+// exactly the float of a decimal with a few places after the point (as text formats write
+// them: "0.037830"), within kMaxDecimalBits of range, and coarser than the floats' own steps
+// where most values lie (then the grid's residuals are smaller than those of the float bits;
+// on the bunny, 6 places and 18 bits, about a third of the stream). False otherwise.
+bool make_decimal_grid(const float* values, std::size_t count, std::size_t components, Grid& grid) {
+  if (count == 0) return false;
+  int decimals = 0;
+  for (;; ++decimals) {
+    if (decimals > kMaxDecimals) return false;
+    const double scale = kPowersOf10[decimals];
+    bool exact = true;
+    for (std::size_t i = 0; i < count * components && exact; ++i) {
+      const float x = values[i];
+      const double k = std::nearbyint(double{x} * scale);
+      exact = std::isfinite(x) && std::fabs(k) < double(kMaxDecimalFirst);
+      if (exact) {
+        const auto back = static_cast<float>(static_cast<double>(static_cast<int64_t>(k)) / scale);
+        exact = std::memcmp(&back, &x, sizeof x) == 0;  // -0 is not a decimal's float
+      }
+    }
+    if (exact) break;
+  }
+  const double scale = kPowersOf10[decimals];
+  std::vector<int64_t> low(components), high(components);
+  for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t c = 0; c < components; ++c) {
+      const auto k = static_cast<int64_t>(std::nearbyint(double{values[components * i + c]} * scale));
+      if (i == 0 || k < low[c]) low[c] = k;
+      if (i == 0 || k > high[c]) high[c] = k;
+    }
+  }
+  uint64_t extent = 0;
+  for (std::size_t c = 0; c < components; ++c) {
+    extent = std::max(extent, static_cast<uint64_t>(high[c] - low[c]));
+  }
+  int bits = kMinBits;
+  while (bits <= kMaxDecimalBits && (extent >> bits) != 0) ++bits;
+  if (bits > kMaxDecimalBits) return false;
+  // Worth it where the grid's step is coarser than the floats' (log2 of the ratio, each value
+  // counted within +-16).
+  const double log_step = -std::log2(scale);
+  double gain = 0;
+  for (std::size_t i = 0; i < count * components; ++i) {
+    const float x = std::fabs(values[i]);
+    const float ulp = std::nextafter(x, std::numeric_limits<float>::infinity()) - x;  // a power of 2
+    gain += std::clamp(log_step - std::ilogb(ulp), -16.0, 16.0);
+  }
+  if (!(gain > 0)) return false;
+  grid.bits = bits;
+  grid.decimals = decimals;
+  grid.first = low;
+  grid.origin.assign(components, 0.0f);
+  grid.step = 1.0f;
+  return true;
+}
 
 // The grid of `components`-vectors `values` (count of them), over their bounding box's
 // longest side. False when a value is not finite.
@@ -350,16 +431,45 @@ bool make_grid(const float* values, std::size_t count, std::size_t components, i
 
 uint32_t quantize(const Grid& grid, float x, std::size_t component) {
   const double top = double((uint32_t{1} << grid.bits) - 1);
+  if (grid.decimals >= 0) {  // exact: make_decimal_grid checked every value
+    const double k = std::nearbyint(double{x} * kPowersOf10[grid.decimals]);
+    return static_cast<uint32_t>(std::clamp(k - double(grid.first[component]), 0.0, top));
+  }
   const double q = std::nearbyint((double{x} - double{grid.origin[component]}) / double{grid.step});
   return static_cast<uint32_t>(std::clamp(q, 0.0, top));
 }
 
 void put_grid(ByteWriter& out, const Grid& grid) {
+  if (grid.decimals >= 0) {  // 2.3 (§5.3)
+    out.put_u8(static_cast<uint8_t>(grid.decimals));
+    for (int64_t k : grid.first) out.put_u64(static_cast<uint64_t>(k));
+    return;
+  }
   for (float x : grid.origin) out.put_f32(x);
   out.put_f32(grid.step);
 }
-bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid) {
+bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid, bool decimal = false) {
   grid.bits = bits;
+  if (decimal) {  // 2.3 (§5.3)
+    uint8_t decimals = 0;
+    if (!in.read_u8(decimals)) return false;
+    if (decimals > kMaxDecimals) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": a decimal grid of " +
+                                                    std::to_string(decimals) + " places (at most 15)");
+    }
+    grid.decimals = decimals;
+    grid.first.assign(components, 0);
+    grid.origin.assign(components, 0.0f);
+    for (int64_t& k : grid.first) {
+      uint64_t bits64 = 0;
+      if (!in.read_u64(bits64)) return false;
+      k = static_cast<int64_t>(bits64);
+      if (k <= -kMaxDecimalFirst || k >= kMaxDecimalFirst) {
+        return in.fail(ErrorCode::kCorruptStream, in.where() + ": a decimal grid's first value is beyond 2^52");
+      }
+    }
+    return true;
+  }
   grid.origin.assign(components, 0.0f);
   for (float& x : grid.origin) {
     if (!in.read_f32(x)) return false;
@@ -494,12 +604,16 @@ bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fa
   const auto at = [&](uint32_t w, int c) {
     return int64_t{positions.units[3 * std::size_t{w} + c]};
   };
+  // 2.3's decimal grids of more than 24 bits: the differences divided by 2^(bits - 24),
+  // truncating towards zero, so that the products below stay as small as on 24-bit grids.
+  const int64_t divisor = int64_t{1} << std::max(0, positions.grid->bits - kMaxBits);
   int64_t n[3] = {0, 0, 0};
   for (std::size_t k = 0; k < fan.faces.size(); ++k) {
     int64_t e1[3], e2[3];
     for (int c = 0; c < 3; ++c) {
       e1[c] = at(fan.ring[k], c) - at(u, c);
       e2[c] = at(fan.ring[k + 1], c) - at(u, c);
+      if (divisor != 1) e1[c] /= divisor, e2[c] /= divisor;
     }
     // Each product is below 2^48 (24-bit grids), each sum of 1024 below 2^60.
     n[0] += e1[1] * e2[2] - e1[2] * e2[1];
@@ -528,17 +642,17 @@ bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fa
 // The normal coordinate's prediction offset, from the tangential residuals r[order[0]],
 // r[order[1]] and d = prediction - u: the nearest integer to
 // -(3 (d . n) + 4 (n_a r_a + n_b r_b)) / (4 n_c), halves away from minus infinity.
-int64_t normal_offset(const NormalFrame& f, const int64_t* d, const int64_t* r) {
+int64_t normal_offset(const NormalFrame& f, const int64_t* d, const int64_t* r, int bits) {
   const int a = f.order[0], b = f.order[1], c = f.order[2];
-  // |d|, |r| < 2^24 and |n| < 2^15: every term below 2^43.
+  // |d|, |r| < 2^30 (2^24 but on 2.3's decimal grids) and |n| < 2^15: every term below 2^49.
   int64_t num =
       -(3 * (d[0] * f.n[0] + d[1] * f.n[1] + d[2] * f.n[2]) + 4 * (f.n[a] * r[a] + f.n[b] * r[b]));
   int64_t den = 4 * f.n[c];
   if (den < 0) num = -num, den = -den;
   const int64_t twice = 2 * num + den, q = twice / (2 * den);
   const int64_t offset = (twice % (2 * den) != 0 && twice < 0) ? q - 1 : q;  // floor
-  constexpr int64_t kLimit = int64_t{1} << kMaxBits;  // beyond any grid: clamped
-  return std::clamp(offset, -kLimit, kLimit);
+  const int64_t limit = int64_t{1} << std::max(bits, kMaxBits);  // beyond any grid: clamped
+  return std::clamp(offset, -limit, limit);
 }
 
 // 2.1 (§5.10): where a closed fan's places start. A collapse v -> u hands v's faces to u, so
@@ -553,9 +667,12 @@ std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const Spli
   // The divisor a constant in each branch: a division by a variable is a slow instruction,
   // by 256 a shift.
   const bool on_grid = positions.grid != nullptr;
+  // 2.3's decimal grids of more than 24 bits: divided by 2^(bits - 24), as in normal_frame.
+  const int64_t wide = on_grid ? int64_t{1} << std::max(0, positions.grid->bits - kMaxBits) : 1;
   const auto diff = [&](uint32_t w, int c) {
     const int64_t d = int64_t{positions.units[3 * std::size_t{w} + c]} -
                       int64_t{positions.units[3 * std::size_t{u} + c]};
+    if (wide != 1) return d / wide;
     return on_grid ? d : d / 256;
   };
   int64_t direction[3] = {0, 0, 0};  // below 2^34
@@ -630,7 +747,8 @@ bool is_v2_tag(uint32_t tag) {
 uint64_t raw_bound(const Header2& h, uint32_t tag) {
   const uint64_t B = h.base_vertex_count, F = h.base_face_count, C = h.carried_face_count;
   const uint64_t Q = h.color_components, strings = uint64_t{h.material_count} + h.material_library_count;
-  if (tag == kTagBase) return 16 + (12 + 4 * Q) * B + 15 * F + 5 * F + 30 * F;
+  // Grid indices up to 30 bits (2.3) are varints of up to 5 bytes; a decimal grid is 25.
+  if (tag == kTagBase) return 25 + (15 + 4 * Q) * B + 15 * F + 5 * F + 30 * F;
   if (tag == kTagWelds) return 10 * uint64_t{h.weld_count};
   if (tag == kTagCarried) return 15 * C + 5 * C + 30 * C;
   if (tag == kTagTables) {
@@ -640,7 +758,7 @@ uint64_t raw_bound(const Header2& h, uint32_t tag) {
            h.material_string_bytes + 3 * strings;
   }
   if (tag == kTagIndex) return 19 * uint64_t{h.chunk_count};
-  if (tag == kTagLoose) return (12 + 4 * Q) * uint64_t{h.loose_vertex_count};
+  if (tag == kTagLoose) return (15 + 4 * Q) * uint64_t{h.loose_vertex_count};
   if (tag == kTagOrder) return 5 * (h.vertices() + h.faces());  // varints of ids below 3 * 2^30
   return kMaxZstdRatio * std::numeric_limits<uint32_t>::max();  // chunks: see chunk_raw_bound
 }
@@ -1066,7 +1184,7 @@ struct Writer {
         for (int k = 0; k < 3; ++k) {
           const int c = frame.order[k];
           const bool along_normal = framed && k == 2;
-          const int64_t residual = r[c] - (along_normal ? normal_offset(frame, d, r) : 0);
+          const int64_t residual = r[c] - (along_normal ? normal_offset(frame, d, r, position_grid.bits) : 0);
           if (ranged) {
             // |residual| and its sign, with the models of its neighbours' spread (§5.10).
             const uint32_t context =
@@ -1184,9 +1302,9 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
                                                      " bits (0 for none, or 4 to 24)");
     }
   }
-  if (options.minor_version > kMinor2) {
+  if (options.minor_version > kNewestMinor) {
     return Status(ErrorCode::kInvalidArgument, "format 2." + std::to_string(options.minor_version) +
-                                                   " (this writer writes 2.0, 2.1 and 2.2)");
+                                                   " (this writer writes 2.0 to 2.3)");
   }
   if (options.chunk_splits < 1 || options.chunk_splits > (1u << 20)) {
     return Status(ErrorCode::kInvalidArgument, "chunks of " + std::to_string(options.chunk_splits) +
@@ -1240,12 +1358,18 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   if (Status s = grid_of(pm.uvs, 2, options.uv_bits, w.uv_grid, "texture coordinates"); !s) return s;
   if (Status s = grid_of(pm.normals, 3, options.normal_bits, w.normal_grid, "normals"); !s) return s;
   h.position_bits = static_cast<uint8_t>(options.position_bits);
+  // 2.3, lossless: the positions on their decimal grid when they have one (§5.3).
+  if (options.position_bits == 0 && h.minor >= 3 &&
+      make_decimal_grid(pm.positions.data(), pm.positions.size() / 3, 3, w.position_grid)) {
+    h.position_bits = static_cast<uint8_t>(w.position_grid.bits);
+    h.options |= kOptionDecimalPositions;
+  }
   h.uv_bits = static_cast<uint8_t>(pm.uvs.empty() ? 0 : options.uv_bits);
   h.normal_bits = static_cast<uint8_t>(pm.normals.empty() ? 0 : options.normal_bits);
   if (pm.uvs.empty()) w.uv_grid.bits = 0;
   if (pm.normals.empty()) w.normal_grid.bits = 0;
   w.positions.components = 3;
-  w.positions.grid = options.position_bits != 0 ? &w.position_grid : nullptr;
+  w.positions.grid = h.position_bits != 0 ? &w.position_grid : nullptr;
   w.positions.units.resize(pm.positions.size());
   for (std::size_t i = 0; i < pm.positions.size(); ++i) {
     w.positions.units[i] = w.positions.from_float(pm.positions[i], i % 3);
@@ -1476,7 +1600,7 @@ Status PmStreamReader::State::check_section(uint32_t tag, uint32_t flags, uint64
                                             uint64_t raw_size) const {
   const std::string where = section_name(tag, chunks_decoded);
   if ((flags & ~kSectionRequired) != 0 || (flags & kSectionRequired) == 0) {
-    return Status(h.minor > kMinor2 && (flags & ~kSectionRequired) != 0 ? ErrorCode::kUnsupportedVersion
+    return Status(h.minor > kNewestMinor && (flags & ~kSectionRequired) != 0 ? ErrorCode::kUnsupportedVersion
                                                                          : ErrorCode::kCorruptStream,
                   where + ": flags " + std::to_string(flags) + " (a known section has exactly bit 0)");
   }
@@ -1542,7 +1666,7 @@ Status PmStreamReader::State::process(std::string_view bytes, std::size_t& used)
     if (!is_valid_tag(tag)) return corrupt("section header: bad tag " + tag_name(tag));
     if (!is_v2_tag(tag)) {
       if ((flags & kSectionRequired) != 0) {
-        return Status(h.minor > kMinor2 ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream,
+        return Status(h.minor > kNewestMinor ? ErrorCode::kUnsupportedVersion : ErrorCode::kCorruptStream,
                       "section " + tag_name(tag) + ": required, and unknown to this reader");
       }
       if (rest.size() - kSectionHeaderSize < stored) return Status::ok();  // wait, then skip
@@ -1633,7 +1757,10 @@ bool PmStreamReader::State::read_corner(ByteReader& in, int kind, uint32_t verte
 }
 
 bool PmStreamReader::State::decode_base(ByteReader& in) {
-  if (h.position_bits != 0 && !read_grid(in, h.position_bits, 3, position_grid)) return false;
+  if (h.position_bits != 0 &&
+      !read_grid(in, h.position_bits, 3, position_grid, (h.options & kOptionDecimalPositions) != 0)) {
+    return false;
+  }
   if (!read_vertex_values(in, h.base_vertex_count)) return false;
   for (uint32_t f = 0; f < h.base_face_count; ++f) {
     uint32_t v[3];
@@ -2109,7 +2236,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context][side]) != 0)
           residual = -residual;
         if (!position_rc->ok()) return range_failed("positions");
-        if (along_normal) residual += normal_offset(frame, d, r);  // r of the other two: checked
+        if (along_normal) residual += normal_offset(frame, d, r, position_grid.bits);  // r of the other two: checked
       } else if (!residual_of(position_codes[next_position++], residual)) {
         return bad(v, "has a position beyond the grid");
       }
@@ -2470,6 +2597,7 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
   r.uv_bits = h.uv_bits;
   r.normal_bits = h.normal_bits;
   r.keeps_order = (h.options & kOptionKeepsOrder) != 0;
+  r.positions_decimal = (h.options & kOptionDecimalPositions) != 0;
   // The chunk index: skip the sections before it, decompress it, and walk the chunks'
   // section headers for their ends.
   if (h.chunk_count > 0) {

@@ -401,7 +401,7 @@ TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
   };
   EXPECT_EQ(with_header_byte(12, 1), ErrorCode::kCorruptStream);  // flags
   EXPECT_EQ(with_header_byte(87, 1), ErrorCode::kCorruptStream);  // reserved byte
-  EXPECT_EQ(with_header_byte(88, 2), ErrorCode::kCorruptStream);  // an unknown option
+  EXPECT_EQ(with_header_byte(88, 4), ErrorCode::kCorruptStream);  // an unknown option
   EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
   EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kOk);  // minor 2.2: may-ignore fields only
   EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
@@ -605,6 +605,7 @@ TEST(PmStream, Version22CodesAttributesInFirstUseOrderCompactly) {
       options.position_bits = 14;
       options.uv_bits = uv_bits;
       options.normal_bits = uv_bits == 0 ? 0 : 8;
+      options.minor_version = 2;
       const std::string v22 = write(pm, options);
       EXPECT_EQ(static_cast<uint8_t>(v22[10]), 2);  // minor 2
       options.minor_version = 1;
@@ -756,6 +757,153 @@ TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
   EXPECT_TRUE(read_pm(bytes, pm, options).is_ok());
 }
 
+// A surface whose positions are decimals with `places` places (the floats a text file's
+// "0.013" and the like parse to: (float)(k / 10^places), k an integer), on an n x n grid of
+// spacing `spacing` / 10^places; `far`, when not 0, moves the last vertex that far along x.
+Mesh decimal_surface(int n, int places, int spacing, double far = 0) {
+  Mesh m;
+  const double scale = std::pow(10.0, places);
+  const auto decimal = [&](int64_t k) { return static_cast<float>(static_cast<double>(k) / scale); };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const auto wave = static_cast<int64_t>(std::lround(3 * spacing * std::sin(0.7 * i) * std::cos(0.4 * j)));
+      m.positions.insert(m.positions.end(), {decimal(int64_t{spacing} * i), decimal(int64_t{spacing} * j + i % 3),
+                                             decimal(wave)});
+    }
+  if (far != 0) m.positions[m.positions.size() - 3] = decimal(std::llround(far * scale));
+  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
+std::vector<uint32_t> float_bits(const std::vector<float>& values) {
+  std::vector<uint32_t> out(values.size());
+  std::memcpy(out.data(), values.data(), values.size() * sizeof(float));
+  return out;
+}
+
+// 2.3 (pm-format.md §5.3): lossless positions that are decimals go on the grid of their
+// decimals, bit for bit, in fewer bytes than their float bits; positions that are not (one
+// float off a decimal, a negative zero, floats coarser than the decimals) keep their bits.
+TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
+  struct Case {
+    const char* name;
+    Mesh mesh;
+    bool decimal;
+    uint32_t bits;  // the grid's, when decimal
+  };
+  std::vector<Case> cases;
+  cases.push_back({"3 places", decimal_surface(30, 3, 13), true, 9});  // x up to 0.390: 390 < 2^9
+  cases.push_back({"6 places, 25 bits", decimal_surface(30, 6, 1300, 30.0), true, 25});
+  Mesh off_by_an_ulp = decimal_surface(30, 3, 13);
+  off_by_an_ulp.positions[40] = std::nextafter(off_by_an_ulp.positions[40], 1.0f);
+  cases.push_back({"one float off", off_by_an_ulp, false, 0});
+  Mesh negative_zero = decimal_surface(30, 3, 13);
+  negative_zero.positions[2] = -0.0f;
+  cases.push_back({"a negative zero", negative_zero, false, 0});
+  Mesh far_away = decimal_surface(30, 6, 13);  // 3000.000013: a float's step there is 2.4e-4
+  for (float& x : far_away.positions) x += 3000.0f;
+  cases.push_back({"floats coarser than the decimals", far_away, false, 0});
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    ProgressiveMesh pm;
+    ASSERT_TRUE(encode(c.mesh, EncodeOptions{}, pm).is_ok());
+    const std::string v23 = write(pm);
+    EXPECT_EQ(static_cast<uint8_t>(v23[10]), 3);  // minor 3
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(v23, info).is_ok());
+    EXPECT_EQ(info.positions_decimal, c.decimal);
+    EXPECT_EQ(info.position_bits, c.bits);
+    const ProgressiveMesh decoded = read(v23);
+    EXPECT_EQ(float_bits(decoded.positions), float_bits(pm.positions));
+    EXPECT_EQ(float_bits(extract_level(decoded, decoded.splits.size()).positions),
+              float_bits(extract_level(pm, pm.splits.size()).positions));
+    // Every level as 2.2 gives it, and a smaller stream where the grid is used.
+    WriteOptions v22_options;
+    v22_options.minor_version = 2;
+    const std::string v22 = write(pm, v22_options);
+    expect_identical(with_sorted_moves(decoded), with_sorted_moves(read(v22)));
+    if (c.decimal) {
+      EXPECT_LT(double(v23.size()), 0.8 * double(v22.size())) << v23.size() << " against " << v22.size();
+    } else {
+      EXPECT_EQ(v23.size(), v22.size());
+    }
+    std::printf("%s: 2.3 %zu bytes, 2.2 %zu\n", c.name, v23.size(), v22.size());
+  }
+  if (!test::shared_meshes_available()) return test::warn_no_shared_meshes();
+  // The bunny's "-0.037830": 6 places, an 18-bit grid; measured 0.61 of 2.2's bytes.
+  Mesh bunny;
+  ASSERT_TRUE(read_mesh(test::shared_mesh_path("stanford-bunny.obj"), bunny).is_ok());
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(bunny, EncodeOptions{}, pm).is_ok());
+  WriteOptions v22_options;
+  v22_options.minor_version = 2;
+  const std::string v23 = write(pm), v22 = write(pm, v22_options);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(v23, info).is_ok());
+  EXPECT_TRUE(info.positions_decimal);
+  EXPECT_EQ(info.position_bits, 18u);
+  EXPECT_LT(double(v23.size()), 0.7 * double(v22.size())) << v23.size() << " against " << v22.size();
+  const ProgressiveMesh decoded = read(v23);
+  EXPECT_EQ(float_bits(extract_level(decoded, decoded.splits.size()).positions),
+            float_bits(extract_level(pm, pm.splits.size()).positions));
+}
+
+// The stream with its BASE section's payload changed by `change` (and compressed again).
+template <typename Change>
+std::string with_base_payload(const std::string& bytes, Change change) {
+  const std::size_t offset = 96;
+  EXPECT_EQ(bytes.compare(offset, 4, "BASE"), 0);
+  uint64_t stored = 0, raw_size = 0;
+  for (int b = 0; b < 8; ++b) stored |= uint64_t{static_cast<uint8_t>(bytes[offset + 8 + b])} << (8 * b);
+  for (int b = 0; b < 8; ++b) raw_size |= uint64_t{static_cast<uint8_t>(bytes[offset + 16 + b])} << (8 * b);
+  std::string raw(raw_size, '\0');
+  EXPECT_EQ(ZSTD_decompress(raw.data(), raw.size(), bytes.data() + offset + 24, stored), raw_size);
+  change(raw);
+  std::string section;
+  EXPECT_TRUE(detail::append_section(detail::make_tag("BASE"), 1, raw, raw.size(), 3, section).is_ok());
+  return bytes.substr(0, offset) + section + bytes.substr(offset + 24 + stored);
+}
+
+// Hostile decimal grids: the option in a 2.2 stream or without grid bits, more than 24 bits
+// without it, more than 30 with it, too many places, a first value beyond 2^52: each a clean
+// kCorruptStream.
+TEST(PmStream, HostileDecimalGridsAreRefused) {
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(decimal_surface(8, 3, 13), EncodeOptions{}, pm).is_ok());
+  const std::string bytes = write(pm);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+  ASSERT_TRUE(info.positions_decimal);
+  const auto with_header = [](std::string damaged, std::initializer_list<std::pair<std::size_t, uint8_t>> changes) {
+    for (const auto& [offset, value] : changes) damaged[offset] = static_cast<char>(value);
+    const uint32_t crc = detail::crc32(std::string_view(damaged).substr(0, 92));
+    for (int k = 0; k < 4; ++k) damaged[92 + k] = static_cast<char>(crc >> (8 * k));
+    return damaged;
+  };
+  const auto code = [](const std::string& damaged) {
+    ProgressiveMesh out;
+    const Status status = read_pm(damaged, out);
+    if (!status) std::printf("  %s\n", status.message().c_str());
+    return status.code();
+  };
+  // The surgery itself is sound.
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string&) {})), ErrorCode::kOk);
+  EXPECT_EQ(code(with_header(bytes, {{10, 2}})), ErrorCode::kCorruptStream);  // a 2.2 stream
+  EXPECT_EQ(code(with_header(bytes, {{84, 0}})), ErrorCode::kCorruptStream);  // no grid bits
+  EXPECT_EQ(code(with_header(bytes, {{84, 31}})), ErrorCode::kCorruptStream);  // 31 bits
+  EXPECT_EQ(code(with_header(bytes, {{84, 25}, {88, 0}})), ErrorCode::kCorruptStream);  // 25 bits, float grid
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 16; })), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[8] = 0x10; })), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[8] = static_cast<char>(0xF0); })),
+            ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw.resize(12); })), ErrorCode::kCorruptStream);
+}
+
 // Golden streams of every version, committed: a change that breaks old files fails here.
 // PM_REGENERATE_GOLDEN=1 rewrites the current version's files, on purpose.
 TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
@@ -778,7 +926,7 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
       if (!g.pm.keeps_order()) test::write_file(dir + g.name + "-v1.1.pm", v1);
       WriteOptions options;
       options.chunk_splits = 128;
-      test::write_file(dir + g.name + "-v2.2.pm", write(g.pm, options));
+      test::write_file(dir + g.name + "-v2.3.pm", write(g.pm, options));
     }
   }
   // 2.1's normal-coordinate prediction works on grids only: a quantized golden file, whose
@@ -842,8 +990,28 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     expect_identical(with_sorted_moves(read(test::read_file(path))),
                      with_sorted_moves(read(write(surface, quantized))));
   }
+  // 2.3's decimal grid (§5.3), of 26 bits: positions with 5 places, up to 599.
+  {
+    ProgressiveMesh decimal = with_attributes(generated_mesh(600));
+    for (float& x : decimal.positions) {
+      x = static_cast<float>(static_cast<double>(std::llround(double{x} * 1e5)) / 1e5);
+    }
+    const std::string path = dir + "decimal-v2.3.pm";
+    if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
+      WriteOptions options;
+      options.chunk_splits = 128;
+      test::write_file(path, write(decimal, options));
+    }
+    ASSERT_TRUE(test::file_exists(path)) << path;
+    const std::string bytes = test::read_file(path);
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+    EXPECT_TRUE(info.positions_decimal);
+    EXPECT_EQ(info.position_bits, 26u);
+    expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(decimal));
+  }
   for (const Golden& g : goldens) {
-    for (const char* version : {"v1.1", "v2.0", "v2.1", "v2.2"}) {
+    for (const char* version : {"v1.1", "v2.0", "v2.1", "v2.2", "v2.3"}) {
       if (g.pm.keeps_order() && std::string(version) == "v1.1") continue;  // 1.x has no order
       SCOPED_TRACE(std::string(g.name) + "-" + version);
       const std::string path = dir + g.name + "-" + version + ".pm";

@@ -16,15 +16,19 @@ namespace pm {
 // The version write_pm writes. read_pm reads it and every 1.x stream (1.0, 1.1).
 inline constexpr uint16_t kFormatMajor = 2;
 // 2.0: chunked splits, one-ring coding, quantization; 2.1: u, vl, vr and positions range-coded;
-// 2.2: the splits' corner attributes range-coded as wedges, new values where first used
-inline constexpr uint16_t kFormatMinor = 2;
+// 2.2: the splits' corner attributes range-coded as wedges, new values where first used;
+// 2.3: lossless positions that are decimals (as text formats write them) on a decimal grid
+inline constexpr uint16_t kFormatMinor = 3;
 
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
   // Quantization (lossy, by the caller's choice; 0 keeps every float bit): positions on a
   // uniform grid of 2^position_bits steps over the bounding box's longest side, texture
   // coordinates and normals on grids of 2^uv_bits / 2^normal_bits steps over their tables'
-  // ranges. Each is 0 or 4..24. The decoded mesh holds the grid points.
+  // ranges. Each is 0 or 4..24. The decoded mesh holds the grid points. With position_bits
+  // 0, positions that are all decimals (as text formats write them: "0.037830") go on the
+  // grid of their decimals (format 2.3), bit for bit, where that grid is coarser than the
+  // floats' own steps.
   int position_bits = 0;
   int uv_bits = 0;
   int normal_bits = 0;
@@ -32,15 +36,15 @@ struct WriteOptions {
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
   // smaller (256, 512, ...) so that a stream cut early still refines. 1..2^20.
   uint32_t chunk_splits = 4096;
-  // The minor version to write: 2 (2.2, the default), 1 (2.1) or 0 (2.0), for readers that
-  // predate the newer ones (2.1 and 2.0 are larger).
+  // The minor version to write: 3 (2.3, the default), 2 (2.2), 1 (2.1) or 0 (2.0), for
+  // readers that predate the newer ones (the older are larger).
   uint16_t minor_version = kFormatMinor;
   // Threads compressing the sections (0: the machine's cores). The bytes are the same for
   // any number.
   unsigned threads = 0;
 };
 
-// Serializes pm (which must be valid) to bytes, as format 2.2 (or 2.1, 2.0,
+// Serializes pm (which must be valid) to bytes, as format 2.3 (or 2.2, 2.1, 2.0,
 // WriteOptions::minor_version). Errors: kInvalidArgument when validate(pm) fails, a material name
 // or library holds a NUL, an option is out of range, or positions to quantize are not finite;
 // kResourceLimit when a count exceeds the format's limits (2^30; 2^20 materials and libraries) or a
@@ -156,6 +160,9 @@ struct PmInfo {
   // splits, and the vertices, faces and error bound of the level after it.
   uint32_t position_bits = 0, uv_bits = 0, normal_bits = 0;
   bool keeps_order = false;
+  // Added with format 2.3: the positions are lossless, on a grid of decimals of
+  // position_bits bits (the input's values were decimals, as text formats write them).
+  bool positions_decimal = false;
   struct Chunk {
     uint32_t splits = 0;
     uint64_t vertices_after = 0, faces_after = 0;  // as vertices_at_level / faces_at_level
