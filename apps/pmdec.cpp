@@ -313,9 +313,10 @@ int print_info(const std::string& input, const pm::ReadOptions& read_options, bo
   if (info.major >= 2) {
     const auto bits = [](uint32_t b) { return b == 0 ? std::string("lossless") : std::to_string(b) + " bits"; };
     // 2.3: lossless positions on the grid of their decimals.
-    const std::string positions = info.positions_decimal
-                                      ? "lossless (decimals, a " + std::to_string(info.position_bits) + "-bit grid)"
-                                      : bits(info.position_bits);
+    const std::string positions =
+        info.positions_decimal      ? "lossless (decimals, a " + std::to_string(info.position_bits) + "-bit grid)"
+        : info.positions_significant ? std::string("lossless (decimals of a few significant digits)")
+                                     : bits(info.position_bits);
     std::printf("quantization:     positions %s, texture coordinates %s, normals %s\n",
                 positions.c_str(), bits(info.uv_bits).c_str(),
                 bits(info.normal_bits).c_str());

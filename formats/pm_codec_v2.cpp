@@ -68,10 +68,16 @@ constexpr uint16_t kNewestMinor = 3;        // the newest minor this reader know
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
 // Header `options` bit 1 (2.3): the positions are on a decimal grid (§5.3), lossless.
 constexpr uint32_t kOptionDecimalPositions = 2u;
-constexpr uint32_t kKnownOptions = kOptionKeepsOrder | kOptionDecimalPositions;
+// Header `options` bit 2 (2.3): lossless positions as decimals of a few significant digits
+// (§5.3).
+constexpr uint32_t kOptionSignificantPositions = 4u;
+constexpr uint32_t kKnownOptions =
+    kOptionKeepsOrder | kOptionDecimalPositions | kOptionSignificantPositions;
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 // A decimal grid (2.3, §5.3): at most this many bits, and places after the point.
 constexpr int kMaxDecimalBits = 30, kMaxDecimals = 15;
+// Significant decimals (2.3, §5.3): at most 9 digits, powers of 10 up to 10^22 (exact doubles).
+constexpr int kMaxSignificantDigits = 9, kMaxPowerOf10 = 22;
 
 constexpr uint32_t kTagTables = make_tag("TABL");
 constexpr uint32_t kTagIndex = make_tag("INDX");
@@ -226,6 +232,9 @@ Status parse_header2(std::string_view bytes, Header2& h) {
   if ((r.options & kOptionDecimalPositions) != 0 && r.position_bits == 0) {
     return corrupt("header: positions on a decimal grid without grid bits");
   }
+  if ((r.options & kOptionSignificantPositions) != 0 && r.position_bits != 0) {
+    return corrupt("header: positions as significant decimals on a grid");
+  }
   if (uint64_t{r.base_vertex_count} + r.split_count + r.loose_vertex_count >= 0xFFFFFFFFull) {
     return corrupt("header: too many vertices for 32-bit ids");
   }
@@ -328,8 +337,9 @@ bool residual_of(uint64_t code, int64_t& difference) {
 // Quantization grids (§5.3): origin + q * step, q in [0, 2^bits); or, lossless (2.3), the
 // decimals with `decimals` places after the point from first / 10^decimals on.
 
-constexpr double kPowersOf10[kMaxDecimals + 1] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                                  1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+constexpr double kPowersOf10[kMaxPowerOf10 + 1] = {
+    1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+    1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};  // all exact
 constexpr int64_t kMaxDecimalFirst = int64_t{1} << 52;  // |first|: first + q exact in a double
 
 struct Grid {
@@ -401,6 +411,107 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
   grid.first = low;
   grid.origin.assign(components, 0.0f);
   grid.step = 1.0f;
+  return true;
+}
+
+// 2.3, lossless (§5.3): positions as decimals of `digits` significant digits, m · 10^k with
+// 10^(digits-1) <= m < 10^digits and k >= first_exponent, numbered in order of value: the
+// unit of +-x is 2^31 +- n, n = 0 for +0, else (k - first_exponent) · 9 · 10^(digits-1) +
+// (m - 10^(digits-1)) + 1. Text formats write such values ("0.0832331", "-52.9283": %g's six
+// digits); their float bits hold about 24 bits where the text held 20, which their residuals
+// pay for at every vertex.
+struct SignificantDecimals {
+  int digits = 0;          // 0: not used
+  int first_exponent = 0;  // k of the smallest decade
+
+  // The float of `unit`, or false when no decimal of these has that number.
+  bool to_float(uint32_t unit, float& out) const {
+    const int64_t signed_n = int64_t{unit} - (int64_t{1} << 31);
+    const uint64_t n = static_cast<uint64_t>(signed_n < 0 ? -signed_n : signed_n);
+    if (n == 0) {
+      out = 0.0f;
+      return true;
+    }
+    const auto low = static_cast<uint64_t>(kPowersOf10[digits - 1]);
+    const uint64_t decade = 9 * low;
+    const int64_t k = first_exponent + static_cast<int64_t>((n - 1) / decade);
+    const auto m = static_cast<double>(low + (n - 1) % decade);
+    if (k > kMaxPowerOf10) return false;
+    const double value = k >= 0 ? m * kPowersOf10[k] : m / kPowersOf10[-k];
+    out = static_cast<float>(signed_n < 0 ? -value : value);
+    return std::isfinite(out);
+  }
+};
+
+// The decimal of `digits` significant digits whose float is x (m, k), or false.
+bool significant_decimal(float x, int digits, int64_t& m, int& k) {
+  if (!std::isfinite(x) || x == 0) return false;
+  const double a = std::fabs(double{x});
+  const auto low = static_cast<int64_t>(kPowersOf10[digits - 1]), high = 10 * low;
+  k = static_cast<int>(std::floor(std::log10(a))) - digits + 1;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    if (k < -kMaxPowerOf10 || k > kMaxPowerOf10) return false;
+    const double scaled = k >= 0 ? a / kPowersOf10[k] : a * kPowersOf10[-k];
+    m = static_cast<int64_t>(std::nearbyint(scaled));
+    if (m >= high) {
+      ++k;
+    } else if (m < low) {
+      --k;
+    } else {
+      const double value = k >= 0 ? double(m) * kPowersOf10[k] : double(m) / kPowersOf10[-k];
+      const auto back = static_cast<float>(x < 0 ? -value : value);
+      return std::memcmp(&back, &x, sizeof x) == 0;
+    }
+  }
+  return false;
+}
+
+// 2.3, lossless (§5.3): the fewest significant digits whose decimals give every value back
+// bit for bit (+0 has a number, -0 none), and each value's unit, when those decimals are
+// coarser than the floats' own steps where most values lie (as make_decimal_grid decides).
+// False otherwise.
+bool make_significant_decimals(const float* values, std::size_t count, SignificantDecimals& out,
+                               std::vector<uint32_t>& units) {
+  if (count == 0) return false;
+  std::vector<int> exponents(count);
+  std::vector<int64_t> mantissas(count);
+  int digits = 1;
+  for (;; ++digits) {
+    if (digits > kMaxSignificantDigits) return false;
+    bool exact = true;
+    for (std::size_t i = 0; i < count && exact; ++i) {
+      const float x = values[i];
+      if (x == 0) {
+        exact = !std::signbit(x);
+        continue;
+      }
+      exact = significant_decimal(x, digits, mantissas[i], exponents[i]);
+    }
+    if (exact) break;
+  }
+  int first = kMaxPowerOf10;
+  double gain = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const float x = std::fabs(values[i]);
+    const float ulp = std::nextafter(x, std::numeric_limits<float>::infinity()) - x;
+    if (x == 0) {
+      gain += 16;
+      continue;
+    }
+    first = std::min(first, exponents[i]);
+    gain += std::clamp(double(exponents[i]) * std::log2(10.0) - std::ilogb(ulp), -16.0, 16.0);
+  }
+  if (!(gain > 0)) return false;
+  const auto low = static_cast<int64_t>(kPowersOf10[digits - 1]);
+  units.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    int64_t n = 0;
+    if (values[i] != 0) n = (exponents[i] - first) * 9 * low + (mantissas[i] - low) + 1;
+    if (n >= (int64_t{1} << 31)) return false;  // decades too far apart
+    units[i] = static_cast<uint32_t>((int64_t{1} << 31) + (values[i] < 0 ? -n : n));
+  }
+  out.digits = digits;
+  out.first_exponent = first;
   return true;
 }
 
@@ -538,10 +649,14 @@ bool get_ring_code(RangeDecoder& rc, TreeModels* trees, EgModels& large, std::si
 struct VertexValues {
   std::size_t components = 3;
   const Grid* grid = nullptr;       // quantized when set
+  const SignificantDecimals* significant = nullptr;  // 2.3: lossless decimals' numbers when set
   std::vector<uint32_t> units;      // components per vertex, as decoded or encoded so far
 
-  float to_float(uint32_t unit, std::size_t c) const {
-    return grid != nullptr ? static_cast<float>(grid->value(unit, c)) : float_from_ordered(unit);
+  // False when `unit` stands for no value (significant decimals only).
+  bool to_float(uint32_t unit, std::size_t c, float& out) const {
+    if (significant != nullptr) return significant->to_float(unit, out);
+    out = grid != nullptr ? static_cast<float>(grid->value(unit, c)) : float_from_ordered(unit);
+    return true;
   }
   uint32_t from_float(float x, std::size_t c) const {
     return grid != nullptr ? quantize(*grid, x, c) : ordered_from_float(x);
@@ -565,7 +680,7 @@ struct VertexValues {
   // the mean is not finite, the first neighbour's value, which is u's).
   void predict(const uint32_t* neighbours, std::size_t count, uint32_t* out) const {
     for (std::size_t c = 0; c < components; ++c) {
-      if (grid != nullptr) {
+      if (grid != nullptr || significant != nullptr) {  // 2.3's significant decimals too
         uint64_t sum = 0;
         for (std::size_t k = 0; k < count; ++k) sum += units[components * neighbours[k] + c];
         out[c] = static_cast<uint32_t>((2 * sum + count) / (2 * count));
@@ -717,7 +832,8 @@ std::vector<uint32_t> expected_sections(const Header2& h) {
   std::vector<uint32_t> tags;
   // BASE also holds the position grid, which loose vertices need without a base mesh.
   if (h.base_vertex_count > 0 || h.base_face_count > 0 ||
-      (h.position_bits != 0 && h.loose_vertex_count > 0)) {
+      ((h.position_bits != 0 || (h.options & kOptionSignificantPositions) != 0) &&
+       h.loose_vertex_count > 0)) {
     tags.push_back(kTagBase);
   }
   if (h.weld_count > 0) tags.push_back(kTagWelds);
@@ -863,6 +979,7 @@ struct Writer {
   const WriteOptions& options;
   Header2 h;
   Grid position_grid, uv_grid, normal_grid;
+  SignificantDecimals significant;  // 2.3 (§5.3)
   VertexValues positions, colors;
   CornerPredictor uv_codes, normal_codes;
   // 2.2 (§5.11): per kind (texture coordinates, normals), the ids TABL lists (those of the
@@ -965,7 +1082,7 @@ struct Writer {
 
   void put_positions(ByteWriter& out, uint32_t first, uint32_t count) {
     for (std::size_t i = 3 * std::size_t{first}; i < 3 * (std::size_t{first} + count); ++i) {
-      if (position_grid.bits != 0) {
+      if (position_grid.bits != 0 || significant.digits != 0) {
         out.put_varint(positions.units[i]);
       } else {
         out.put_f32(pm.positions[i]);
@@ -980,6 +1097,10 @@ struct Writer {
     std::string raw;
     ByteWriter out(raw);
     if (position_grid.bits != 0) put_grid(out, position_grid);
+    if (significant.digits != 0) {  // 2.3 (§5.3)
+      out.put_u8(static_cast<uint8_t>(significant.digits));
+      out.put_u8(static_cast<uint8_t>(static_cast<int8_t>(significant.first_exponent)));
+    }
     put_positions(out, 0, pm.base_vertex_count);
     for (uint32_t vertex : pm.base_faces) out.put_varint(vertex);
     if (pm.has_materials()) {
@@ -1370,9 +1491,17 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   if (pm.normals.empty()) w.normal_grid.bits = 0;
   w.positions.components = 3;
   w.positions.grid = h.position_bits != 0 ? &w.position_grid : nullptr;
-  w.positions.units.resize(pm.positions.size());
-  for (std::size_t i = 0; i < pm.positions.size(); ++i) {
-    w.positions.units[i] = w.positions.from_float(pm.positions[i], i % 3);
+  // 2.3, lossless, without a decimal grid: positions as significant decimals when they are.
+  if (options.position_bits == 0 && h.position_bits == 0 && h.minor >= 3 &&
+      make_significant_decimals(pm.positions.data(), pm.positions.size(), w.significant,
+                                w.positions.units)) {
+    h.options |= kOptionSignificantPositions;
+    w.positions.significant = &w.significant;
+  } else {
+    w.positions.units.resize(pm.positions.size());
+    for (std::size_t i = 0; i < pm.positions.size(); ++i) {
+      w.positions.units[i] = w.positions.from_float(pm.positions[i], i % 3);
+    }
   }
   w.colors.components = pm.color_components;
   w.colors.units.resize(pm.colors.size());
@@ -1491,6 +1620,7 @@ struct PmStreamReader::State {
   uint64_t decoded_faces = 0;
 
   Grid position_grid, uv_grid, normal_grid;  // uv and normal grids: 2.2 (§5.11)
+  SignificantDecimals significant;            // 2.3 (§5.3), from BASE
   VertexValues positions, colors;
   std::unique_ptr<CornerPredictor> uv_codes, normal_codes;
   // 2.2 (§5.11): the splits' corners, per kind; set up by TABL, or by the first chunk when
@@ -1719,14 +1849,17 @@ Status PmStreamReader::State::decode(uint32_t tag, ByteReader& in) {
 
 // Positions (f32 or grid indices) and colours of `count` vertices, appended.
 bool PmStreamReader::State::read_vertex_values(ByteReader& in, uint32_t count) {
-  const uint32_t top = h.position_bits != 0 ? (uint32_t{1} << h.position_bits) - 1 : 0;
+  const uint32_t top = h.position_bits != 0 ? (uint32_t{1} << h.position_bits) - 1 : 0xFFFFFFFFu;
   for (std::size_t i = 0; i < 3 * std::size_t{count}; ++i) {
-    if (h.position_bits != 0) {
+    if (h.position_bits != 0 || positions.significant != nullptr) {  // grid indices, 2.3's numbers
       uint32_t q;
+      float x = 0;
       if (!in.read_varint(q)) return false;
-      if (q > top) return in.fail(ErrorCode::kCorruptStream, in.where() + ": position beyond the grid");
+      if (q > top || !positions.to_float(q, i % 3, x)) {
+        return in.fail(ErrorCode::kCorruptStream, in.where() + ": a position beyond the grid or no decimal's");
+      }
       positions.units.push_back(q);
-      pm.positions.push_back(positions.to_float(q, i % 3));
+      pm.positions.push_back(x);
     } else {
       float x;
       if (!in.read_f32(x)) return false;
@@ -1760,6 +1893,20 @@ bool PmStreamReader::State::decode_base(ByteReader& in) {
   if (h.position_bits != 0 &&
       !read_grid(in, h.position_bits, 3, position_grid, (h.options & kOptionDecimalPositions) != 0)) {
     return false;
+  }
+  if ((h.options & kOptionSignificantPositions) != 0) {  // 2.3 (§5.3)
+    uint8_t digits = 0, exponent = 0;
+    if (!in.read_u8(digits) || !in.read_u8(exponent)) return false;
+    const int first_exponent = static_cast<int8_t>(exponent);
+    if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < -kMaxPowerOf10 ||
+        first_exponent > kMaxPowerOf10) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": significant decimals of " +
+                                                    std::to_string(digits) + " digits from 10^" +
+                                                    std::to_string(first_exponent));
+    }
+    significant.digits = digits;
+    significant.first_exponent = first_exponent;
+    positions.significant = &significant;
   }
   if (!read_vertex_values(in, h.base_vertex_count)) return false;
   for (uint32_t f = 0; f < h.base_face_count; ++f) {
@@ -2248,7 +2395,11 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     }
     for (int c = 0; c < 3; ++c) {
       positions.units.push_back(static_cast<uint32_t>(units[c]));
-      pm.positions.push_back(positions.to_float(static_cast<uint32_t>(units[c]), c));
+      float x = 0;
+      if (!positions.to_float(static_cast<uint32_t>(units[c]), c, x)) {
+        return bad(v, "has a position that is no decimal's (§5.3)");
+      }
+      pm.positions.push_back(x);
     }
     if (h.color_components != 0) {
       colors.predict(neighbours.data(), neighbours.size(), color_predicted.data());
@@ -2598,6 +2749,7 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
   r.normal_bits = h.normal_bits;
   r.keeps_order = (h.options & kOptionKeepsOrder) != 0;
   r.positions_decimal = (h.options & kOptionDecimalPositions) != 0;
+  r.positions_significant = (h.options & kOptionSignificantPositions) != 0;
   // The chunk index: skip the sections before it, decompress it, and walk the chunks'
   // section headers for their ends.
   if (h.chunk_count > 0) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <initializer_list>
@@ -780,6 +781,28 @@ Mesh decimal_surface(int n, int places, int spacing, double far = 0) {
   return m;
 }
 
+// A surface whose positions are decimals of 6 significant digits over 14 decades ("%g":
+// 195.046, 0.0160330, -6.96100e-06), which no decimal grid of 30 bits holds.
+Mesh significant_surface(int n) {
+  Mesh m;
+  const auto decimal = [](int64_t mantissa, int exponent) {
+    return static_cast<float>(static_cast<double>(mantissa) / std::pow(10.0, exponent));
+  };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const int64_t bump = 100000 + 997 * ((i * j) % 700);
+      m.positions.insert(m.positions.end(), {decimal(100000 + 3173 * i, 3), decimal(100000 + 2011 * j, 7),
+                                             decimal((i + j) % 2 == 0 ? bump : -bump, 10)});
+    }
+  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return m;
+}
+
 std::vector<uint32_t> float_bits(const std::vector<float>& values) {
   std::vector<uint32_t> out(values.size());
   std::memcpy(out.data(), values.data(), values.size() * sizeof(float));
@@ -787,18 +810,21 @@ std::vector<uint32_t> float_bits(const std::vector<float>& values) {
 }
 
 // 2.3 (pm-format.md §5.3): lossless positions that are decimals go on the grid of their
-// decimals, bit for bit, in fewer bytes than their float bits; positions that are not (one
-// float off a decimal, a negative zero, floats coarser than the decimals) keep their bits.
+// decimals, or are coded as decimals of their few significant digits, bit for bit, in fewer
+// bytes than their float bits; positions that are not (one float off a decimal, a negative
+// zero, floats coarser than the decimals) keep their bits.
 TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
   struct Case {
     const char* name;
     Mesh mesh;
     bool decimal;
     uint32_t bits;  // the grid's, when decimal
+    bool significant = false;
   };
   std::vector<Case> cases;
   cases.push_back({"3 places", decimal_surface(30, 3, 13), true, 9});  // x up to 0.390: 390 < 2^9
   cases.push_back({"6 places, 25 bits", decimal_surface(30, 6, 1300, 30.0), true, 25});
+  cases.push_back({"6 significant digits", significant_surface(30), false, 0, true});
   Mesh off_by_an_ulp = decimal_surface(30, 3, 13);
   off_by_an_ulp.positions[40] = std::nextafter(off_by_an_ulp.positions[40], 1.0f);
   cases.push_back({"one float off", off_by_an_ulp, false, 0});
@@ -817,6 +843,7 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
     PmInfo info;
     ASSERT_TRUE(read_pm_info(v23, info).is_ok());
     EXPECT_EQ(info.positions_decimal, c.decimal);
+    EXPECT_EQ(info.positions_significant, c.significant);
     EXPECT_EQ(info.position_bits, c.bits);
     const ProgressiveMesh decoded = read(v23);
     EXPECT_EQ(float_bits(decoded.positions), float_bits(pm.positions));
@@ -827,7 +854,7 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
     v22_options.minor_version = 2;
     const std::string v22 = write(pm, v22_options);
     expect_identical(with_sorted_moves(decoded), with_sorted_moves(read(v22)));
-    if (c.decimal) {
+    if (c.decimal || c.significant) {
       EXPECT_LT(double(v23.size()), 0.8 * double(v22.size())) << v23.size() << " against " << v22.size();
     } else {
       EXPECT_EQ(v23.size(), v22.size());
@@ -902,6 +929,34 @@ TEST(PmStream, HostileDecimalGridsAreRefused) {
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[8] = static_cast<char>(0xF0); })),
             ErrorCode::kCorruptStream);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw.resize(12); })), ErrorCode::kCorruptStream);
+}
+
+// Hostile significant decimals: the option on a grid, digits 0 or 10, a first exponent
+// beyond 10^22, a base position no decimal has: each a clean kCorruptStream.
+TEST(PmStream, HostileSignificantDecimalsAreRefused) {
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(significant_surface(6), EncodeOptions{}, pm).is_ok());
+  const std::string bytes = write(pm);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+  ASSERT_TRUE(info.positions_significant);
+  const auto code = [](const std::string& damaged) {
+    ProgressiveMesh out;
+    const Status status = read_pm(damaged, out);
+    if (!status) std::printf("  %s\n", status.message().c_str());
+    return status.code();
+  };
+  std::string on_grid = bytes;
+  on_grid[84] = 12;
+  const uint32_t crc = detail::crc32(std::string_view(on_grid).substr(0, 92));
+  for (int k = 0; k < 4; ++k) on_grid[92 + k] = static_cast<char>(crc >> (8 * k));
+  EXPECT_EQ(code(on_grid), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string&) {})), ErrorCode::kOk);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 0; })), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 10; })), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 23; })), ErrorCode::kCorruptStream);
+  // First exponent 22: every nonzero number is a decimal of 10^22 or more, beyond a float.
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 22; })), ErrorCode::kCorruptStream);
 }
 
 // Golden streams of every version, committed: a change that breaks old files fails here.
@@ -1009,6 +1064,27 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     EXPECT_TRUE(info.positions_decimal);
     EXPECT_EQ(info.position_bits, 26u);
     expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(decimal));
+  }
+  // 2.3's significant decimals (§5.3): positions of 6 significant digits.
+  {
+    ProgressiveMesh significant = generated_mesh(600);
+    for (float& x : significant.positions) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.5e", double{x});
+      x = std::strtof(text, nullptr);
+    }
+    const std::string path = dir + "significant-v2.3.pm";
+    if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
+      WriteOptions options;
+      options.chunk_splits = 128;
+      test::write_file(path, write(significant, options));
+    }
+    ASSERT_TRUE(test::file_exists(path)) << path;
+    const std::string bytes = test::read_file(path);
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+    EXPECT_TRUE(info.positions_significant);
+    expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(significant));
   }
   for (const Golden& g : goldens) {
     for (const char* version : {"v1.1", "v2.0", "v2.1", "v2.2", "v2.3"}) {

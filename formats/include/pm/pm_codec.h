@@ -28,7 +28,8 @@ struct WriteOptions {
   // ranges. Each is 0 or 4..24. The decoded mesh holds the grid points. With position_bits
   // 0, positions that are all decimals (as text formats write them: "0.037830") go on the
   // grid of their decimals (format 2.3), bit for bit, where that grid is coarser than the
-  // floats' own steps.
+  // floats' own steps; positions that are all decimals of a few significant digits ("%g"),
+  // as those decimals, likewise.
   int position_bits = 0;
   int uv_bits = 0;
   int normal_bits = 0;
@@ -163,6 +164,9 @@ struct PmInfo {
   // Added with format 2.3: the positions are lossless, on a grid of decimals of
   // position_bits bits (the input's values were decimals, as text formats write them).
   bool positions_decimal = false;
+  // Added with format 2.3: the positions are lossless, coded as decimals of a few significant
+  // digits (the input's values were such decimals: "0.0832331", "-52.9283").
+  bool positions_significant = false;
   struct Chunk {
     uint32_t splits = 0;
     uint64_t vertices_after = 0, faces_after = 0;  // as vertices_at_level / faces_at_level
