@@ -76,8 +76,10 @@ constexpr uint32_t kKnownOptions =
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 // A decimal grid (2.3, §5.3): at most this many bits, and places after the point.
 constexpr int kMaxDecimalBits = 30, kMaxDecimals = 15;
-// Significant decimals (2.3, §5.3): at most 9 digits, powers of 10 up to 10^22 (exact doubles).
+// Significant decimals (2.3, §5.3): at most 9 digits; powers of 10 up to 10^22 are exact
+// doubles; exponents from -60 to 40 (a float's decimals of 9 digits have -53 to 30).
 constexpr int kMaxSignificantDigits = 9, kMaxPowerOf10 = 22;
+constexpr int kMinExponent = -60, kMaxExponent = 40;
 
 constexpr uint32_t kTagTables = make_tag("TABL");
 constexpr uint32_t kTagIndex = make_tag("INDX");
@@ -420,6 +422,14 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
 // (m - 10^(digits-1)) + 1. Text formats write such values ("0.0832331", "-52.9283": %g's six
 // digits); their float bits hold about 24 bits where the text held 20, which their residuals
 // pay for at every vertex.
+// m · 10^k as a double: m times, or divided by, 10^22 as often as it takes, then the rest
+// (each step IEEE's, so every reader gets the same; one step for |k| <= 22, then exact).
+double scaled_decimal(double m, int k) {
+  for (; k > kMaxPowerOf10; k -= kMaxPowerOf10) m *= kPowersOf10[kMaxPowerOf10];
+  for (; k < -kMaxPowerOf10; k += kMaxPowerOf10) m /= kPowersOf10[kMaxPowerOf10];
+  return k >= 0 ? m * kPowersOf10[k] : m / kPowersOf10[-k];
+}
+
 struct SignificantDecimals {
   int digits = 0;          // 0: not used
   int first_exponent = 0;  // k of the smallest decade
@@ -436,8 +446,8 @@ struct SignificantDecimals {
     const uint64_t decade = 9 * low;
     const int64_t k = first_exponent + static_cast<int64_t>((n - 1) / decade);
     const auto m = static_cast<double>(low + (n - 1) % decade);
-    if (k > kMaxPowerOf10) return false;
-    const double value = k >= 0 ? m * kPowersOf10[k] : m / kPowersOf10[-k];
+    if (k > kMaxExponent) return false;
+    const double value = scaled_decimal(m, static_cast<int>(k));
     out = static_cast<float>(signed_n < 0 ? -value : value);
     return std::isfinite(out);
   }
@@ -450,15 +460,14 @@ bool significant_decimal(float x, int digits, int64_t& m, int& k) {
   const auto low = static_cast<int64_t>(kPowersOf10[digits - 1]), high = 10 * low;
   k = static_cast<int>(std::floor(std::log10(a))) - digits + 1;
   for (int attempt = 0; attempt < 3; ++attempt) {
-    if (k < -kMaxPowerOf10 || k > kMaxPowerOf10) return false;
-    const double scaled = k >= 0 ? a / kPowersOf10[k] : a * kPowersOf10[-k];
-    m = static_cast<int64_t>(std::nearbyint(scaled));
+    if (k < kMinExponent || k > kMaxExponent) return false;
+    m = static_cast<int64_t>(std::nearbyint(a * std::pow(10.0, -k)));  // a guess: checked below
     if (m >= high) {
       ++k;
     } else if (m < low) {
       --k;
     } else {
-      const double value = k >= 0 ? double(m) * kPowersOf10[k] : double(m) / kPowersOf10[-k];
+      const double value = scaled_decimal(double(m), k);
       const auto back = static_cast<float>(x < 0 ? -value : value);
       return std::memcmp(&back, &x, sizeof x) == 0;
     }
@@ -1898,8 +1907,8 @@ bool PmStreamReader::State::decode_base(ByteReader& in) {
     uint8_t digits = 0, exponent = 0;
     if (!in.read_u8(digits) || !in.read_u8(exponent)) return false;
     const int first_exponent = static_cast<int8_t>(exponent);
-    if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < -kMaxPowerOf10 ||
-        first_exponent > kMaxPowerOf10) {
+    if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < kMinExponent ||
+        first_exponent > kMaxExponent) {
       return in.fail(ErrorCode::kCorruptStream, in.where() + ": significant decimals of " +
                                                     std::to_string(digits) + " digits from 10^" +
                                                     std::to_string(first_exponent));

@@ -402,9 +402,11 @@ TEST(PmStream, TrailingBytesUnknownSectionsAndReservedFields) {
   };
   EXPECT_EQ(with_header_byte(12, 1), ErrorCode::kCorruptStream);  // flags
   EXPECT_EQ(with_header_byte(87, 1), ErrorCode::kCorruptStream);  // reserved byte
-  EXPECT_EQ(with_header_byte(88, 4), ErrorCode::kCorruptStream);  // an unknown option
+  EXPECT_EQ(with_header_byte(88, 8), ErrorCode::kCorruptStream);  // an unknown option
   EXPECT_EQ(with_header_byte(84, 3), ErrorCode::kCorruptStream);  // 3 position bits
-  EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kOk);  // minor 2.2: may-ignore fields only
+  // small_mesh()'s positions are significant decimals (2.3, options bit 2): not in a 2.2 stream.
+  ASSERT_EQ(static_cast<uint8_t>(bytes[88]), 4);
+  EXPECT_EQ(with_header_byte(10, 2), ErrorCode::kCorruptStream);
   EXPECT_EQ(with_header_byte(8, 3), ErrorCode::kUnsupportedVersion);  // major 3
 }
 
@@ -932,7 +934,7 @@ TEST(PmStream, HostileDecimalGridsAreRefused) {
 }
 
 // Hostile significant decimals: the option on a grid, digits 0 or 10, a first exponent
-// beyond 10^22, a base position no decimal has: each a clean kCorruptStream.
+// beyond -60 to 40, base positions beyond a float: each a clean kCorruptStream.
 TEST(PmStream, HostileSignificantDecimalsAreRefused) {
   ProgressiveMesh pm;
   ASSERT_TRUE(encode(significant_surface(6), EncodeOptions{}, pm).is_ok());
@@ -954,9 +956,10 @@ TEST(PmStream, HostileSignificantDecimalsAreRefused) {
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string&) {})), ErrorCode::kOk);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 0; })), ErrorCode::kCorruptStream);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 10; })), ErrorCode::kCorruptStream);
-  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 23; })), ErrorCode::kCorruptStream);
-  // First exponent 22: every nonzero number is a decimal of 10^22 or more, beyond a float.
-  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 22; })), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 41; })), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = -61; })), ErrorCode::kCorruptStream);
+  // First exponent 40: every nonzero number is a decimal of 10^45 or more, beyond a float.
+  EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 40; })), ErrorCode::kCorruptStream);
 }
 
 // Golden streams of every version, committed: a change that breaks old files fails here.
