@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <initializer_list>
 #include <numeric>
 #include <set>
@@ -760,6 +761,16 @@ TEST(PmStream, MemoryLimitIsCheckedBeforeDecoding) {
   EXPECT_TRUE(read_pm(bytes, pm, options).is_ok());
 }
 
+// The triangles of an n x n grid of (n + 1)^2 vertices, row by row.
+void add_grid_triangles(Mesh& m, int n) {
+  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+}
+
 // A surface whose positions are decimals with `places` places (the floats a text file's
 // "0.013" and the like parse to: (float)(k / 10^places), k an integer), on an n x n grid of
 // spacing `spacing` / 10^places; `far`, when not 0, moves the last vertex that far along x.
@@ -774,12 +785,7 @@ Mesh decimal_surface(int n, int places, int spacing, double far = 0) {
                                              decimal(wave)});
     }
   if (far != 0) m.positions[m.positions.size() - 3] = decimal(std::llround(far * scale));
-  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
+  add_grid_triangles(m, n);
   return m;
 }
 
@@ -796,12 +802,7 @@ Mesh significant_surface(int n) {
       m.positions.insert(m.positions.end(), {decimal(100000 + 3173 * i, 3), decimal(100000 + 2011 * j, 7),
                                              decimal((i + j) % 2 == 0 ? bump : -bump, 10)});
     }
-  const auto id = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
+  add_grid_triangles(m, n);
   return m;
 }
 
@@ -1048,47 +1049,42 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     expect_identical(with_sorted_moves(read(test::read_file(path))),
                      with_sorted_moves(read(write(surface, quantized))));
   }
-  // 2.3's decimal grid (§5.3), of 26 bits: positions with 5 places, up to 599.
-  {
-    ProgressiveMesh decimal = with_attributes(generated_mesh(600));
-    for (float& x : decimal.positions) {
-      x = static_cast<float>(static_cast<double>(std::llround(double{x} * 1e5)) / 1e5);
-    }
-    const std::string path = dir + "decimal-v2.3.pm";
+  // 2.3's positions as decimals (§5.3), each in a file of its own: the file decodes to the
+  // mesh, with the header's flags `expect` checks.
+  const auto decimal_golden = [&](const char* file, const ProgressiveMesh& mesh,
+                                  const std::function<void(const PmInfo&)>& expect) {
+    SCOPED_TRACE(file);
+    const std::string path = dir + file;
     if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
       WriteOptions options;
       options.chunk_splits = 128;
-      test::write_file(path, write(decimal, options));
+      test::write_file(path, write(mesh, options));
     }
     ASSERT_TRUE(test::file_exists(path)) << path;
     const std::string bytes = test::read_file(path);
     PmInfo info;
     ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+    expect(info);
+    expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(mesh));
+  };
+  // A decimal grid of 26 bits: positions with 5 places, up to 599.
+  ProgressiveMesh decimal = with_attributes(generated_mesh(600));
+  for (float& x : decimal.positions) {
+    x = static_cast<float>(static_cast<double>(std::llround(double{x} * 1e5)) / 1e5);
+  }
+  decimal_golden("decimal-v2.3.pm", decimal, [](const PmInfo& info) {
     EXPECT_TRUE(info.positions_decimal);
     EXPECT_EQ(info.position_bits, 26u);
-    expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(decimal));
+  });
+  // Significant decimals: positions of 6 significant digits.
+  ProgressiveMesh significant = generated_mesh(600);
+  for (float& x : significant.positions) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.5e", double{x});
+    x = std::strtof(text, nullptr);
   }
-  // 2.3's significant decimals (§5.3): positions of 6 significant digits.
-  {
-    ProgressiveMesh significant = generated_mesh(600);
-    for (float& x : significant.positions) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%.5e", double{x});
-      x = std::strtof(text, nullptr);
-    }
-    const std::string path = dir + "significant-v2.3.pm";
-    if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
-      WriteOptions options;
-      options.chunk_splits = 128;
-      test::write_file(path, write(significant, options));
-    }
-    ASSERT_TRUE(test::file_exists(path)) << path;
-    const std::string bytes = test::read_file(path);
-    PmInfo info;
-    ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
-    EXPECT_TRUE(info.positions_significant);
-    expect_identical(with_sorted_moves(read(bytes)), with_sorted_moves(significant));
-  }
+  decimal_golden("significant-v2.3.pm", significant,
+                 [](const PmInfo& info) { EXPECT_TRUE(info.positions_significant); });
   for (const Golden& g : goldens) {
     for (const char* version : {"v1.1", "v2.0", "v2.1", "v2.2", "v2.3"}) {
       if (g.pm.keeps_order() && std::string(version) == "v1.1") continue;  // 1.x has no order
