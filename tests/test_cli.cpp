@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "pm/encoder.h"
 #include "pm/lod.h"
@@ -207,6 +208,43 @@ TEST(Cli, InfoListsTheAttributes) {
             std::string::npos);
   EXPECT_NE(pmdec({dir.file("s.pm"), "--info"}).out.find("attributes:       none\n"),
             std::string::npos);
+}
+
+// Lossless positions as the text had them (format 2.3): --info says how they are stored, and
+// full detail gives every float back, whether the file wrote fixed places ("%f"), a few
+// significant digits ("%g"), or floats with every digit.
+TEST(Cli, InfoSaysHowLosslessPositionsAreStoredAndFullDetailGivesThemBack) {
+  TempDir dir;
+  // A tetrahedron in "%g" digits, down to 1.23456e-12: no decimal grid of 15 places holds it.
+  test::write_file(dir.file("g.obj"),
+                   "v 0.0832331 -52.9283 1.5e-05\nv 1.23456e-12 0.348799 -0.334989\n"
+                   "v 0.881192 0.266758 0.181628\nv -0.0399051 0.122726 17.3014\n"
+                   "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n");
+  struct Case {
+    std::string input;
+    const char* positions;
+  };
+  const Case cases[] = {
+      {test::sample_mesh_path("block_features.obj"), "quantization:     positions lossless (decimals, a "},
+      {dir.file("g.obj"), "quantization:     positions lossless (decimals of a few significant digits),"},
+      {test::sample_mesh_path("sphere.obj"), "quantization:     positions lossless,"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.input);
+    const CommandResult encoded = pmenc({c.input, "-o", dir.file("p.pm"), "-q"});
+    ASSERT_EQ(encoded.exit_code, 0) << encoded.err;
+    const CommandResult info = pmdec({dir.file("p.pm"), "--info"});
+    EXPECT_NE(info.out.find(c.positions), std::string::npos) << info.out;
+    const CommandResult decoded = pmdec({dir.file("p.pm"), "-o", dir.file("p.obj")});
+    ASSERT_EQ(decoded.exit_code, 0) << decoded.err;
+    std::vector<float> in = read_or_fail(c.input).positions, out = read_or_fail(dir.file("p.obj")).positions;
+    std::vector<uint32_t> in_bits(in.size()), out_bits(out.size());
+    std::memcpy(in_bits.data(), in.data(), in.size() * sizeof(float));
+    std::memcpy(out_bits.data(), out.data(), out.size() * sizeof(float));
+    std::sort(in_bits.begin(), in_bits.end());
+    std::sort(out_bits.begin(), out_bits.end());
+    EXPECT_EQ(out_bits, in_bits);
+  }
 }
 
 // --info --sizes: the sections' bytes add up to the file, and the chunk streams are listed in
