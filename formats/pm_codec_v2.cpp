@@ -364,7 +364,8 @@ struct Grid {
 // them: "0.037830"), within kMaxDecimalBits of range, and coarser than the floats' own steps
 // where most values lie (then the grid's residuals are smaller than those of the float bits;
 // on the bunny, 6 places and 18 bits, about a third of the stream). False otherwise.
-bool make_decimal_grid(const float* values, std::size_t count, std::size_t components, Grid& grid) {
+bool make_decimal_grid(const float* values, std::size_t count, std::size_t components, Grid& grid,
+                       double& gain) {
   if (count == 0) return false;
   int decimals = 0;
   for (;; ++decimals) {
@@ -401,7 +402,7 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
   // Worth it where the grid's step is coarser than the floats' (log2 of the ratio, each value
   // counted within +-16).
   const double log_step = -std::log2(scale);
-  double gain = 0;
+  gain = 0;
   for (std::size_t i = 0; i < count * components; ++i) {
     const float x = std::fabs(values[i]);
     const float ulp = std::nextafter(x, std::numeric_limits<float>::infinity()) - x;  // a power of 2
@@ -480,7 +481,7 @@ bool significant_decimal(float x, int digits, int64_t& m, int& k) {
 // coarser than the floats' own steps where most values lie (as make_decimal_grid decides).
 // False otherwise.
 bool make_significant_decimals(const float* values, std::size_t count, SignificantDecimals& out,
-                               std::vector<uint32_t>& units) {
+                               std::vector<uint32_t>& units, double& gain) {
   if (count == 0) return false;
   std::vector<int> exponents(count);
   std::vector<int64_t> mantissas(count);
@@ -499,7 +500,7 @@ bool make_significant_decimals(const float* values, std::size_t count, Significa
     if (exact) break;
   }
   int first = kMaxPowerOf10;
-  double gain = 0;
+  gain = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const float x = std::fabs(values[i]);
     const float ulp = std::nextafter(x, std::numeric_limits<float>::infinity()) - x;
@@ -1488,11 +1489,24 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   if (Status s = grid_of(pm.uvs, 2, options.uv_bits, w.uv_grid, "texture coordinates"); !s) return s;
   if (Status s = grid_of(pm.normals, 3, options.normal_bits, w.normal_grid, "normals"); !s) return s;
   h.position_bits = static_cast<uint8_t>(options.position_bits);
-  // 2.3, lossless: the positions on their decimal grid when they have one (§5.3).
-  if (options.position_bits == 0 && h.minor >= 3 &&
-      make_decimal_grid(pm.positions.data(), pm.positions.size() / 3, 3, w.position_grid)) {
+  // 2.3, lossless (§5.3): the positions on their decimal grid, or as significant decimals,
+  // when they are such decimals: whichever is the coarser where most of them lie (fixed
+  // places, "-0.037830", make a grid; "%g" makes significant digits: fandisk's "15.3644" and
+  // "1e-06" would need a grid of 10^-6 steps, 40.3 KB as significant decimals against 47.6).
+  double grid_gain = 0, significant_gain = 0;
+  const bool lossless = options.position_bits == 0 && h.minor >= 3;
+  const bool gridded = lossless && make_decimal_grid(pm.positions.data(), pm.positions.size() / 3, 3,
+                                                     w.position_grid, grid_gain);
+  std::vector<uint32_t> significant_units;
+  const bool significant =
+      lossless && make_significant_decimals(pm.positions.data(), pm.positions.size(), w.significant,
+                                            significant_units, significant_gain);
+  if (gridded && !(significant && significant_gain > grid_gain)) {
     h.position_bits = static_cast<uint8_t>(w.position_grid.bits);
     h.options |= kOptionDecimalPositions;
+    w.significant = SignificantDecimals{};
+  } else if (options.position_bits == 0) {
+    w.position_grid = Grid{};  // no grid: float bits, or significant decimals
   }
   h.uv_bits = static_cast<uint8_t>(pm.uvs.empty() ? 0 : options.uv_bits);
   h.normal_bits = static_cast<uint8_t>(pm.normals.empty() ? 0 : options.normal_bits);
@@ -1500,12 +1514,10 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   if (pm.normals.empty()) w.normal_grid.bits = 0;
   w.positions.components = 3;
   w.positions.grid = h.position_bits != 0 ? &w.position_grid : nullptr;
-  // 2.3, lossless, without a decimal grid: positions as significant decimals when they are.
-  if (options.position_bits == 0 && h.position_bits == 0 && h.minor >= 3 &&
-      make_significant_decimals(pm.positions.data(), pm.positions.size(), w.significant,
-                                w.positions.units)) {
+  if (w.significant.digits != 0) {
     h.options |= kOptionSignificantPositions;
     w.positions.significant = &w.significant;
+    w.positions.units = std::move(significant_units);
   } else {
     w.positions.units.resize(pm.positions.size());
     for (std::size_t i = 0; i < pm.positions.size(); ++i) {

@@ -828,6 +828,11 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
   cases.push_back({"3 places", decimal_surface(30, 3, 13), true, 9});  // x up to 0.390: 390 < 2^9
   cases.push_back({"6 places, 25 bits", decimal_surface(30, 6, 1300, 30.0), true, 25});
   cases.push_back({"6 significant digits", significant_surface(30), false, 0, true});
+  // Both fit: a grid would take 10^-6 steps for the one "1e-06", where 5 significant digits
+  // step 10^-4 at 3.9001 (as fandisk's "15.3644" and "1e-06"): the coarser is taken.
+  Mesh both = decimal_surface(30, 4, 1300);
+  both.positions[5] = 1e-06f;
+  cases.push_back({"a grid or significant digits", both, false, 0, true});
   Mesh off_by_an_ulp = decimal_surface(30, 3, 13);
   off_by_an_ulp.positions[40] = std::nextafter(off_by_an_ulp.positions[40], 1.0f);
   cases.push_back({"one float off", off_by_an_ulp, false, 0});
