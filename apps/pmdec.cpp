@@ -317,9 +317,12 @@ int print_info(const std::string& input, const pm::ReadOptions& read_options, bo
         info.positions_decimal      ? "lossless (decimals, a " + std::to_string(info.position_bits) + "-bit grid)"
         : info.positions_significant ? std::string("lossless (decimals of a few significant digits)")
                                      : bits(info.position_bits);
+    const auto table = [&](uint32_t b, bool significant) {
+      return significant ? std::string("lossless (decimals of a few significant digits)") : bits(b);
+    };
     std::printf("quantization:     positions %s, texture coordinates %s, normals %s\n",
-                positions.c_str(), bits(info.uv_bits).c_str(),
-                bits(info.normal_bits).c_str());
+                positions.c_str(), table(info.uv_bits, info.uvs_significant).c_str(),
+                table(info.normal_bits, info.normals_significant).c_str());
     // The index: what a reader decompresses for a level (pm-format.md §5.6).
     std::printf("chunks:           %zu", info.chunks.size());
     if (!info.chunks.empty()) {

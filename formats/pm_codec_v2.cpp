@@ -71,8 +71,16 @@ constexpr uint32_t kOptionDecimalPositions = 2u;
 // Header `options` bit 2 (2.3): lossless positions as decimals of a few significant digits
 // (§5.3).
 constexpr uint32_t kOptionSignificantPositions = 4u;
-constexpr uint32_t kKnownOptions =
-    kOptionKeepsOrder | kOptionDecimalPositions | kOptionSignificantPositions;
+// Header `options` bits 3 and 4 (2.3): the texture-coordinate (normal) table as significant
+// decimals, lossless (§5.4).
+constexpr uint32_t kOptionSignificantUvs = 8u, kOptionSignificantNormals = 16u;
+constexpr uint32_t kKnownOptions = kOptionKeepsOrder | kOptionDecimalPositions |
+                                   kOptionSignificantPositions | kOptionSignificantUvs |
+                                   kOptionSignificantNormals;
+// The option bit of a table kind's significant decimals (0: texture coordinates, 1: normals).
+constexpr uint32_t significant_table_option(int kind) {
+  return kind == 0 ? kOptionSignificantUvs : kOptionSignificantNormals;
+}
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 // A decimal grid (2.3, §5.3): at most this many bits, and places after the point.
 constexpr int kMaxDecimalBits = 30, kMaxDecimals = 15;
@@ -236,6 +244,10 @@ Status parse_header2(std::string_view bytes, Header2& h) {
   }
   if ((r.options & kOptionSignificantPositions) != 0 && r.position_bits != 0) {
     return corrupt("header: positions as significant decimals on a grid");
+  }
+  if (((r.options & kOptionSignificantUvs) != 0 && (r.uv_bits != 0 || r.uv_count == 0)) ||
+      ((r.options & kOptionSignificantNormals) != 0 && (r.normal_bits != 0 || r.normal_count == 0))) {
+    return corrupt("header: a table as significant decimals that is on a grid or empty");
   }
   if (uint64_t{r.base_vertex_count} + r.split_count + r.loose_vertex_count >= 0xFFFFFFFFull) {
     return corrupt("header: too many vertices for 32-bit ids");
@@ -996,6 +1008,10 @@ struct Writer {
   // base and carried faces, and those no corner uses), and the coder of the splits' corners.
   std::vector<uint8_t> listed[2];
   WedgeCoder wedges[2];
+  // 2.3 (§5.4): per kind, the table as significant decimals (digits 0: not), and each
+  // component's number.
+  SignificantDecimals table_significant[2];
+  std::vector<uint32_t> table_numbers[2];
 
   const std::vector<float>& table(int kind) const { return kind == 0 ? pm.uvs : pm.normals; }
   const Grid& grid(int kind) const { return kind == 0 ? uv_grid : normal_grid; }
@@ -1005,7 +1021,11 @@ struct Writer {
     const std::size_t components = kind == 0 ? 2 : 3;
     for (std::size_t c = 0; c < components; ++c) {
       const float x = table(kind)[components * std::size_t{id} + c];
-      out[c] = grid(kind).bits != 0 ? quantize(grid(kind), x, c) : ordered_from_float(x);
+      if (table_significant[kind].digits != 0) {
+        out[c] = table_numbers[kind][components * std::size_t{id} + c];
+      } else {
+        out[c] = grid(kind).bits != 0 ? quantize(grid(kind), x, c) : ordered_from_float(x);
+      }
     }
   }
 
@@ -1037,6 +1057,11 @@ struct Writer {
     const std::size_t components = kind == 0 ? 2 : 3;
     if (listed[kind].empty()) return;  // no table: no grid, no count
     if (grid(kind).bits != 0) put_grid(out, grid(kind));
+    const SignificantDecimals& significant = table_significant[kind];
+    if (significant.digits != 0) {  // 2.3 (§5.4)
+      out.put_u8(static_cast<uint8_t>(significant.digits));
+      out.put_u8(static_cast<uint8_t>(static_cast<int8_t>(significant.first_exponent)));
+    }
     uint32_t listed_count = 0;
     for (uint8_t x : listed[kind]) listed_count += x;
     out.put_varint(listed_count);
@@ -1046,6 +1071,10 @@ struct Writer {
       out.put_varint(static_cast<uint32_t>(int64_t(id) - previous - 1));
       previous = int64_t(id);
       for (std::size_t c = 0; c < components; ++c) {
+        if (significant.digits != 0) {
+          out.put_varint(table_numbers[kind][components * id + c]);
+          continue;
+        }
         put_table_value(out, grid(kind).bits != 0 ? &grid(kind) : nullptr,
                         table(kind)[components * id + c], c);
       }
@@ -1512,6 +1541,16 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   h.normal_bits = static_cast<uint8_t>(pm.normals.empty() ? 0 : options.normal_bits);
   if (pm.uvs.empty()) w.uv_grid.bits = 0;
   if (pm.normals.empty()) w.normal_grid.bits = 0;
+  // 2.3, lossless tables (§5.4): as significant decimals when they are.
+  for (int kind = 0; kind < 2 && h.minor >= 3; ++kind) {
+    const std::vector<float>& values = kind == 0 ? pm.uvs : pm.normals;
+    double gain = 0;
+    if ((kind == 0 ? options.uv_bits : options.normal_bits) == 0 && !values.empty() &&
+        make_significant_decimals(values.data(), values.size(), w.table_significant[kind],
+                                  w.table_numbers[kind], gain)) {
+      h.options |= significant_table_option(kind);
+    }
+  }
   w.positions.components = 3;
   w.positions.grid = h.position_bits != 0 ? &w.position_grid : nullptr;
   if (w.significant.digits != 0) {
@@ -1642,6 +1681,7 @@ struct PmStreamReader::State {
 
   Grid position_grid, uv_grid, normal_grid;  // uv and normal grids: 2.2 (§5.11)
   SignificantDecimals significant;            // 2.3 (§5.3), from BASE
+  SignificantDecimals table_significant[2];   // 2.3 (§5.4), from TABL, per kind
   VertexValues positions, colors;
   std::unique_ptr<CornerPredictor> uv_codes, normal_codes;
   // 2.2 (§5.11): the splits' corners, per kind; set up by TABL, or by the first chunk when
@@ -2084,6 +2124,20 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
   if (count == 0) return true;
   Grid& grid = kind == 0 ? uv_grid : normal_grid;
   if (bits != 0 && !read_grid(in, bits, components, grid)) return false;
+  SignificantDecimals& significant = table_significant[kind];
+  if ((h.options & significant_table_option(kind)) != 0) {  // 2.3 (§5.4)
+    uint8_t digits = 0, exponent = 0;
+    if (!in.read_u8(digits) || !in.read_u8(exponent)) return false;
+    const int first_exponent = static_cast<int8_t>(exponent);
+    if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < kMinExponent ||
+        first_exponent > kMaxExponent) {
+      return in.fail(ErrorCode::kCorruptStream, in.where() + ": significant decimals of " +
+                                                    std::to_string(digits) + " digits from 10^" +
+                                                    std::to_string(first_exponent));
+    }
+    significant.digits = digits;
+    significant.first_exponent = first_exponent;
+  }
   uint32_t listed = 0;
   if (!in.read_varint(listed)) return false;
   if (listed > count) {
@@ -2106,10 +2160,15 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
     }
     previous = id;
     for (std::size_t c = 0; c < components; ++c) {
-      if (!read_table_value(in, bits != 0 ? &grid : nullptr, c, values[components * std::size_t(id) + c],
-                            units[c])) {
-        return false;
+      float& value = values[components * std::size_t(id) + c];
+      if (significant.digits != 0) {
+        if (!in.read_varint(units[c])) return false;
+        if (!significant.to_float(units[c], value)) {
+          return in.fail(ErrorCode::kCorruptStream, in.where() + ": a table value that is no decimal's");
+        }
+        continue;
       }
+      if (!read_table_value(in, bits != 0 ? &grid : nullptr, c, value, units[c])) return false;
     }
     if (ids) wedges[kind].learn(static_cast<uint32_t>(id), units);
   }
@@ -2229,9 +2288,17 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       const std::size_t components = kind == 0 ? 2 : 3;
       const uint32_t* units = wedges[kind].units(id);
       for (std::size_t c = 0; c < components; ++c) {
-        values[components * std::size_t{id} + c] =
-            (kind == 0 ? h.uv_bits : h.normal_bits) != 0 ? static_cast<float>(grid.value(units[c], c))
-                                                          : float_from_ordered(units[c]);
+        float& value = values[components * std::size_t{id} + c];
+        if (table_significant[kind].digits != 0) {  // 2.3 (§5.4)
+          if (!table_significant[kind].to_float(units[c], value)) {
+            return in.fail(ErrorCode::kCorruptStream,
+                           where + ": a corner of vertex " + std::to_string(at.vertex) +
+                               " has a table value that is no decimal's");
+          }
+          continue;
+        }
+        value = (kind == 0 ? h.uv_bits : h.normal_bits) != 0 ? static_cast<float>(grid.value(units[c], c))
+                                                              : float_from_ordered(units[c]);
       }
     }
     return true;
@@ -2771,6 +2838,8 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
   r.keeps_order = (h.options & kOptionKeepsOrder) != 0;
   r.positions_decimal = (h.options & kOptionDecimalPositions) != 0;
   r.positions_significant = (h.options & kOptionSignificantPositions) != 0;
+  r.uvs_significant = (h.options & kOptionSignificantUvs) != 0;
+  r.normals_significant = (h.options & kOptionSignificantNormals) != 0;
   // The chunk index: skip the sections before it, decompress it, and walk the chunks'
   // section headers for their ends.
   if (h.chunk_count > 0) {

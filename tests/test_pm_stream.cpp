@@ -888,20 +888,29 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
             float_bits(extract_level(pm, pm.splits.size()).positions));
 }
 
-// The stream with its BASE section's payload changed by `change` (and compressed again).
+// The stream with the payload of its section `tag` changed by `change` (and compressed again).
+template <typename Change>
+std::string with_section_payload(const std::string& bytes, const char (&tag)[5], Change change) {
+  for (std::size_t offset = 96; offset + 24 <= bytes.size();) {
+    uint64_t stored = 0, raw_size = 0;
+    for (int b = 0; b < 8; ++b) stored |= uint64_t{static_cast<uint8_t>(bytes[offset + 8 + b])} << (8 * b);
+    for (int b = 0; b < 8; ++b) raw_size |= uint64_t{static_cast<uint8_t>(bytes[offset + 16 + b])} << (8 * b);
+    if (bytes.compare(offset, 4, tag) == 0) {
+      std::string raw(raw_size, '\0');
+      EXPECT_EQ(ZSTD_decompress(raw.data(), raw.size(), bytes.data() + offset + 24, stored), raw_size);
+      change(raw);
+      std::string section;
+      EXPECT_TRUE(detail::append_section(detail::make_tag(tag), 1, raw, raw.size(), 3, section).is_ok());
+      return bytes.substr(0, offset) + section + bytes.substr(offset + 24 + stored);
+    }
+    offset += 24 + stored;
+  }
+  ADD_FAILURE() << "no " << tag;
+  return bytes;
+}
 template <typename Change>
 std::string with_base_payload(const std::string& bytes, Change change) {
-  const std::size_t offset = 96;
-  EXPECT_EQ(bytes.compare(offset, 4, "BASE"), 0);
-  uint64_t stored = 0, raw_size = 0;
-  for (int b = 0; b < 8; ++b) stored |= uint64_t{static_cast<uint8_t>(bytes[offset + 8 + b])} << (8 * b);
-  for (int b = 0; b < 8; ++b) raw_size |= uint64_t{static_cast<uint8_t>(bytes[offset + 16 + b])} << (8 * b);
-  std::string raw(raw_size, '\0');
-  EXPECT_EQ(ZSTD_decompress(raw.data(), raw.size(), bytes.data() + offset + 24, stored), raw_size);
-  change(raw);
-  std::string section;
-  EXPECT_TRUE(detail::append_section(detail::make_tag("BASE"), 1, raw, raw.size(), 3, section).is_ok());
-  return bytes.substr(0, offset) + section + bytes.substr(offset + 24 + stored);
+  return with_section_payload(bytes, "BASE", change);
 }
 
 // Hostile decimal grids: the option in a 2.2 stream or without grid bits, more than 24 bits
@@ -966,6 +975,69 @@ TEST(PmStream, HostileSignificantDecimalsAreRefused) {
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = -61; })), ErrorCode::kCorruptStream);
   // First exponent 40: every nonzero number is a decimal of 10^45 or more, beyond a float.
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[1] = 40; })), ErrorCode::kCorruptStream);
+}
+
+// 2.3 (§5.4): lossless texture-coordinate and normal tables of decimals ("vt 0.800375
+// 0.667457") are coded as the numbers of their significant decimals, bit for bit and smaller;
+// hostile records are refused.
+TEST(PmStream, Version23StoresDecimalTablesAsSignificantDecimals) {
+  Mesh input = test::seamed_grid(24);
+  for (std::vector<float>* table : {&input.uvs, &input.normals}) {
+    for (float& x : *table) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.5e", double{x});
+      x = std::strtof(text, nullptr);
+    }
+  }
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(input, EncodeOptions{}, pm).is_ok());
+  ASSERT_TRUE(pm.has_uvs() && pm.has_normals());
+  const std::string v23 = write(pm);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(v23, info).is_ok());
+  EXPECT_TRUE(info.uvs_significant);
+  EXPECT_TRUE(info.normals_significant);
+  const ProgressiveMesh decoded = read(v23);
+  EXPECT_EQ(float_bits(decoded.uvs), float_bits(pm.uvs));
+  EXPECT_EQ(float_bits(decoded.normals), float_bits(pm.normals));
+  WriteOptions v22_options;
+  v22_options.minor_version = 2;
+  const std::string v22 = write(pm, v22_options);
+  expect_identical(with_sorted_moves(decoded), with_sorted_moves(read(v22)));
+  EXPECT_LT(v23.size(), v22.size());
+  std::printf("2.3 %zu bytes, 2.2 %zu\n", v23.size(), v22.size());
+  // Every prefix (chunks of 64 splits) decodes, with the entries known so far.
+  WriteOptions small_chunks;
+  small_chunks.chunk_splits = 64;
+  const std::string chunked = write(pm, small_chunks);
+  ReadOptions prefix;
+  prefix.max_splits = pm.splits.size() / 2;
+  const ProgressiveMesh half = read(chunked, prefix);
+  std::string why;
+  EXPECT_TRUE(validate(half, &why)) << why;
+  EXPECT_LT(half.splits.size(), pm.splits.size());
+  // A quantized table is not also significant; a record of 0 or 10 digits, a first exponent
+  // beyond 40, a value no decimal has: each a clean kCorruptStream.
+  const auto code = [](const std::string& damaged) {
+    ProgressiveMesh out;
+    const Status status = read_pm(damaged, out);
+    if (!status) std::printf("  %s\n", status.message().c_str());
+    return status.code();
+  };
+  std::string quantized = v23;
+  quantized[85] = 10;  // uv_bits
+  const uint32_t crc = detail::crc32(std::string_view(quantized).substr(0, 92));
+  for (int k = 0; k < 4; ++k) quantized[92 + k] = static_cast<char>(crc >> (8 * k));
+  EXPECT_EQ(code(quantized), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string&) {})), ErrorCode::kOk);
+  EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string& raw) { raw[0] = 0; })),
+            ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string& raw) { raw[0] = 10; })),
+            ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string& raw) { raw[1] = 41; })),
+            ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string& raw) { raw[1] = 40; })),
+            ErrorCode::kCorruptStream);
 }
 
 // Golden streams of every version, committed: a change that breaks old files fails here.

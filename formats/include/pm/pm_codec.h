@@ -29,7 +29,7 @@ struct WriteOptions {
   // 0, positions that are all decimals (as text formats write them: "0.037830") go on the
   // grid of their decimals (format 2.3), bit for bit, where that grid is coarser than the
   // floats' own steps; positions that are all decimals of a few significant digits ("%g"),
-  // as those decimals, likewise.
+  // as those decimals, likewise; and so are lossless texture-coordinate and normal tables.
   int position_bits = 0;
   int uv_bits = 0;
   int normal_bits = 0;
@@ -167,6 +167,9 @@ struct PmInfo {
   // Added with format 2.3: the positions are lossless, coded as decimals of a few significant
   // digits (the input's values were such decimals: "0.0832331", "-52.9283").
   bool positions_significant = false;
+  // Added with format 2.3: the texture-coordinate (normal) table is lossless, coded as
+  // decimals of a few significant digits.
+  bool uvs_significant = false, normals_significant = false;
   struct Chunk {
     uint32_t splits = 0;
     uint64_t vertices_after = 0, faces_after = 0;  // as vertices_at_level / faces_at_level
