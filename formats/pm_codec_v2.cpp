@@ -617,6 +617,26 @@ bool read_grid(ByteReader& in, int bits, std::size_t components, Grid& grid, boo
   return true;
 }
 
+// 2.3 (§5.3, §5.4): significant decimals' record, u8 digits and i8 first exponent.
+void put_significant(ByteWriter& out, const SignificantDecimals& significant) {
+  out.put_u8(static_cast<uint8_t>(significant.digits));
+  out.put_u8(static_cast<uint8_t>(static_cast<int8_t>(significant.first_exponent)));
+}
+bool read_significant(ByteReader& in, SignificantDecimals& out) {
+  uint8_t digits = 0, exponent = 0;
+  if (!in.read_u8(digits) || !in.read_u8(exponent)) return false;
+  const int first_exponent = static_cast<int8_t>(exponent);
+  if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < kMinExponent ||
+      first_exponent > kMaxExponent) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": significant decimals of " +
+                                                  std::to_string(digits) + " digits from 10^" +
+                                                  std::to_string(first_exponent));
+  }
+  out.digits = digits;
+  out.first_exponent = first_exponent;
+  return true;
+}
+
 // 2.1 (§5.10): the adaptive models of the chunks' range-coded streams, set up before the
 // first chunk and carried from chunk to chunk (a reader decodes the chunks in order: each
 // needs the mesh of the ones before; learning them afresh cost 1-3% more).
@@ -1058,10 +1078,7 @@ struct Writer {
     if (listed[kind].empty()) return;  // no table: no grid, no count
     if (grid(kind).bits != 0) put_grid(out, grid(kind));
     const SignificantDecimals& significant = table_significant[kind];
-    if (significant.digits != 0) {  // 2.3 (§5.4)
-      out.put_u8(static_cast<uint8_t>(significant.digits));
-      out.put_u8(static_cast<uint8_t>(static_cast<int8_t>(significant.first_exponent)));
-    }
+    if (significant.digits != 0) put_significant(out, significant);  // 2.3 (§5.4)
     uint32_t listed_count = 0;
     for (uint8_t x : listed[kind]) listed_count += x;
     out.put_varint(listed_count);
@@ -1136,10 +1153,7 @@ struct Writer {
     std::string raw;
     ByteWriter out(raw);
     if (position_grid.bits != 0) put_grid(out, position_grid);
-    if (significant.digits != 0) {  // 2.3 (§5.3)
-      out.put_u8(static_cast<uint8_t>(significant.digits));
-      out.put_u8(static_cast<uint8_t>(static_cast<int8_t>(significant.first_exponent)));
-    }
+    if (significant.digits != 0) put_significant(out, significant);  // 2.3 (§5.3)
     put_positions(out, 0, pm.base_vertex_count);
     for (uint32_t vertex : pm.base_faces) out.put_varint(vertex);
     if (pm.has_materials()) {
@@ -1956,17 +1970,7 @@ bool PmStreamReader::State::decode_base(ByteReader& in) {
     return false;
   }
   if ((h.options & kOptionSignificantPositions) != 0) {  // 2.3 (§5.3)
-    uint8_t digits = 0, exponent = 0;
-    if (!in.read_u8(digits) || !in.read_u8(exponent)) return false;
-    const int first_exponent = static_cast<int8_t>(exponent);
-    if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < kMinExponent ||
-        first_exponent > kMaxExponent) {
-      return in.fail(ErrorCode::kCorruptStream, in.where() + ": significant decimals of " +
-                                                    std::to_string(digits) + " digits from 10^" +
-                                                    std::to_string(first_exponent));
-    }
-    significant.digits = digits;
-    significant.first_exponent = first_exponent;
+    if (!read_significant(in, significant)) return false;
     positions.significant = &significant;
   }
   if (!read_vertex_values(in, h.base_vertex_count)) return false;
@@ -2125,18 +2129,8 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
   Grid& grid = kind == 0 ? uv_grid : normal_grid;
   if (bits != 0 && !read_grid(in, bits, components, grid)) return false;
   SignificantDecimals& significant = table_significant[kind];
-  if ((h.options & significant_table_option(kind)) != 0) {  // 2.3 (§5.4)
-    uint8_t digits = 0, exponent = 0;
-    if (!in.read_u8(digits) || !in.read_u8(exponent)) return false;
-    const int first_exponent = static_cast<int8_t>(exponent);
-    if (digits < 1 || digits > kMaxSignificantDigits || first_exponent < kMinExponent ||
-        first_exponent > kMaxExponent) {
-      return in.fail(ErrorCode::kCorruptStream, in.where() + ": significant decimals of " +
-                                                    std::to_string(digits) + " digits from 10^" +
-                                                    std::to_string(first_exponent));
-    }
-    significant.digits = digits;
-    significant.first_exponent = first_exponent;
+  if ((h.options & significant_table_option(kind)) != 0 && !read_significant(in, significant)) {
+    return false;  // 2.3 (§5.4)
   }
   uint32_t listed = 0;
   if (!in.read_varint(listed)) return false;

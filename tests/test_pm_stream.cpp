@@ -888,6 +888,22 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
             float_bits(extract_level(pm, pm.splits.size()).positions));
 }
 
+// The stream with header bytes changed (offset, value), its CRC made good again.
+std::string with_header_bytes(std::string bytes, std::initializer_list<std::pair<std::size_t, uint8_t>> changes) {
+  for (const auto& [offset, value] : changes) bytes[offset] = static_cast<char>(value);
+  const uint32_t crc = detail::crc32(std::string_view(bytes).substr(0, 92));
+  for (int k = 0; k < 4; ++k) bytes[92 + k] = static_cast<char>(crc >> (8 * k));
+  return bytes;
+}
+
+// What read_pm says of a stream (its message printed, when not ok).
+ErrorCode code(const std::string& bytes) {
+  ProgressiveMesh out;
+  const Status status = read_pm(bytes, out);
+  if (!status) std::printf("  %s\n", status.message().c_str());
+  return status.code();
+}
+
 // The stream with the payload of its section `tag` changed by `change` (and compressed again).
 template <typename Change>
 std::string with_section_payload(const std::string& bytes, const char (&tag)[5], Change change) {
@@ -923,24 +939,12 @@ TEST(PmStream, HostileDecimalGridsAreRefused) {
   PmInfo info;
   ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
   ASSERT_TRUE(info.positions_decimal);
-  const auto with_header = [](std::string damaged, std::initializer_list<std::pair<std::size_t, uint8_t>> changes) {
-    for (const auto& [offset, value] : changes) damaged[offset] = static_cast<char>(value);
-    const uint32_t crc = detail::crc32(std::string_view(damaged).substr(0, 92));
-    for (int k = 0; k < 4; ++k) damaged[92 + k] = static_cast<char>(crc >> (8 * k));
-    return damaged;
-  };
-  const auto code = [](const std::string& damaged) {
-    ProgressiveMesh out;
-    const Status status = read_pm(damaged, out);
-    if (!status) std::printf("  %s\n", status.message().c_str());
-    return status.code();
-  };
   // The surgery itself is sound.
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string&) {})), ErrorCode::kOk);
-  EXPECT_EQ(code(with_header(bytes, {{10, 2}})), ErrorCode::kCorruptStream);  // a 2.2 stream
-  EXPECT_EQ(code(with_header(bytes, {{84, 0}})), ErrorCode::kCorruptStream);  // no grid bits
-  EXPECT_EQ(code(with_header(bytes, {{84, 31}})), ErrorCode::kCorruptStream);  // 31 bits
-  EXPECT_EQ(code(with_header(bytes, {{84, 25}, {88, 0}})), ErrorCode::kCorruptStream);  // 25 bits, float grid
+  EXPECT_EQ(code(with_header_bytes(bytes, {{10, 2}})), ErrorCode::kCorruptStream);  // a 2.2 stream
+  EXPECT_EQ(code(with_header_bytes(bytes, {{84, 0}})), ErrorCode::kCorruptStream);  // no grid bits
+  EXPECT_EQ(code(with_header_bytes(bytes, {{84, 31}})), ErrorCode::kCorruptStream);  // 31 bits
+  EXPECT_EQ(code(with_header_bytes(bytes, {{84, 25}, {88, 0}})), ErrorCode::kCorruptStream);  // 25 bits, float grid
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 16; })), ErrorCode::kCorruptStream);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[8] = 0x10; })), ErrorCode::kCorruptStream);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[8] = static_cast<char>(0xF0); })),
@@ -957,17 +961,7 @@ TEST(PmStream, HostileSignificantDecimalsAreRefused) {
   PmInfo info;
   ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
   ASSERT_TRUE(info.positions_significant);
-  const auto code = [](const std::string& damaged) {
-    ProgressiveMesh out;
-    const Status status = read_pm(damaged, out);
-    if (!status) std::printf("  %s\n", status.message().c_str());
-    return status.code();
-  };
-  std::string on_grid = bytes;
-  on_grid[84] = 12;
-  const uint32_t crc = detail::crc32(std::string_view(on_grid).substr(0, 92));
-  for (int k = 0; k < 4; ++k) on_grid[92 + k] = static_cast<char>(crc >> (8 * k));
-  EXPECT_EQ(code(on_grid), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_header_bytes(bytes, {{84, 12}})), ErrorCode::kCorruptStream);  // on a grid
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string&) {})), ErrorCode::kOk);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 0; })), ErrorCode::kCorruptStream);
   EXPECT_EQ(code(with_base_payload(bytes, [](std::string& raw) { raw[0] = 10; })), ErrorCode::kCorruptStream);
@@ -1018,17 +1012,7 @@ TEST(PmStream, Version23StoresDecimalTablesAsSignificantDecimals) {
   EXPECT_LT(half.splits.size(), pm.splits.size());
   // A quantized table is not also significant; a record of 0 or 10 digits, a first exponent
   // beyond 40, a value no decimal has: each a clean kCorruptStream.
-  const auto code = [](const std::string& damaged) {
-    ProgressiveMesh out;
-    const Status status = read_pm(damaged, out);
-    if (!status) std::printf("  %s\n", status.message().c_str());
-    return status.code();
-  };
-  std::string quantized = v23;
-  quantized[85] = 10;  // uv_bits
-  const uint32_t crc = detail::crc32(std::string_view(quantized).substr(0, 92));
-  for (int k = 0; k < 4; ++k) quantized[92 + k] = static_cast<char>(crc >> (8 * k));
-  EXPECT_EQ(code(quantized), ErrorCode::kCorruptStream);
+  EXPECT_EQ(code(with_header_bytes(v23, {{85, 10}})), ErrorCode::kCorruptStream);  // uv_bits 10
   EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string&) {})), ErrorCode::kOk);
   EXPECT_EQ(code(with_section_payload(v23, "TABL", [](std::string& raw) { raw[0] = 0; })),
             ErrorCode::kCorruptStream);
