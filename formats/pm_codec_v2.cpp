@@ -498,8 +498,10 @@ bool make_significant_decimals(const float* values, std::size_t count, Significa
   std::vector<int> exponents(count);
   std::vector<int64_t> mantissas(count);
   int digits = 1;
+  // 9 digits give back every float, in steps finer than the float's own: they never pay
+  // (and trying them would read every value once more, where nothing is a short decimal).
   for (;; ++digits) {
-    if (digits > kMaxSignificantDigits) return false;
+    if (digits >= kMaxSignificantDigits) return false;
     bool exact = true;
     for (std::size_t i = 0; i < count && exact; ++i) {
       const float x = values[i];
