@@ -371,6 +371,15 @@ struct Grid {
   }
 };
 
+// 2.3 (§5.3): how many bits coarser a decimal step of 2^log2_step is than the float step
+// above |x| (+0's is the smallest subnormal), within +-16: the writer's estimate of what
+// coding x as that decimal saves over its float bits.
+double bits_coarser(double log2_step, float x) {
+  const float a = std::fabs(x);
+  const float ulp = std::nextafter(a, std::numeric_limits<float>::infinity()) - a;  // a power of 2
+  return std::clamp(log2_step - std::ilogb(ulp), -16.0, 16.0);
+}
+
 // 2.3, lossless (§5.3): a decimal grid for the `components`-vectors `values`, when each is
 // exactly the float of a decimal with a few places after the point (as text formats write
 // them: "0.037830"), within kMaxDecimalBits of range, and coarser than the floats' own steps
@@ -380,6 +389,7 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
                        double& gain) {
   if (count == 0) return false;
   int decimals = 0;
+  std::vector<int64_t> low(components), high(components);  // of the decimals, per component
   for (;; ++decimals) {
     if (decimals > kMaxDecimals) return false;
     const double scale = kPowersOf10[decimals];
@@ -388,22 +398,17 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
       const float x = values[i];
       const double k = std::nearbyint(double{x} * scale);
       exact = std::isfinite(x) && std::fabs(k) < double(kMaxDecimalFirst);
-      if (exact) {
-        const auto back = static_cast<float>(static_cast<double>(static_cast<int64_t>(k)) / scale);
-        exact = std::memcmp(&back, &x, sizeof x) == 0;  // -0 is not a decimal's float
-      }
+      if (!exact) break;
+      const auto back = static_cast<float>(static_cast<double>(static_cast<int64_t>(k)) / scale);
+      exact = std::memcmp(&back, &x, sizeof x) == 0;  // -0 is not a decimal's float
+      const std::size_t c = i % components;
+      const auto decimal = static_cast<int64_t>(k);
+      if (i < components || decimal < low[c]) low[c] = decimal;
+      if (i < components || decimal > high[c]) high[c] = decimal;
     }
     if (exact) break;
   }
   const double scale = kPowersOf10[decimals];
-  std::vector<int64_t> low(components), high(components);
-  for (std::size_t i = 0; i < count; ++i) {
-    for (std::size_t c = 0; c < components; ++c) {
-      const auto k = static_cast<int64_t>(std::nearbyint(double{values[components * i + c]} * scale));
-      if (i == 0 || k < low[c]) low[c] = k;
-      if (i == 0 || k > high[c]) high[c] = k;
-    }
-  }
   uint64_t extent = 0;
   for (std::size_t c = 0; c < components; ++c) {
     extent = std::max(extent, static_cast<uint64_t>(high[c] - low[c]));
@@ -415,11 +420,7 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
   // counted within +-16).
   const double log_step = -std::log2(scale);
   gain = 0;
-  for (std::size_t i = 0; i < count * components; ++i) {
-    const float x = std::fabs(values[i]);
-    const float ulp = std::nextafter(x, std::numeric_limits<float>::infinity()) - x;  // a power of 2
-    gain += std::clamp(log_step - std::ilogb(ulp), -16.0, 16.0);
-  }
+  for (std::size_t i = 0; i < count * components; ++i) gain += bits_coarser(log_step, values[i]);
   if (!(gain > 0)) return false;
   grid.bits = bits;
   grid.decimals = decimals;
@@ -465,6 +466,16 @@ struct SignificantDecimals {
     return std::isfinite(out);
   }
 };
+
+// The float a value's integer `unit` stands for (§5.6): a grid index (grid set), a number of
+// significant decimals (2.3, significant set), else ordered float bits; false when it stands
+// for none (significant decimals only).
+bool float_of_unit(const Grid* grid, const SignificantDecimals* significant, uint32_t unit,
+                   std::size_t c, float& out) {
+  if (significant != nullptr) return significant->to_float(unit, out);
+  out = grid != nullptr ? static_cast<float>(grid->value(unit, c)) : float_from_ordered(unit);
+  return true;
+}
 
 // The decimal of `digits` significant digits whose float is x (m, k), or false.
 bool significant_decimal(float x, int digits, int64_t& m, int& k) {
@@ -513,17 +524,15 @@ bool make_significant_decimals(const float* values, std::size_t count, Significa
     }
     if (exact) break;
   }
-  int first = kMaxPowerOf10;
+  int first = kMaxExponent;
   gain = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    const float x = std::fabs(values[i]);
-    const float ulp = std::nextafter(x, std::numeric_limits<float>::infinity()) - x;
-    if (x == 0) {
-      gain += 16;
+    if (values[i] == 0) {
+      gain += bits_coarser(0, values[i]);  // +0: 16, as on a grid
       continue;
     }
     first = std::min(first, exponents[i]);
-    gain += std::clamp(double(exponents[i]) * std::log2(10.0) - std::ilogb(ulp), -16.0, 16.0);
+    gain += bits_coarser(double(exponents[i]) * std::log2(10.0), values[i]);
   }
   if (!(gain > 0)) return false;
   const auto low = static_cast<int64_t>(kPowersOf10[digits - 1]);
@@ -698,9 +707,7 @@ struct VertexValues {
 
   // False when `unit` stands for no value (significant decimals only).
   bool to_float(uint32_t unit, std::size_t c, float& out) const {
-    if (significant != nullptr) return significant->to_float(unit, out);
-    out = grid != nullptr ? static_cast<float>(grid->value(unit, c)) : float_from_ordered(unit);
-    return true;
+    return float_of_unit(grid, significant, unit, c, out);
   }
   uint32_t from_float(float x, std::size_t c) const {
     return grid != nullptr ? quantize(*grid, x, c) : ordered_from_float(x);
@@ -1042,11 +1049,12 @@ struct Writer {
   void units_of(int kind, uint32_t id, uint32_t* out) const {
     const std::size_t components = kind == 0 ? 2 : 3;
     for (std::size_t c = 0; c < components; ++c) {
-      const float x = table(kind)[components * std::size_t{id} + c];
+      const std::size_t at = components * std::size_t{id} + c;
       if (table_significant[kind].digits != 0) {
-        out[c] = table_numbers[kind][components * std::size_t{id} + c];
+        out[c] = table_numbers[kind][at];  // 2.3 (§5.4)
       } else {
-        out[c] = grid(kind).bits != 0 ? quantize(grid(kind), x, c) : ordered_from_float(x);
+        out[c] = grid(kind).bits != 0 ? quantize(grid(kind), table(kind)[at], c)
+                                      : ordered_from_float(table(kind)[at]);
       }
     }
   }
@@ -1089,13 +1097,16 @@ struct Writer {
       if (listed[kind][id] == 0) continue;
       out.put_varint(static_cast<uint32_t>(int64_t(id) - previous - 1));
       previous = int64_t(id);
+      // The values as units_of gives them to the wedge coder: grid indices and (2.3)
+      // numbers of significant decimals are varints, float bits are f32.
+      uint32_t units[3];
+      units_of(kind, static_cast<uint32_t>(id), units);
       for (std::size_t c = 0; c < components; ++c) {
-        if (significant.digits != 0) {
-          out.put_varint(table_numbers[kind][components * id + c]);
-          continue;
+        if (grid(kind).bits != 0 || significant.digits != 0) {
+          out.put_varint(units[c]);
+        } else {
+          out.put_f32(table(kind)[components * id + c]);
         }
-        put_table_value(out, grid(kind).bits != 0 ? &grid(kind) : nullptr,
-                        table(kind)[components * id + c], c);
       }
     }
   }
@@ -1540,18 +1551,20 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   // "1e-06" would need a grid of 10^-6 steps, 40.3 KB as significant decimals against 47.6).
   double grid_gain = 0, significant_gain = 0;
   const bool lossless = options.position_bits == 0 && h.minor >= 3;
-  const bool gridded = lossless && make_decimal_grid(pm.positions.data(), pm.positions.size() / 3, 3,
-                                                     w.position_grid, grid_gain);
+  Grid decimal_grid;
+  SignificantDecimals significant;
   std::vector<uint32_t> significant_units;
-  const bool significant =
-      lossless && make_significant_decimals(pm.positions.data(), pm.positions.size(), w.significant,
+  const bool gridded = lossless && make_decimal_grid(pm.positions.data(), pm.positions.size() / 3, 3,
+                                                     decimal_grid, grid_gain);
+  const bool numbered =
+      lossless && make_significant_decimals(pm.positions.data(), pm.positions.size(), significant,
                                             significant_units, significant_gain);
-  if (gridded && !(significant && significant_gain > grid_gain)) {
+  if (gridded && !(numbered && significant_gain > grid_gain)) {
+    w.position_grid = std::move(decimal_grid);
     h.position_bits = static_cast<uint8_t>(w.position_grid.bits);
     h.options |= kOptionDecimalPositions;
-    w.significant = SignificantDecimals{};
-  } else if (options.position_bits == 0) {
-    w.position_grid = Grid{};  // no grid: float bits, or significant decimals
+  } else if (numbered) {
+    w.significant = significant;
   }
   h.uv_bits = static_cast<uint8_t>(pm.uvs.empty() ? 0 : options.uv_bits);
   h.normal_bits = static_cast<uint8_t>(pm.normals.empty() ? 0 : options.normal_bits);
@@ -1638,19 +1651,23 @@ bool read_optional_id(ByteReader& in, uint32_t count, const char* what, uint32_t
   return true;
 }
 
-// One table value, component c (§5.4): f32 (grid null), or a grid index, which MUST be on
-// the grid; `unit` gets it in the integers residuals are taken in (§5.11).
-bool read_table_value(ByteReader& in, const Grid* grid, std::size_t c, float& x, uint32_t& unit) {
-  if (grid == nullptr) {
+// One table value, component c (§5.4): f32 (grid and significant null), a grid index, which
+// MUST be on the grid, or (2.3) a number of significant decimals, which MUST be a decimal's;
+// `unit` gets it in the integers residuals are taken in (§5.11).
+bool read_table_value(ByteReader& in, const Grid* grid, const SignificantDecimals* significant,
+                      std::size_t c, float& x, uint32_t& unit) {
+  if (grid == nullptr && significant == nullptr) {
     if (!in.read_f32(x)) return false;
     unit = ordered_from_float(x);
     return true;
   }
   if (!in.read_varint(unit)) return false;
-  if (unit > (uint32_t{1} << grid->bits) - 1) {
+  if (grid != nullptr && unit > (uint32_t{1} << grid->bits) - 1) {
     return in.fail(ErrorCode::kCorruptStream, in.where() + ": grid index beyond the grid");
   }
-  x = static_cast<float>(grid->value(unit, c));
+  if (!float_of_unit(grid, significant, unit, c, x)) {
+    return in.fail(ErrorCode::kCorruptStream, in.where() + ": a table value that is no decimal's");
+  }
   return true;
 }
 
@@ -1661,7 +1678,9 @@ bool read_table(ByteReader& in, uint32_t count, std::size_t components, int bits
   if (bits != 0 && !read_grid(in, bits, components, grid)) return false;
   uint32_t unit;
   for (std::size_t i = 0; i < values.size(); ++i) {
-    if (!read_table_value(in, bits != 0 ? &grid : nullptr, i % components, values[i], unit)) return false;
+    if (!read_table_value(in, bits != 0 ? &grid : nullptr, nullptr, i % components, values[i], unit)) {
+      return false;
+    }
   }
   return true;
 }
@@ -2156,15 +2175,11 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
     }
     previous = id;
     for (std::size_t c = 0; c < components; ++c) {
-      float& value = values[components * std::size_t(id) + c];
-      if (significant.digits != 0) {
-        if (!in.read_varint(units[c])) return false;
-        if (!significant.to_float(units[c], value)) {
-          return in.fail(ErrorCode::kCorruptStream, in.where() + ": a table value that is no decimal's");
-        }
-        continue;
+      if (!read_table_value(in, bits != 0 ? &grid : nullptr,
+                            significant.digits != 0 ? &significant : nullptr, c,
+                            values[components * std::size_t(id) + c], units[c])) {
+        return false;
       }
-      if (!read_table_value(in, bits != 0 ? &grid : nullptr, c, value, units[c])) return false;
     }
     if (ids) wedges[kind].learn(static_cast<uint32_t>(id), units);
   }
@@ -2283,18 +2298,15 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       const Grid& grid = kind == 0 ? uv_grid : normal_grid;
       const std::size_t components = kind == 0 ? 2 : 3;
       const uint32_t* units = wedges[kind].units(id);
+      const bool on_grid = (kind == 0 ? h.uv_bits : h.normal_bits) != 0;
+      const SignificantDecimals& significant = table_significant[kind];  // 2.3 (§5.4)
       for (std::size_t c = 0; c < components; ++c) {
-        float& value = values[components * std::size_t{id} + c];
-        if (table_significant[kind].digits != 0) {  // 2.3 (§5.4)
-          if (!table_significant[kind].to_float(units[c], value)) {
-            return in.fail(ErrorCode::kCorruptStream,
-                           where + ": a corner of vertex " + std::to_string(at.vertex) +
-                               " has a table value that is no decimal's");
-          }
-          continue;
+        if (!float_of_unit(on_grid ? &grid : nullptr, significant.digits != 0 ? &significant : nullptr,
+                           units[c], c, values[components * std::size_t{id} + c])) {
+          return in.fail(ErrorCode::kCorruptStream, where + ": a corner of vertex " +
+                                                        std::to_string(at.vertex) +
+                                                        " has a table value that is no decimal's");
         }
-        value = (kind == 0 ? h.uv_bits : h.normal_bits) != 0 ? static_cast<float>(grid.value(units[c], c))
-                                                              : float_from_ordered(units[c]);
       }
     }
     return true;
