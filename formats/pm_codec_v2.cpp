@@ -56,6 +56,7 @@
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
 #include "range_coder.h"
+#include "significant_decimals.h"
 #include "split_fans.h"
 #include "validate_decoded.h"
 
@@ -64,7 +65,7 @@ namespace detail {
 namespace {
 
 constexpr uint16_t kMajor2 = 2;
-constexpr uint16_t kNewestMinor = 3;        // the newest minor this reader knows (2.3)
+constexpr uint16_t kNewestMinor = 4;        // the newest minor this reader knows (2.4)
 constexpr uint32_t kOptionKeepsOrder = 1u;  // header `options` bit 0: an ORDR section
 // Header `options` bit 1 (2.3): the positions are on a decimal grid (§5.3), lossless.
 constexpr uint32_t kOptionDecimalPositions = 2u;
@@ -84,10 +85,6 @@ constexpr uint32_t significant_table_option(int kind) {
 constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 // A decimal grid (2.3, §5.3): at most this many bits, and places after the point.
 constexpr int kMaxDecimalBits = 30, kMaxDecimals = 15;
-// Significant decimals (2.3, §5.3): at most 9 digits; powers of 10 up to 10^22 are exact
-// doubles; exponents from -60 to 40 (a float's decimals of 9 digits have -53 to 30).
-constexpr int kMaxSignificantDigits = 9, kMaxPowerOf10 = 22;
-constexpr int kMinExponent = -60, kMaxExponent = 40;
 
 constexpr uint32_t kTagTables = make_tag("TABL");
 constexpr uint32_t kTagIndex = make_tag("INDX");
@@ -351,9 +348,6 @@ bool residual_of(uint64_t code, int64_t& difference) {
 // Quantization grids (§5.3): origin + q * step, q in [0, 2^bits); or, lossless (2.3), the
 // decimals with `decimals` places after the point from first / 10^decimals on.
 
-constexpr double kPowersOf10[kMaxPowerOf10 + 1] = {
-    1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-    1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};  // all exact
 constexpr int64_t kMaxDecimalFirst = int64_t{1} << 52;  // |first|: first + q exact in a double
 
 struct Grid {
@@ -429,43 +423,6 @@ bool make_decimal_grid(const float* values, std::size_t count, std::size_t compo
   grid.step = 1.0f;
   return true;
 }
-
-// 2.3, lossless (§5.3): positions as decimals of `digits` significant digits, m · 10^k with
-// 10^(digits-1) <= m < 10^digits and k >= first_exponent, numbered in order of value: the
-// unit of +-x is 2^31 +- n, n = 0 for +0, else (k - first_exponent) · 9 · 10^(digits-1) +
-// (m - 10^(digits-1)) + 1. Text formats write such values ("0.0832331", "-52.9283": %g's six
-// digits); their float bits hold about 24 bits where the text held 20, which their residuals
-// pay for at every vertex.
-// m · 10^k as a double: m times, or divided by, 10^22 as often as it takes, then the rest
-// (each step IEEE's, so every reader gets the same; one step for |k| <= 22, then exact).
-double scaled_decimal(double m, int k) {
-  for (; k > kMaxPowerOf10; k -= kMaxPowerOf10) m *= kPowersOf10[kMaxPowerOf10];
-  for (; k < -kMaxPowerOf10; k += kMaxPowerOf10) m /= kPowersOf10[kMaxPowerOf10];
-  return k >= 0 ? m * kPowersOf10[k] : m / kPowersOf10[-k];
-}
-
-struct SignificantDecimals {
-  int digits = 0;          // 0: not used
-  int first_exponent = 0;  // k of the smallest decade
-
-  // The float of `unit`, or false when no decimal of these has that number.
-  bool to_float(uint32_t unit, float& out) const {
-    const int64_t signed_n = int64_t{unit} - (int64_t{1} << 31);
-    const uint64_t n = static_cast<uint64_t>(signed_n < 0 ? -signed_n : signed_n);
-    if (n == 0) {
-      out = 0.0f;
-      return true;
-    }
-    const auto low = static_cast<uint64_t>(kPowersOf10[digits - 1]);
-    const uint64_t decade = 9 * low;
-    const int64_t k = first_exponent + static_cast<int64_t>((n - 1) / decade);
-    const auto m = static_cast<double>(low + (n - 1) % decade);
-    if (k > kMaxExponent) return false;
-    const double value = scaled_decimal(m, static_cast<int>(k));
-    out = static_cast<float>(signed_n < 0 ? -value : value);
-    return std::isfinite(out);
-  }
-};
 
 // The float a value's integer `unit` stands for (§5.6): a grid index (grid set), a number of
 // significant decimals (2.3, significant set), else ordered float bits; false when it stands
@@ -703,6 +660,10 @@ struct VertexValues {
   std::size_t components = 3;
   const Grid* grid = nullptr;       // quantized when set
   const SignificantDecimals* significant = nullptr;  // 2.3: lossless decimals' numbers when set
+  bool mean_of_values = false;  // 2.4: significant decimals predicted by their values' mean
+
+  // Whether the normal frame applies (§5.10): on a grid (2.1), of significant decimals (2.4).
+  bool has_frames() const { return grid != nullptr || (significant != nullptr && mean_of_values); }
   std::vector<uint32_t> units;      // components per vertex, as decoded or encoded so far
 
   // False when `unit` stands for no value (significant decimals only).
@@ -728,10 +689,17 @@ struct VertexValues {
 
   // The prediction of a new vertex from its neighbours in the refined mesh (Taubin et al.
   // 1998, §5): their mean, in the grid's integers, or in double then rounded to float (when
-  // the mean is not finite, the first neighbour's value, which is u's).
+  // the mean is not finite, the first neighbour's value, which is u's); significant decimals
+  // (2.4) as the number nearest to their values' mean (2.3: their numbers' mean).
   void predict(const uint32_t* neighbours, std::size_t count, uint32_t* out) const {
     for (std::size_t c = 0; c < components; ++c) {
-      if (grid != nullptr || significant != nullptr) {  // 2.3's significant decimals too
+      const auto unit_at = [&](std::size_t k) { return units[components * neighbours[k] + c]; };
+      if (significant != nullptr && mean_of_values) {
+        const int64_t scale = significant->scale_of(count, unit_at);
+        __int128 sum = 0;
+        for (std::size_t k = 0; k < count; ++k) sum += significant->linear(unit_at(k), scale);
+        out[c] = significant->nearest(rounded_quotient(sum, static_cast<__int128>(count)), scale);
+      } else if (grid != nullptr || significant != nullptr) {  // 2.3's significant decimals too
         uint64_t sum = 0;
         for (std::size_t k = 0; k < count; ++k) sum += units[components * neighbours[k] + c];
         out[c] = static_cast<uint32_t>((2 * sum + count) / (2 * count));
@@ -764,24 +732,62 @@ struct NormalFrame {
 
 constexpr std::size_t kMaxNormalFan = 1024;  // larger fans (none in practice) go without
 
-bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
-                  NormalFrame& out) {
+// The offsets (ring vertex - u) that lopsided_place and normal_frame read, 3 per ring vertex
+// (ring[0..n], so that a closed fan's last face finds its second vertex), in integers that
+// are linear in the positions' values: on a grid its indices' differences (2.3's decimal
+// grids of more than 24 bits divided by 2^(bits - 24), truncating towards zero, so that
+// products stay as small as on 24-bit grids); lossless float bits' differences divided by
+// 256 (lopsided_place only); and 2.4's significant decimals (§5.3) as their values, u's and
+// the ring's on one scale, then halved together (truncating towards zero) until each is
+// below 2^24. Computed once per split, for fans of at most kMaxNormalFan faces.
+void fan_offsets(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
+                 std::vector<int64_t>& out) {
+  const std::size_t n = fan.ring.size();
+  out.resize(3 * n);
+  const uint32_t* units = positions.units.data();
+  const uint32_t* at_u = units + 3 * std::size_t{u};
+  if (positions.significant != nullptr && positions.mean_of_values) {
+    const SignificantDecimals& numbers = *positions.significant;
+    const auto unit_at = [&](std::size_t k) {
+      return k < 3 ? at_u[k] : units[3 * std::size_t{fan.ring[k / 3 - 1]} + k % 3];
+    };
+    const int64_t scale = numbers.scale_of(3 * (n + 1), unit_at);
+    int64_t origin[3], largest = 0;
+    for (int c = 0; c < 3; ++c) origin[c] = numbers.linear(at_u[c], scale);
+    for (std::size_t k = 0; k < 3 * n; ++k) {
+      out[k] = numbers.linear(unit_at(k + 3), scale) - origin[k % 3];
+      largest = std::max(largest, out[k] < 0 ? -out[k] : out[k]);
+    }
+    int halvings = 0;
+    while ((largest >> halvings) >= (int64_t{1} << kMaxBits)) ++halvings;
+    if (halvings != 0) {
+      for (int64_t& d : out) d = d < 0 ? -(-d >> halvings) : d >> halvings;
+    }
+    return;
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const uint32_t* at = units + 3 * std::size_t{fan.ring[k]};
+    for (int c = 0; c < 3; ++c) out[3 * k + c] = int64_t{at[c]} - int64_t{at_u[c]};
+  }
+  // Divisions by constants (a shift) where they can be: a division by a variable is slow.
+  const int64_t divisor = positions.grid == nullptr ? 256
+                                                    : int64_t{1} << std::max(0, positions.grid->bits - kMaxBits);
+  if (divisor == 256) {
+    for (int64_t& d : out) d /= 256;
+  } else if (divisor != 1) {
+    for (int64_t& d : out) d /= divisor;
+  }
+}
+
+// On a grid (2.1) or of significant decimals (2.4): u's normal and its order of coordinates,
+// from the fan's offsets.
+bool normal_frame(const std::vector<int64_t>& offsets, const SplitFans::Fan& fan, NormalFrame& out) {
   if (fan.faces.empty() || fan.faces.size() > kMaxNormalFan) return false;
-  const auto at = [&](uint32_t w, int c) {
-    return int64_t{positions.units[3 * std::size_t{w} + c]};
-  };
-  // 2.3's decimal grids of more than 24 bits: the differences divided by 2^(bits - 24),
-  // truncating towards zero, so that the products below stay as small as on 24-bit grids.
-  const int64_t divisor = int64_t{1} << std::max(0, positions.grid->bits - kMaxBits);
   int64_t n[3] = {0, 0, 0};
   for (std::size_t k = 0; k < fan.faces.size(); ++k) {
-    int64_t e1[3], e2[3];
-    for (int c = 0; c < 3; ++c) {
-      e1[c] = at(fan.ring[k], c) - at(u, c);
-      e2[c] = at(fan.ring[k + 1], c) - at(u, c);
-      if (divisor != 1) e1[c] /= divisor, e2[c] /= divisor;
-    }
-    // Each product is below 2^48 (24-bit grids), each sum of 1024 below 2^60.
+    const int64_t* e1 = &offsets[3 * k];
+    const int64_t* e2 = &offsets[3 * k + 3];
+    // Each product is below 2^48 (each offset below 2^24), each sum of 1024 below 2^60.
     n[0] += e1[1] * e2[2] - e1[2] * e2[1];
     n[1] += e1[2] * e2[0] - e1[0] * e2[2];
     n[2] += e1[0] * e2[1] - e1[1] * e2[0];
@@ -821,35 +827,46 @@ int64_t normal_offset(const NormalFrame& f, const int64_t* d, const int64_t* r, 
   return std::clamp(offset, -limit, limit);
 }
 
+// 2.4 (§5.10), significant decimals: the normal coordinate c's prediction, the number nearest
+// to predicted[c]'s value plus normal_offset's of the values: d = predicted - u and the
+// tangential residuals r = v - predicted, all (u's, predicted's and v's two coded coordinates)
+// on one scale (§5.3); the offset's terms in 128 bits, it clamped to +-10^18.
+uint32_t normal_prediction_of_values(const SignificantDecimals& numbers, const NormalFrame& f,
+                                     const uint32_t* u, const uint32_t* predicted, const uint32_t* v) {
+  const int a = f.order[0], b = f.order[1], c = f.order[2];
+  const uint32_t eight[8] = {u[0], u[1], u[2], predicted[0], predicted[1], predicted[2], v[a], v[b]};
+  const int64_t scale = numbers.scale_of(8, [&](std::size_t k) { return eight[k]; });
+  const auto linear = [&](uint32_t unit) { return static_cast<__int128>(numbers.linear(unit, scale)); };
+  __int128 num = 0;
+  for (int k = 0; k < 3; ++k) num += 3 * (linear(predicted[k]) - linear(u[k])) * f.n[k];
+  num += 4 * (f.n[a] * (linear(v[a]) - linear(predicted[a])) + f.n[b] * (linear(v[b]) - linear(predicted[b])));
+  num = -num;
+  __int128 den = 4 * static_cast<__int128>(f.n[c]);
+  if (den < 0) num = -num, den = -den;
+  constexpr __int128 kLimit = 1000000000000000000;  // 10^18
+  const __int128 offset = std::clamp(rounded_quotient(num, den), -kLimit, kLimit);
+  return numbers.nearest(linear(predicted[c]) + offset, scale);
+}
+
 // 2.1 (§5.10): where a closed fan's places start. A collapse v -> u hands v's faces to u, so
 // u's ring is lopsided towards where v was: the ring vertex furthest along the mean of
 // (ring vertex - u) is near the middle of the arc the split takes back, and vl's place
 // counted from it is far from uniform (on the bunny at 14 bits, 2.4 bits instead of 2.9).
 // Integers only (differences of values, divided by 256 when lossless, where the values are
 // 32-bit), the first of equal scores.
-std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan) {
+std::size_t lopsided_place(const std::vector<int64_t>& offsets, const SplitFans::Fan& fan) {
   const std::size_t n = fan.faces.size();
   if (n > kMaxNormalFan) return 0;
-  // The divisor a constant in each branch: a division by a variable is a slow instruction,
-  // by 256 a shift.
-  const bool on_grid = positions.grid != nullptr;
-  // 2.3's decimal grids of more than 24 bits: divided by 2^(bits - 24), as in normal_frame.
-  const int64_t wide = on_grid ? int64_t{1} << std::max(0, positions.grid->bits - kMaxBits) : 1;
-  const auto diff = [&](uint32_t w, int c) {
-    const int64_t d = int64_t{positions.units[3 * std::size_t{w} + c]} -
-                      int64_t{positions.units[3 * std::size_t{u} + c]};
-    if (wide != 1) return d / wide;
-    return on_grid ? d : d / 256;
-  };
+  const auto diff = [&](std::size_t k, int c) { return offsets[3 * k + c]; };
   int64_t direction[3] = {0, 0, 0};  // below 2^34
   for (std::size_t k = 0; k < n; ++k) {
-    for (int c = 0; c < 3; ++c) direction[c] += diff(fan.ring[k], c);
+    for (int c = 0; c < 3; ++c) direction[c] += diff(k, c);
   }
   std::size_t best = 0;
   int64_t best_score = 0;
   for (std::size_t k = 0; k < n; ++k) {
     int64_t score = 0;  // three products below 2^58
-    for (int c = 0; c < 3; ++c) score += diff(fan.ring[k], c) * direction[c];
+    for (int c = 0; c < 3; ++c) score += diff(k, c) * direction[c];
     if (k == 0 || score > best_score) best = k, best_score = score;
   }
   return best;
@@ -858,6 +875,13 @@ std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const Spli
 // ---------------------------------------------------------------------------------------
 // Chunk plan (§5.5): 256 splits, then doubling up to the writer's largest chunk, so that a
 // stream cut early still refines, and big meshes have few chunks.
+
+// 2.4 (§5.11): the split's moved faces with u's place in each, for the wedge coders.
+void arc_faces(const SplitFans& fans, uint32_t u, const std::vector<uint32_t>& arc,
+               std::vector<WedgeCoder::ArcFace>& out) {
+  out.clear();
+  for (uint32_t f : arc) out.push_back({f, fans.face(f), fans.slot_of(f, u)});
+}
 
 std::vector<uint32_t> plan_chunks(uint32_t splits, uint32_t largest) {
   return chunk_plan(splits, largest);
@@ -1122,6 +1146,10 @@ struct Writer {
       const uint64_t top = grid(kind).bits != 0 ? (uint64_t{1} << grid(kind).bits) - 1 : 0xFFFFFFFFull;
       WedgeCoder& coder = wedges[kind];
       coder.reset(components, count, top, h.split_vertices(), level_faces);
+      if (h.minor >= 4) {  // 2.4 (§5.11)
+        coder.predict_by_values(positions.significant,
+                                table_significant[kind].digits != 0 ? &table_significant[kind] : nullptr);
+      }
       uint32_t units[3];
       for (uint32_t id = 0; id < count; ++id) {
         if (listed[kind][id] == 0) continue;
@@ -1249,6 +1277,8 @@ struct Writer {
     for (std::size_t k = 0; k < SplitFans::Prefetch::kAhead; ++k)
       prefetch.step(k < pm.splits.size() ? pm.splits[k].u : SplitFans::kNone);
     std::vector<uint32_t> arc, record, sorted_arc, sorted_record, neighbours;
+    std::vector<WedgeCoder::ArcFace> arc_sides;
+    std::vector<int64_t> offsets;  // fan_offsets
     std::vector<uint32_t> predicted(3), color_predicted(colors.components);
     ByteWriter index_out(index);
     float previous_error = h.max_error;
@@ -1303,6 +1333,7 @@ struct Writer {
         bool coded = false;
         std::size_t place_l = 0, place_r = 0;
         const bool has_fan = fans.fan(split.u, fan);
+        if (ranged && has_fan && fan.faces.size() <= kMaxNormalFan) fan_offsets(positions, split.u, fan, offsets);
         if (has_fan) {
           const std::size_t places = fan.closed ? fan.faces.size() : fan.ring.size();
           const auto place = [&](uint32_t vertex, std::size_t none) {
@@ -1330,7 +1361,7 @@ struct Writer {
             if (fan.closed) {
               const std::size_t n = fan.faces.size();
               vl_code = static_cast<uint32_t>(
-                            (place_l + n - lopsided_place(positions, split.u, fan)) % n) +
+                            (place_l + n - lopsided_place(offsets, fan)) % n) +
                         1;
             }
             put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code);
@@ -1359,19 +1390,28 @@ struct Writer {
         }
         // The new vertex's position and colour, against the mean of its neighbours.
         positions.predict(neighbours.data(), neighbours.size(), predicted.data());
-        // On a grid, in 2.1, the coordinate along u's normal last, predicted from the others.
+        // On a grid (2.1) or of significant decimals (2.4), the coordinate along u's normal
+        // last, predicted from the others.
         NormalFrame frame;
-        const bool framed = ranged && position_grid.bits != 0 && has_fan &&
-                            normal_frame(positions, split.u, fan, frame);
+        const bool framed = ranged && positions.has_frames() && has_fan &&
+                            normal_frame(offsets, fan, frame);
         int64_t r[3], d[3];
+        const uint32_t* at_u = &positions.units[3 * std::size_t{split.u}];
+        const uint32_t* at_v = &positions.units[3 * std::size_t{v}];
         for (int c = 0; c < 3; ++c) {
-          r[c] = int64_t{positions.units[3 * std::size_t{v} + c]} - predicted[c];
-          d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
+          r[c] = int64_t{at_v[c]} - predicted[c];
+          d[c] = int64_t{predicted[c]} - at_u[c];
         }
         for (int k = 0; k < 3; ++k) {
           const int c = frame.order[k];
           const bool along_normal = framed && k == 2;
-          const int64_t residual = r[c] - (along_normal ? normal_offset(frame, d, r, position_grid.bits) : 0);
+          int64_t residual = r[c];
+          if (along_normal && positions.grid == nullptr) {  // 2.4: significant decimals
+            residual = int64_t{at_v[c]} - normal_prediction_of_values(*positions.significant, frame,
+                                                                      at_u, predicted.data(), at_v);
+          } else if (along_normal) {
+            residual -= normal_offset(frame, d, r, position_grid.bits);
+          }
           if (ranged) {
             // |residual| and its sign, with the models of its neighbours' spread (§5.10).
             const uint32_t context =
@@ -1392,12 +1432,14 @@ struct Writer {
           }
         }
         // Attributes: the moved corners in the order stored (the arc's), then fl and fr.
+        if (wedged && (has_ids(0) || has_ids(1))) arc_faces(fans, split.u, arc, arc_sides);
         for (uint32_t f : arc) {
           const std::size_t k = split.moved_begin +
                                 (std::find(record.begin(), record.end(), f) - record.begin());
           if (wedged) {  // 2.2 (§5.11)
             const int slot = fans.slot_of(f, split.u);
-            const WedgeCoder::Corner at{kRoleMoved, v, f, fans.face(f), slot, v};
+            const WedgeCoder::Corner at{kRoleMoved, v,     f, fans.face(f), slot,
+                                        v,          arc_sides.data(), arc_sides.size()};
             for (int kind = 0; kind < 2; ++kind) {
               if (!has_ids(kind)) continue;
               const uint32_t id = (kind == 0 ? pm.moved_uvs : pm.moved_normals)[k];
@@ -1585,6 +1627,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   if (w.significant.digits != 0) {
     h.options |= kOptionSignificantPositions;
     w.positions.significant = &w.significant;
+    w.positions.mean_of_values = h.minor >= 4;  // 2.4 (§5.3)
     w.positions.units = std::move(significant_units);
   } else {
     w.positions.units.resize(pm.positions.size());
@@ -1993,6 +2036,7 @@ bool PmStreamReader::State::decode_base(ByteReader& in) {
   if ((h.options & kOptionSignificantPositions) != 0) {  // 2.3 (§5.3)
     if (!read_significant(in, significant)) return false;
     positions.significant = &significant;
+    positions.mean_of_values = h.minor >= 4;  // 2.4 (§5.3)
   }
   if (!read_vertex_values(in, h.base_vertex_count)) return false;
   for (uint32_t f = 0; f < h.base_face_count; ++f) {
@@ -2087,6 +2131,10 @@ void PmStreamReader::State::reset_wedges() {
 // 2.2: the corners before the splits, whose ids TABL must have listed.
 bool PmStreamReader::State::start_wedges(ByteReader& in) {
   wedges_ready = true;
+  for (int kind = 0; kind < 2 && h.minor >= 4; ++kind) {  // 2.4 (§5.11)
+    wedges[kind].predict_by_values(positions.significant,
+                                   table_significant[kind].digits != 0 ? &table_significant[kind] : nullptr);
+  }
   for (int kind = 0; kind < 2; ++kind) {
     if (!(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
     const std::vector<uint32_t>& base = kind == 0 ? pm.face_uvs : pm.face_normals;
@@ -2266,6 +2314,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   float previous_error = chunks_decoded == 0 ? h.max_error : index[chunks_decoded - 1].error_after;
   SplitFans::Fan fan;
   std::vector<uint32_t> arc, neighbours;
+  std::vector<WedgeCoder::ArcFace> arc_sides;
+  std::vector<int64_t> offsets;  // fan_offsets
   uint32_t predicted[3];
   std::vector<uint32_t> color_predicted(h.color_components);
   uint32_t new_faces = 0, moved_total = 0;
@@ -2382,6 +2432,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     if (ranged) {
       // The ring codes exist only when u has a fan (§5.10); without one the split is explicit.
       has_fan = fans.fan(split.u, fan);
+      if (has_fan && fan.faces.size() <= kMaxNormalFan) fan_offsets(positions, split.u, fan, offsets);
       if (has_fan) {
         if (!get_ring_code(*vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code) ||
             !vl_rc->ok()) {
@@ -2432,7 +2483,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (vl_code != 0) {
         i = vl_code - 1;
         if (i >= (fan.closed ? n : n + 1)) return bad(v, "names place " + std::to_string(i) + " of u's ring for vl");
-        if (ranged && fan.closed) i = (i + lopsided_place(positions, split.u, fan)) % n;  // §5.10
+        if (ranged && fan.closed) i = (i + lopsided_place(offsets, fan)) % n;  // §5.10
       } else if (fan.closed) {
         return bad(v, "has no vl on a closed fan");
       }
@@ -2459,8 +2510,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     positions.predict(neighbours.data(), neighbours.size(), predicted);
     NormalFrame frame;
     const bool framed =
-        ranged && h.position_bits != 0 && has_fan && normal_frame(positions, split.u, fan, frame);
+        ranged && positions.has_frames() && has_fan && normal_frame(offsets, fan, frame);
     int64_t r[3] = {0, 0, 0}, d[3], units[3] = {0, 0, 0};
+    uint32_t coded[3] = {0, 0, 0};  // v's units as decoded so far
     for (int c = 0; c < 3; ++c)
       d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
     for (int k = 0; k < 3; ++k) {
@@ -2479,15 +2531,22 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
         if (magnitude != 0 && position_rc->bit(models->sign[along_normal][context][side]) != 0)
           residual = -residual;
         if (!position_rc->ok()) return range_failed("positions");
-        if (along_normal) residual += normal_offset(frame, d, r, position_grid.bits);  // r of the other two: checked
       } else if (!residual_of(position_codes[next_position++], residual)) {
         return bad(v, "has a position beyond the grid");
       }
-      const int64_t unit = int64_t{predicted[c]} + residual;
+      int64_t unit = int64_t{predicted[c]} + residual;
+      if (along_normal && positions.grid == nullptr) {  // 2.4: significant decimals
+        unit = int64_t{normal_prediction_of_values(*positions.significant, frame,
+                                                   &positions.units[3 * std::size_t{split.u}],
+                                                   predicted, coded)} + residual;
+      } else if (along_normal) {
+        unit += normal_offset(frame, d, r, position_grid.bits);  // r of the other two: checked
+      }
       const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
       if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
       r[c] = residual;
       units[c] = unit;
+      coded[c] = static_cast<uint32_t>(unit);
     }
     for (int c = 0; c < 3; ++c) {
       positions.units.push_back(static_cast<uint32_t>(units[c]));
@@ -2509,12 +2568,14 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       }
     }
     // Attributes: the moved corners, then the new faces' corners and materials.
+    if (wedge_rc[0] || wedge_rc[1]) arc_faces(fans, split.u, arc, arc_sides);
     for (std::size_t k = 0; k < arc.size(); ++k) {
       uint32_t id;
       if (wedged) {  // 2.2 (§5.11)
         const uint32_t f = arc[k];
         const int slot = fans.slot_of(f, split.u);
-        const WedgeCoder::Corner at{kRoleMoved, v, f, fans.face(f), slot, v};
+        const WedgeCoder::Corner at{kRoleMoved, v,     f, fans.face(f), slot,
+                                    v,          arc_sides.data(), arc_sides.size()};
         for (int kind = 0; kind < 2; ++kind) {
           if (!wedge_rc[kind]) continue;
           if (!wedge_corner(kind, at, id)) return false;

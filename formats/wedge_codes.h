@@ -25,6 +25,7 @@
 
 #include "byte_io.h"
 #include "range_coder.h"
+#include "significant_decimals.h"
 #include "pm/mesh.h"  // kNoAttribute
 
 namespace pm::detail {
@@ -117,6 +118,8 @@ class WedgeCoder {
     current_.clear();
     current_.reserve(3 * level_faces);
     previous_ = 0;
+    by_values_ = false;
+    position_numbers_ = value_numbers_ = nullptr;
     models_ = std::make_unique<WedgeModels>();
   }
 
@@ -141,6 +144,11 @@ class WedgeCoder {
   // The moved corner `slot` of level face f (whose vertices are `face`, u at slot), or a
   // corner of a new face (f = kNoAttribute), at `vertex`; v the new vertex, whose position
   // is known. `positions`: 3 units per vertex.
+  struct ArcFace {
+    uint32_t face;
+    const uint32_t* vertices;
+    int slot;  // u's
+  };
   struct Corner {
     WedgeRole role;
     uint32_t vertex;
@@ -148,7 +156,19 @@ class WedgeCoder {
     const uint32_t* face_vertices = nullptr;
     int slot = 0;
     uint32_t v = 0;
+    const ArcFace* arc = nullptr;  // 2.4: the split's moved faces, in the arc's order
+    std::size_t arc_size = 0;
   };
+
+  // 2.4 (§5.11): a moved corner's new value is predicted through the arc face that holds v
+  // best, and significant decimals (the positions', `position_numbers`, and the table's,
+  // `value_numbers`, each null when not) by their values. After reset.
+  void predict_by_values(const SignificantDecimals* position_numbers,
+                         const SignificantDecimals* value_numbers) {
+    by_values_ = true;
+    position_numbers_ = position_numbers;
+    value_numbers_ = value_numbers;
+  }
 
   void encode(RangeEncoder& rc, const std::vector<uint32_t>& positions, const Corner& at,
               uint32_t id, const uint32_t* units) {
@@ -167,12 +187,12 @@ class WedgeCoder {
     if (fresh) {
       put_eg(rc, m.rank, ids_.rank(id));
       uint32_t predicted[3];
-      const int model = predict(positions, at, predicted);
+      const Prediction model = predict(positions, at, predicted);
       for (std::size_t c = 0; c < components_; ++c) {
         const int64_t residual = int64_t{units[c]} - int64_t{predicted[c]};
-        const uint32_t context = value_context(at, c, model);
-        put_eg(rc, m.value[model][context], static_cast<uint64_t>(residual < 0 ? -residual : residual));
-        if (residual != 0) rc.bit(m.sign[model][context], residual < 0 ? 1 : 0);
+        const uint32_t context = value_context(model, c);
+        put_eg(rc, m.value[model.kind][context], static_cast<uint64_t>(residual < 0 ? -residual : residual));
+        if (residual != 0) rc.bit(m.sign[model.kind][context], residual < 0 ? 1 : 0);
       }
       std::copy(units, units + components_, units_.begin() + components_ * std::size_t{id});
       ids_.mark_known(id);
@@ -206,16 +226,16 @@ class WedgeCoder {
       }
       id = ids_.select(static_cast<uint32_t>(rank));
       uint32_t predicted[3];
-      const int model = predict(positions, at, predicted);
+      const Prediction model = predict(positions, at, predicted);
       uint32_t* units = units_.data() + components_ * std::size_t{id};
       for (std::size_t c = 0; c < components_; ++c) {
-        const uint32_t context = value_context(at, c, model);
+        const uint32_t context = value_context(model, c);
         uint64_t magnitude = 0;
-        if (!get_eg(rc, m.value[model][context], magnitude) || magnitude > top_) {
+        if (!get_eg(rc, m.value[model.kind][context], magnitude) || magnitude > top_) {
           problem = "has an impossible value";
           return false;
         }
-        const bool negative = magnitude != 0 && rc.bit(m.sign[model][context]) != 0;
+        const bool negative = magnitude != 0 && rc.bit(m.sign[model.kind][context]) != 0;
         const int64_t unit = int64_t{predicted[c]} + (negative ? -int64_t(magnitude) : int64_t(magnitude));
         if (unit < 0 || static_cast<uint64_t>(unit) > top_) {
           problem = "has a value beyond the grid";
@@ -268,25 +288,57 @@ class WedgeCoder {
     if (id != kNoAttribute) touch(at.vertex, id);
   }
 
-  // The value a new id is predicted to have; 0 through the face's map, 1 from one value.
+  // How a new id's value was predicted: kind 0 through the map of `face` (u at `slot`),
+  // kind 1 from one value.
+  struct Prediction {
+    int kind = 1;
+    uint32_t face = kNoAttribute;
+    int slot = 0;
+  };
+
+  // The value a new id is predicted to have.
   //
   // A moved corner: the face (u, a, b) had ids s, ia, ib at u, a, b. Its texture map sends
   // u + alpha (a - u) + beta (b - u) to T(s) + alpha (T(ia) - T(s)) + beta (T(ib) - T(s));
   // alpha and beta are those of the least-squares fit of v - u in the face's plane, so the
-  // prediction is where the map sends v. Coordinates are first halved together until each
-  // difference is below 2^14, so that the normal equations fit in 64 bits; the last product
-  // takes 128. Without a texture map (normals, or a corner without ids): T(s).
+  // prediction is where the map sends v. In 2.2 and 2.3 the face is the corner's own; in 2.4
+  // it is, of the arc's faces with id s at u and ids at a and b, the one that holds v best:
+  // whose largest of -alpha, -beta and alpha + beta - 1 (how far v lies outside it) is the
+  // smallest, the first in the arc's order on ties. v lies in one of the arc's faces' sectors
+  // (the faces it takes from u), where the map of that face is an interpolation rather than
+  // the extrapolation of a face beside it: on spot, the residuals fall by a third. Without a
+  // texture map (normals, or a corner without ids): T(s).
   // A new face's corner: its vertex's latest value, else the latest id's.
-  int predict(const std::vector<uint32_t>& positions, const Corner& at, uint32_t* out) const {
+  Prediction predict(const std::vector<uint32_t>& positions, const Corner& at, uint32_t* out) const {
     uint32_t source = kNoAttribute;
+    Prediction made;
     if (at.role == kRoleMoved) {
-      const std::size_t base = 3 * std::size_t{at.face};
-      const uint32_t s = current_[base + at.slot];
-      const uint32_t ia = current_[base + (at.slot + 1) % 3], ib = current_[base + (at.slot + 2) % 3];
+      const uint32_t s = current_[3 * std::size_t{at.face} + at.slot];
       source = s;
-      if (components_ == 2 && s != kNoAttribute && ia != kNoAttribute && ib != kNoAttribute &&
-          map_through(positions, at, s, ia, ib, out)) {
-        return 0;
+      if (components_ == 2 && s != kNoAttribute) {
+        const ArcFace own{at.face, at.face_vertices, at.slot};
+        const ArcFace* faces = by_values_ && at.arc != nullptr ? at.arc : &own;
+        const std::size_t count = by_values_ && at.arc != nullptr ? at.arc_size : 1;
+        FaceMap best;
+        for (std::size_t k = 0; k < count; ++k) {
+          const std::size_t base = 3 * std::size_t{faces[k].face};
+          if (current_[base + faces[k].slot] != s) continue;
+          FaceMap map;
+          map.ia = current_[base + (faces[k].slot + 1) % 3];
+          map.ib = current_[base + (faces[k].slot + 2) % 3];
+          if (map.ia == kNoAttribute || map.ib == kNoAttribute) continue;
+          if (!fit(positions, faces[k], at.v, map)) continue;
+          if (best.det == 0 || map.outside * best.det < best.outside * map.det) {
+            best = map;
+            made.face = faces[k].face;
+            made.slot = faces[k].slot;
+          }
+        }
+        if (best.det != 0) {
+          apply(best, s, out);
+          made.kind = 0;
+          return made;
+        }
       }
     } else {
       source = recent_[kWedgeRecent * std::size_t{at.vertex}];
@@ -297,19 +349,36 @@ class WedgeCoder {
     }
     for (std::size_t c = 0; c < components_; ++c)
       out[c] = source == kNoAttribute ? 0 : units_[components_ * std::size_t{source} + c];
-    return 1;
+    return made;
   }
 
-  bool map_through(const std::vector<uint32_t>& positions, const Corner& at, uint32_t s, uint32_t ia,
-                   uint32_t ib, uint32_t* out) const {
-    const uint32_t u = at.face_vertices[at.slot], a = at.face_vertices[(at.slot + 1) % 3],
-                   b = at.face_vertices[(at.slot + 2) % 3];
+  // A face's map: alpha = na / det, beta = nb / det; `outside` = max(-na, -nb, na + nb - det).
+  struct FaceMap {
+    uint32_t ia = kNoAttribute, ib = kNoAttribute;
+    int64_t na = 0, nb = 0, det = 0;
+    __int128 outside = 0;
+  };
+
+  // The least-squares alpha and beta of v - u in the face's plane. Coordinates (2.4:
+  // significant decimals as their values, all twelve on one scale, §5.3) are first halved
+  // together until each difference is below 2^14, so that the normal equations fit in 64 bits.
+  bool fit(const std::vector<uint32_t>& positions, const ArcFace& face, uint32_t v, FaceMap& map) const {
+    const uint32_t corners[4] = {face.vertices[face.slot], face.vertices[(face.slot + 1) % 3],
+                                 face.vertices[(face.slot + 2) % 3], v};  // u, a, b, v
+    const auto unit_at = [&](std::size_t k) {
+      return positions[3 * std::size_t{corners[k / 3]} + k % 3];
+    };
+    const int64_t scale = position_numbers_ != nullptr ? position_numbers_->scale_of(12, unit_at) : 0;
+    const auto at = [&](int corner, int c) {
+      const uint32_t unit = unit_at(3 * std::size_t(corner) + c);
+      return position_numbers_ != nullptr ? position_numbers_->linear(unit, scale) : int64_t{unit};
+    };
     int64_t e1[3], e2[3], d[3];
     for (int c = 0; c < 3; ++c) {
-      const int64_t pu = positions[3 * std::size_t{u} + c];
-      e1[c] = int64_t{positions[3 * std::size_t{a} + c]} - pu;
-      e2[c] = int64_t{positions[3 * std::size_t{b} + c]} - pu;
-      d[c] = int64_t{positions[3 * std::size_t{at.v} + c]} - pu;
+      const int64_t pu = at(0, c);
+      e1[c] = at(1, c) - pu;
+      e2[c] = at(2, c) - pu;
+      d[c] = at(3, c) - pu;
     }
     const auto magnitude = [](int64_t x) { return x < 0 ? -x : x; };
     int64_t largest = 0;
@@ -327,29 +396,45 @@ class WedgeCoder {
     const int64_t b2 = e2[0] * d[0] + e2[1] * d[1] + e2[2] * d[2];
     const int64_t det = g11 * g22 - g12 * g12;
     if (det <= 0) return false;
-    // alpha = na / det, beta = nb / det, each clamped to [-4, 4]: a sliver's map is no guide.
-    const int64_t na = std::clamp(g22 * b1 - g12 * b2, -4 * det, 4 * det);
-    const int64_t nb = std::clamp(g11 * b2 - g12 * b1, -4 * det, 4 * det);
-    const uint32_t *ts = units(s), *ta = units(ia), *tb = units(ib);
-    for (std::size_t c = 0; c < 2; ++c) {
-      const __int128 num = static_cast<__int128>(na) * (int64_t{ta[c]} - int64_t{ts[c]}) +
-                           static_cast<__int128>(nb) * (int64_t{tb[c]} - int64_t{ts[c]});
-      // The nearest integer to num / det, halves up (floor of (2 num + det) / (2 det)).
-      const __int128 twice = 2 * num + det, den = 2 * static_cast<__int128>(det);
-      __int128 q = twice / den;
-      if (twice % den != 0 && twice < 0) --q;
-      const __int128 unit = std::clamp<__int128>(ts[c] + q, 0, static_cast<__int128>(top_));
-      out[c] = static_cast<uint32_t>(unit);
-    }
+    // Each of alpha and beta clamped to [-4, 4]: a sliver's map is no guide.
+    map.det = det;
+    map.na = std::clamp(g22 * b1 - g12 * b2, -4 * det, 4 * det);
+    map.nb = std::clamp(g11 * b2 - g12 * b1, -4 * det, 4 * det);
+    map.outside = std::max({static_cast<__int128>(-map.na), static_cast<__int128>(-map.nb),
+                            static_cast<__int128>(map.na) + map.nb - det});
     return true;
   }
 
+  // Where the map sends v: T(s) + (na (T(ia) - T(s)) + nb (T(ib) - T(s))) / det, rounded (the
+  // last products take 128 bits); 2.4's significant decimals as their values, the three on
+  // one scale per component, then the nearest number (§5.3).
+  void apply(const FaceMap& map, uint32_t s, uint32_t* out) const {
+    const uint32_t *ts = units(s), *ta = units(map.ia), *tb = units(map.ib);
+    for (std::size_t c = 0; c < 2; ++c) {
+      if (value_numbers_ != nullptr) {
+        const uint32_t three[3] = {ts[c], ta[c], tb[c]};
+        const int64_t scale = value_numbers_->scale_of(3, [&](std::size_t k) { return three[k]; });
+        const int64_t ls = value_numbers_->linear(ts[c], scale);
+        const __int128 num =
+            static_cast<__int128>(map.na) * (value_numbers_->linear(ta[c], scale) - ls) +
+            static_cast<__int128>(map.nb) * (value_numbers_->linear(tb[c], scale) - ls);
+        out[c] = value_numbers_->nearest(ls + rounded_quotient(num, map.det), scale);
+        continue;
+      }
+      const __int128 num = static_cast<__int128>(map.na) * (int64_t{ta[c]} - int64_t{ts[c]}) +
+                           static_cast<__int128>(map.nb) * (int64_t{tb[c]} - int64_t{ts[c]});
+      const __int128 q = rounded_quotient(num, map.det);
+      const __int128 unit = std::clamp<__int128>(ts[c] + q, 0, static_cast<__int128>(top_));
+      out[c] = static_cast<uint32_t>(unit);
+    }
+  }
+
   // The bit length of the face's spread in component c (through a face's map), or 0.
-  uint32_t value_context(const Corner& at, std::size_t c, int model) const {
-    if (model != 0) return 0;
-    const std::size_t base = 3 * std::size_t{at.face};
-    const uint32_t s = current_[base + at.slot], ia = current_[base + (at.slot + 1) % 3],
-                   ib = current_[base + (at.slot + 2) % 3];
+  uint32_t value_context(const Prediction& made, std::size_t c) const {
+    if (made.kind != 0) return 0;
+    const std::size_t base = 3 * std::size_t{made.face};
+    const uint32_t s = current_[base + made.slot], ia = current_[base + (made.slot + 1) % 3],
+                   ib = current_[base + (made.slot + 2) % 3];
     const int64_t ts = units(s)[c];
     const auto magnitude = [](int64_t x) { return static_cast<uint64_t>(x < 0 ? -x : x); };
     const uint64_t spread = magnitude(int64_t{units(ia)[c]} - ts) + magnitude(int64_t{units(ib)[c]} - ts);
@@ -366,6 +451,9 @@ class WedgeCoder {
   std::vector<uint32_t> recent_;   // kWedgeRecent per vertex, most recent first
   std::vector<uint32_t> current_;  // 3 per face of the level: its corners' ids
   int64_t previous_ = 0;           // the latest id of any corner
+  bool by_values_ = false;         // 2.4 (predict_by_values)
+  const SignificantDecimals* position_numbers_ = nullptr;
+  const SignificantDecimals* value_numbers_ = nullptr;
   std::unique_ptr<WedgeModels> models_;
 };
 

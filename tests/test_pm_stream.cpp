@@ -846,7 +846,9 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
     SCOPED_TRACE(c.name);
     ProgressiveMesh pm;
     ASSERT_TRUE(encode(c.mesh, EncodeOptions{}, pm).is_ok());
-    const std::string v23 = write(pm);
+    WriteOptions v23_options;
+    v23_options.minor_version = 3;
+    const std::string v23 = write(pm, v23_options);
     EXPECT_EQ(static_cast<uint8_t>(v23[10]), 3);  // minor 3
     PmInfo info;
     ASSERT_TRUE(read_pm_info(v23, info).is_ok());
@@ -877,7 +879,9 @@ TEST(PmStream, Version23StoresDecimalPositionsOnTheirGridLosslessly) {
   ASSERT_TRUE(encode(bunny, EncodeOptions{}, pm).is_ok());
   WriteOptions v22_options;
   v22_options.minor_version = 2;
-  const std::string v23 = write(pm), v22 = write(pm, v22_options);
+  WriteOptions v23_options;
+  v23_options.minor_version = 3;
+  const std::string v23 = write(pm, v23_options), v22 = write(pm, v22_options);
   PmInfo info;
   ASSERT_TRUE(read_pm_info(v23, info).is_ok());
   EXPECT_TRUE(info.positions_decimal);
@@ -1024,6 +1028,76 @@ TEST(PmStream, Version23StoresDecimalTablesAsSignificantDecimals) {
             ErrorCode::kCorruptStream);
 }
 
+// The mesh with every value of its positions and tables rounded to `digits` significant
+// decimals, as "%g" writes them.
+Mesh with_significant_decimals(Mesh mesh, int digits) {
+  for (std::vector<float>* values : {&mesh.positions, &mesh.uvs, &mesh.normals}) {
+    for (float& x : *values) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.*e", digits - 1, double{x});
+      x = std::strtof(text, nullptr);
+    }
+  }
+  return mesh;
+}
+
+// 2.4 (§5.3, §5.10, §5.11): significant decimals are predicted by their values (the mean of
+// the neighbours' values, u's normal frame, texture maps of values) and new texture
+// coordinates through the arc face that holds v: the same floats, bit for bit, every level
+// as 2.3 gives it, in fewer bytes. The surface whose z crosses zero at every vertex is where
+// 2.3's means of numbers were furthest off (between -1e-5 and 1e-5 lie all the decades down
+// to the first).
+TEST(PmStream, Version24PredictsSignificantDecimalsByTheirValues) {
+  struct Case {
+    const char* name;
+    Mesh mesh;
+    double at_most;  // of 2.3's bytes
+  };
+  // A wave about the origin (every coordinate crosses zero), with texture coordinates that
+  // are no affine map of the positions.
+  const int n = 40;
+  Mesh wave;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = (i - n / 2) * 0.0137 + 0.002 * std::sin(1.3 * j);
+      const double y = (j - n / 2) * 0.0113 + 0.002 * std::cos(0.9 * i);
+      const double z = 0.05 * std::sin(0.31 * i + 0.2) * std::cos(0.23 * j - 0.4);
+      wave.positions.insert(wave.positions.end(), {float(x), float(y), float(z)});
+      wave.uvs.insert(wave.uvs.end(), {float(0.5 + x + 0.8 * x * x), float(0.45 + y + 0.6 * x * y + z)});
+    }
+  add_grid_triangles(wave, n);
+  wave.uv_indices = wave.triangles;
+  std::vector<Case> cases;
+  cases.push_back({"a wave across zero", with_significant_decimals(wave, 6), 0.95});
+  if (test::shared_meshes_available()) {
+    Mesh spot;
+    ASSERT_TRUE(read_mesh(test::shared_mesh_path("spot.obj"), spot).is_ok());
+    cases.push_back({"spot", spot, 0.95});
+  } else {
+    test::warn_no_shared_meshes();
+  }
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    ProgressiveMesh pm;
+    ASSERT_TRUE(encode(c.mesh, EncodeOptions{}, pm).is_ok());
+    const std::string v24 = write(pm);
+    ASSERT_EQ(static_cast<uint8_t>(v24[10]), 4);  // minor 4
+    PmInfo info;
+    ASSERT_TRUE(read_pm_info(v24, info).is_ok());
+    EXPECT_TRUE(info.positions_significant);
+    EXPECT_TRUE(info.uvs_significant);
+    const ProgressiveMesh decoded = read(v24);
+    EXPECT_EQ(float_bits(decoded.positions), float_bits(pm.positions));
+    EXPECT_EQ(float_bits(decoded.uvs), float_bits(pm.uvs));
+    WriteOptions v23_options;
+    v23_options.minor_version = 3;
+    const std::string v23 = write(pm, v23_options);
+    expect_identical(with_sorted_moves(decoded), with_sorted_moves(read(v23)));
+    EXPECT_LT(double(v24.size()), c.at_most * double(v23.size())) << v24.size() << " against " << v23.size();
+    std::printf("%s: 2.4 %zu bytes, 2.3 %zu\n", c.name, v24.size(), v23.size());
+  }
+}
+
 // Golden streams of every version, committed: a change that breaks old files fails here.
 // PM_REGENERATE_GOLDEN=1 rewrites the current version's files, on purpose.
 TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
@@ -1046,7 +1120,7 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
       if (!g.pm.keeps_order()) test::write_file(dir + g.name + "-v1.1.pm", v1);
       WriteOptions options;
       options.chunk_splits = 128;
-      test::write_file(dir + g.name + "-v2.3.pm", write(g.pm, options));
+      test::write_file(dir + g.name + "-v2." + std::to_string(kFormatMinor) + ".pm", write(g.pm, options));
     }
   }
   // 2.1's normal-coordinate prediction works on grids only: a quantized golden file, whose
@@ -1110,15 +1184,17 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     expect_identical(with_sorted_moves(read(test::read_file(path))),
                      with_sorted_moves(read(write(surface, quantized))));
   }
-  // 2.3's positions as decimals (§5.3), each in a file of its own: the file decodes to the
-  // mesh, with the header's flags `expect` checks.
-  const auto decimal_golden = [&](const char* file, const ProgressiveMesh& mesh,
+  // 2.3's and 2.4's positions as decimals (§5.3), each in a file of its own: the file decodes
+  // to the mesh, with the header's flags `expect` checks. The current version's files are
+  // rewritten by PM_REGENERATE_GOLDEN, older ones by PM_REGENERATE_GOLDEN_OLD.
+  const auto decimal_golden = [&](const char* file, uint16_t minor, const ProgressiveMesh& mesh,
                                   const std::function<void(const PmInfo&)>& expect) {
     SCOPED_TRACE(file);
     const std::string path = dir + file;
-    if (std::getenv("PM_REGENERATE_GOLDEN") != nullptr) {
+    if (std::getenv(minor == kFormatMinor ? "PM_REGENERATE_GOLDEN" : "PM_REGENERATE_GOLDEN_OLD") != nullptr) {
       WriteOptions options;
       options.chunk_splits = 128;
+      options.minor_version = minor;
       test::write_file(path, write(mesh, options));
     }
     ASSERT_TRUE(test::file_exists(path)) << path;
@@ -1133,7 +1209,7 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
   for (float& x : decimal.positions) {
     x = static_cast<float>(static_cast<double>(std::llround(double{x} * 1e5)) / 1e5);
   }
-  decimal_golden("decimal-v2.3.pm", decimal, [](const PmInfo& info) {
+  decimal_golden("decimal-v2.3.pm", 3, decimal, [](const PmInfo& info) {
     EXPECT_TRUE(info.positions_decimal);
     EXPECT_EQ(info.position_bits, 26u);
   });
@@ -1144,10 +1220,18 @@ TEST(PmStream, GoldenFilesOfEveryVersionDecode) {
     std::snprintf(text, sizeof text, "%.5e", double{x});
     x = std::strtof(text, nullptr);
   }
-  decimal_golden("significant-v2.3.pm", significant,
+  decimal_golden("significant-v2.3.pm", 3, significant,
                  [](const PmInfo& info) { EXPECT_TRUE(info.positions_significant); });
+  // 2.4: significant decimals predicted by their values, texture coordinates too (whose
+  // values, 0 to 300, span three decades).
+  ProgressiveMesh significant_attributed = with_attributes(generated_mesh(600));
+  significant_attributed.positions = significant.positions;
+  decimal_golden("significant-v2.4.pm", 4, significant_attributed, [](const PmInfo& info) {
+    EXPECT_TRUE(info.positions_significant);
+    EXPECT_TRUE(info.uvs_significant);
+  });
   for (const Golden& g : goldens) {
-    for (const char* version : {"v1.1", "v2.0", "v2.1", "v2.2", "v2.3"}) {
+    for (const char* version : {"v1.1", "v2.0", "v2.1", "v2.2", "v2.3", "v2.4"}) {
       if (g.pm.keeps_order() && std::string(version) == "v1.1") continue;  // 1.x has no order
       SCOPED_TRACE(std::string(g.name) + "-" + version);
       const std::string path = dir + g.name + "-" + version + ".pm";

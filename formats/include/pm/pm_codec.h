@@ -18,7 +18,7 @@ inline constexpr uint16_t kFormatMajor = 2;
 // 2.0: chunked splits, one-ring coding, quantization; 2.1: u, vl, vr and positions range-coded;
 // 2.2: the splits' corner attributes range-coded as wedges, new values where first used;
 // 2.3: lossless positions that are decimals (as text formats write them) on a decimal grid
-inline constexpr uint16_t kFormatMinor = 3;
+inline constexpr uint16_t kFormatMinor = 4;
 
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
@@ -37,7 +37,7 @@ struct WriteOptions {
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
   // smaller (256, 512, ...) so that a stream cut early still refines. 1..2^20.
   uint32_t chunk_splits = 4096;
-  // The minor version to write: 3 (2.3, the default), 2 (2.2), 1 (2.1) or 0 (2.0), for
+  // The minor version to write: 4 (2.4, the default), 3 (2.3), 2 (2.2), 1 (2.1) or 0 (2.0), for
   // readers that predate the newer ones (the older are larger).
   uint16_t minor_version = kFormatMinor;
   // Threads compressing the sections (0: the machine's cores). The bytes are the same for
