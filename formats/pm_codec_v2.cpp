@@ -732,61 +732,62 @@ struct NormalFrame {
 
 constexpr std::size_t kMaxNormalFan = 1024;  // larger fans (none in practice) go without
 
-// The offsets (ring vertex - u) that lopsided_place and normal_frame read, 3 per ring vertex
-// (ring[0..n], so that a closed fan's last face finds its second vertex), in integers that
-// are linear in the positions' values: on a grid its indices' differences (2.3's decimal
-// grids of more than 24 bits divided by 2^(bits - 24), truncating towards zero, so that
-// products stay as small as on 24-bit grids); lossless float bits' differences divided by
-// 256 (lopsided_place only); and 2.4's significant decimals (§5.3) as their values, u's and
-// the ring's on one scale, then halved together (truncating towards zero) until each is
-// below 2^24. Computed once per split, for fans of at most kMaxNormalFan faces.
-void fan_offsets(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
-                 std::vector<int64_t>& out) {
-  const std::size_t n = fan.ring.size();
-  out.resize(3 * n);
+// The offsets (ring vertex - u) that lopsided_place and normal_frame read, as offset(k, c)
+// for ring[k] (k up to n, so that a closed fan's last face finds its second vertex), in
+// integers that are linear in the positions' values: on a grid its indices' differences
+// (2.3's decimal grids of more than 24 bits divided by 2^(bits - 24), truncating towards
+// zero, so that products stay as small as on 24-bit grids); lossless float bits' differences
+// divided by 256 (lopsided_place only); and 2.4's significant decimals (§5.3) as their
+// values, u's and the ring's on one scale, then halved together (truncating towards zero)
+// until each is below 2^24, computed into `scratch`. `use` gets the offsets as a function
+// object, one type per case, so that the common ones read the values directly and divide by
+// constants (a division by a variable is slow).
+template <typename Use>
+auto with_fan_offsets(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
+                      std::vector<int64_t>& scratch, Use use) {
   const uint32_t* units = positions.units.data();
   const uint32_t* at_u = units + 3 * std::size_t{u};
+  const uint32_t* ring = fan.ring.data();
   if (positions.significant != nullptr && positions.mean_of_values) {
+    const std::size_t n = fan.ring.size();
+    scratch.resize(3 * n);
     const SignificantDecimals& numbers = *positions.significant;
     const auto unit_at = [&](std::size_t k) {
-      return k < 3 ? at_u[k] : units[3 * std::size_t{fan.ring[k / 3 - 1]} + k % 3];
+      return k < 3 ? at_u[k] : units[3 * std::size_t{ring[k / 3 - 1]} + k % 3];
     };
     const int64_t scale = numbers.scale_of(3 * (n + 1), unit_at);
     int64_t origin[3], largest = 0;
     for (int c = 0; c < 3; ++c) origin[c] = numbers.linear(at_u[c], scale);
     for (std::size_t k = 0; k < 3 * n; ++k) {
-      out[k] = numbers.linear(unit_at(k + 3), scale) - origin[k % 3];
-      largest = std::max(largest, out[k] < 0 ? -out[k] : out[k]);
+      scratch[k] = numbers.linear(unit_at(k + 3), scale) - origin[k % 3];
+      largest = std::max(largest, scratch[k] < 0 ? -scratch[k] : scratch[k]);
     }
     int halvings = 0;
     while ((largest >> halvings) >= (int64_t{1} << kMaxBits)) ++halvings;
     if (halvings != 0) {
-      for (int64_t& d : out) d = d < 0 ? -(-d >> halvings) : d >> halvings;
+      for (int64_t& d : scratch) d = d < 0 ? -(-d >> halvings) : d >> halvings;
     }
-    return;
+    const int64_t* table = scratch.data();
+    return use([table](std::size_t k, int c) { return table[3 * k + c]; });
   }
-  for (std::size_t k = 0; k < n; ++k) {
-    const uint32_t* at = units + 3 * std::size_t{fan.ring[k]};
-    for (int c = 0; c < 3; ++c) out[3 * k + c] = int64_t{at[c]} - int64_t{at_u[c]};
+  const auto difference = [units, at_u, ring](std::size_t k, int c) {
+    return int64_t{units[3 * std::size_t{ring[k]} + c]} - int64_t{at_u[c]};
+  };
+  if (positions.grid == nullptr) {
+    return use([difference](std::size_t k, int c) { return difference(k, c) / 256; });
   }
-  // Divisions by constants (a shift) where they can be: a division by a variable is slow.
-  const int64_t divisor = positions.grid == nullptr ? 256
-                                                    : int64_t{1} << std::max(0, positions.grid->bits - kMaxBits);
-  if (divisor == 256) {
-    for (int64_t& d : out) d /= 256;
-  } else if (divisor != 1) {
-    for (int64_t& d : out) d /= divisor;
-  }
+  const int64_t divisor = int64_t{1} << std::max(0, positions.grid->bits - kMaxBits);
+  if (divisor == 1) return use(difference);
+  return use([difference, divisor](std::size_t k, int c) { return difference(k, c) / divisor; });
 }
 
-// On a grid (2.1) or of significant decimals (2.4): u's normal and its order of coordinates,
-// from the fan's offsets.
-bool normal_frame(const std::vector<int64_t>& offsets, const SplitFans::Fan& fan, NormalFrame& out) {
-  if (fan.faces.empty() || fan.faces.size() > kMaxNormalFan) return false;
+// On a grid (2.1) or of significant decimals (2.4): u's normal and its order of coordinates.
+template <typename Offset>
+bool normal_frame_of(const Offset& offset, const SplitFans::Fan& fan, NormalFrame& out) {
   int64_t n[3] = {0, 0, 0};
   for (std::size_t k = 0; k < fan.faces.size(); ++k) {
-    const int64_t* e1 = &offsets[3 * k];
-    const int64_t* e2 = &offsets[3 * k + 3];
+    int64_t e1[3], e2[3];
+    for (int c = 0; c < 3; ++c) e1[c] = offset(k, c), e2[c] = offset(k + 1, c);
     // Each product is below 2^48 (each offset below 2^24), each sum of 1024 below 2^60.
     n[0] += e1[1] * e2[2] - e1[2] * e2[1];
     n[1] += e1[2] * e2[0] - e1[0] * e2[2];
@@ -809,6 +810,13 @@ bool normal_frame(const std::vector<int64_t>& offsets, const SplitFans::Fan& fan
   out.order[1] = normal == 2 ? 1 : 2;
   out.order[2] = normal;
   return true;
+}
+
+bool normal_frame(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
+                  std::vector<int64_t>& scratch, NormalFrame& out) {
+  if (fan.faces.empty() || fan.faces.size() > kMaxNormalFan) return false;
+  return with_fan_offsets(positions, u, fan, scratch,
+                          [&](const auto& offset) { return normal_frame_of(offset, fan, out); });
 }
 
 // The normal coordinate's prediction offset, from the tangential residuals r[order[0]],
@@ -854,10 +862,9 @@ uint32_t normal_prediction_of_values(const SignificantDecimals& numbers, const N
 // counted from it is far from uniform (on the bunny at 14 bits, 2.4 bits instead of 2.9).
 // Integers only (differences of values, divided by 256 when lossless, where the values are
 // 32-bit), the first of equal scores.
-std::size_t lopsided_place(const std::vector<int64_t>& offsets, const SplitFans::Fan& fan) {
+template <typename Offset>
+std::size_t lopsided_place_of(const Offset& diff, const SplitFans::Fan& fan) {
   const std::size_t n = fan.faces.size();
-  if (n > kMaxNormalFan) return 0;
-  const auto diff = [&](std::size_t k, int c) { return offsets[3 * k + c]; };
   int64_t direction[3] = {0, 0, 0};  // below 2^34
   for (std::size_t k = 0; k < n; ++k) {
     for (int c = 0; c < 3; ++c) direction[c] += diff(k, c);
@@ -870,6 +877,13 @@ std::size_t lopsided_place(const std::vector<int64_t>& offsets, const SplitFans:
     if (k == 0 || score > best_score) best = k, best_score = score;
   }
   return best;
+}
+
+std::size_t lopsided_place(const VertexValues& positions, uint32_t u, const SplitFans::Fan& fan,
+                           std::vector<int64_t>& scratch) {
+  if (fan.faces.size() > kMaxNormalFan) return 0;
+  return with_fan_offsets(positions, u, fan, scratch,
+                          [&](const auto& offset) { return lopsided_place_of(offset, fan); });
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1278,7 +1292,7 @@ struct Writer {
       prefetch.step(k < pm.splits.size() ? pm.splits[k].u : SplitFans::kNone);
     std::vector<uint32_t> arc, record, sorted_arc, sorted_record, neighbours;
     std::vector<WedgeCoder::ArcFace> arc_sides;
-    std::vector<int64_t> offsets;  // fan_offsets
+    std::vector<int64_t> offsets;  // with_fan_offsets' scratch
     std::vector<uint32_t> predicted(3), color_predicted(colors.components);
     ByteWriter index_out(index);
     float previous_error = h.max_error;
@@ -1333,7 +1347,6 @@ struct Writer {
         bool coded = false;
         std::size_t place_l = 0, place_r = 0;
         const bool has_fan = fans.fan(split.u, fan);
-        if (ranged && has_fan && fan.faces.size() <= kMaxNormalFan) fan_offsets(positions, split.u, fan, offsets);
         if (has_fan) {
           const std::size_t places = fan.closed ? fan.faces.size() : fan.ring.size();
           const auto place = [&](uint32_t vertex, std::size_t none) {
@@ -1361,7 +1374,7 @@ struct Writer {
             if (fan.closed) {
               const std::size_t n = fan.faces.size();
               vl_code = static_cast<uint32_t>(
-                            (place_l + n - lopsided_place(offsets, fan)) % n) +
+                            (place_l + n - lopsided_place(positions, split.u, fan, offsets)) % n) +
                         1;
             }
             put_ring_code(vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code);
@@ -1394,7 +1407,7 @@ struct Writer {
         // last, predicted from the others.
         NormalFrame frame;
         const bool framed = ranged && positions.has_frames() && has_fan &&
-                            normal_frame(offsets, fan, frame);
+                            normal_frame(positions, split.u, fan, offsets, frame);
         int64_t r[3], d[3];
         const uint32_t* at_u = &positions.units[3 * std::size_t{split.u}];
         const uint32_t* at_v = &positions.units[3 * std::size_t{v}];
@@ -2315,7 +2328,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   SplitFans::Fan fan;
   std::vector<uint32_t> arc, neighbours;
   std::vector<WedgeCoder::ArcFace> arc_sides;
-  std::vector<int64_t> offsets;  // fan_offsets
+  std::vector<int64_t> offsets;  // with_fan_offsets' scratch
   uint32_t predicted[3];
   std::vector<uint32_t> color_predicted(h.color_components);
   uint32_t new_faces = 0, moved_total = 0;
@@ -2432,7 +2445,6 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     if (ranged) {
       // The ring codes exist only when u has a fan (§5.10); without one the split is explicit.
       has_fan = fans.fan(split.u, fan);
-      if (has_fan && fan.faces.size() <= kMaxNormalFan) fan_offsets(positions, split.u, fan, offsets);
       if (has_fan) {
         if (!get_ring_code(*vl_rc, models->vl, models->vl_large, fan.faces.size(), vl_code) ||
             !vl_rc->ok()) {
@@ -2483,7 +2495,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (vl_code != 0) {
         i = vl_code - 1;
         if (i >= (fan.closed ? n : n + 1)) return bad(v, "names place " + std::to_string(i) + " of u's ring for vl");
-        if (ranged && fan.closed) i = (i + lopsided_place(offsets, fan)) % n;  // §5.10
+        if (ranged && fan.closed) i = (i + lopsided_place(positions, split.u, fan, offsets)) % n;  // §5.10
       } else if (fan.closed) {
         return bad(v, "has no vl on a closed fan");
       }
@@ -2510,7 +2522,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     positions.predict(neighbours.data(), neighbours.size(), predicted);
     NormalFrame frame;
     const bool framed =
-        ranged && positions.has_frames() && has_fan && normal_frame(offsets, fan, frame);
+        ranged && positions.has_frames() && has_fan && normal_frame(positions, split.u, fan, offsets, frame);
     int64_t r[3] = {0, 0, 0}, d[3], units[3] = {0, 0, 0};
     uint32_t coded[3] = {0, 0, 0};  // v's units as decoded so far
     for (int c = 0; c < 3; ++c)
