@@ -18,6 +18,8 @@ inline constexpr uint16_t kFormatMajor = 2;
 // 2.0: chunked splits, one-ring coding, quantization; 2.1: u, vl, vr and positions range-coded;
 // 2.2: the splits' corner attributes range-coded as wedges, new values where first used;
 // 2.3: lossless positions that are decimals (as text formats write them) on a decimal grid
+// or as numbers of significant decimals; 2.4: those numbers predicted by their values, and new
+// texture coordinates through the moved face that holds the new vertex.
 inline constexpr uint16_t kFormatMinor = 4;
 
 struct WriteOptions {
@@ -45,7 +47,7 @@ struct WriteOptions {
   unsigned threads = 0;
 };
 
-// Serializes pm (which must be valid) to bytes, as format 2.3 (or 2.2, 2.1, 2.0,
+// Serializes pm (which must be valid) to bytes, as format 2.4 (or 2.3, 2.2, 2.1, 2.0,
 // WriteOptions::minor_version). Errors: kInvalidArgument when validate(pm) fails, a material name
 // or library holds a NUL, an option is out of range, or positions to quantize are not finite;
 // kResourceLimit when a count exceeds the format's limits (2^30; 2^20 materials and libraries) or a
