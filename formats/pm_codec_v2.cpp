@@ -701,7 +701,7 @@ struct VertexValues {
         out[c] = significant->nearest(rounded_quotient(sum, static_cast<__int128>(count)), scale);
       } else if (grid != nullptr || significant != nullptr) {  // 2.3's significant decimals too
         uint64_t sum = 0;
-        for (std::size_t k = 0; k < count; ++k) sum += units[components * neighbours[k] + c];
+        for (std::size_t k = 0; k < count; ++k) sum += unit_at(k);
         out[c] = static_cast<uint32_t>((2 * sum + count) / (2 * count));
       } else {
         double sum = 0;
@@ -756,17 +756,10 @@ auto with_fan_offsets(const VertexValues& positions, uint32_t u, const SplitFans
       return k < 3 ? at_u[k] : units[3 * std::size_t{ring[k / 3 - 1]} + k % 3];
     };
     const int64_t scale = numbers.scale_of(3 * (n + 1), unit_at);
-    int64_t origin[3], largest = 0;
+    int64_t origin[3];
     for (int c = 0; c < 3; ++c) origin[c] = numbers.linear(at_u[c], scale);
-    for (std::size_t k = 0; k < 3 * n; ++k) {
-      scratch[k] = numbers.linear(unit_at(k + 3), scale) - origin[k % 3];
-      largest = std::max(largest, scratch[k] < 0 ? -scratch[k] : scratch[k]);
-    }
-    int halvings = 0;
-    while ((largest >> halvings) >= (int64_t{1} << kMaxBits)) ++halvings;
-    if (halvings != 0) {
-      for (int64_t& d : scratch) d = d < 0 ? -(-d >> halvings) : d >> halvings;
-    }
+    for (std::size_t k = 0; k < 3 * n; ++k) scratch[k] = numbers.linear(unit_at(k + 3), scale) - origin[k % 3];
+    halve_below(scratch.data(), scratch.size(), kMaxBits);
     const int64_t* table = scratch.data();
     return use([table](std::size_t k, int c) { return table[3 * k + c]; });
   }
@@ -794,12 +787,7 @@ bool normal_frame_of(const Offset& offset, const SplitFans::Fan& fan, NormalFram
     n[2] += e1[0] * e2[1] - e1[1] * e2[0];
   }
   const auto magnitude = [](int64_t x) { return x < 0 ? -x : x; };
-  // Halved until each is below 2^15, truncating toward zero: k halvings are one division by
-  // 2^k (truncation composes), and the largest magnitude says how many.
-  const int64_t largest = std::max({magnitude(n[0]), magnitude(n[1]), magnitude(n[2])});
-  int halvings = 0;
-  while ((largest >> halvings) >= (int64_t{1} << 15)) ++halvings;
-  for (int64_t& x : n) x = x < 0 ? -(-x >> halvings) : x >> halvings;
+  halve_below(n, 3, 15);
   int normal = 0;
   for (int c = 1; c < 3; ++c) {
     if (magnitude(n[c]) > magnitude(n[normal])) normal = c;
@@ -1161,8 +1149,7 @@ struct Writer {
       WedgeCoder& coder = wedges[kind];
       coder.reset(components, count, top, h.split_vertices(), level_faces);
       if (h.minor >= 4) {  // 2.4 (§5.11)
-        coder.predict_by_values(positions.significant,
-                                table_significant[kind].digits != 0 ? &table_significant[kind] : nullptr);
+        coder.predict_by_values(positions.significant, in_use(table_significant[kind]));
       }
       uint32_t units[3];
       for (uint32_t id = 0; id < count; ++id) {
@@ -1445,14 +1432,14 @@ struct Writer {
           }
         }
         // Attributes: the moved corners in the order stored (the arc's), then fl and fr.
-        if (wedged && (has_ids(0) || has_ids(1))) arc_faces(fans, split.u, arc, arc_sides);
-        for (uint32_t f : arc) {
+        if (wedged) arc_faces(fans, split.u, arc, arc_sides);
+        for (std::size_t m = 0; m < arc.size(); ++m) {
+          const uint32_t f = arc[m];
           const std::size_t k = split.moved_begin +
                                 (std::find(record.begin(), record.end(), f) - record.begin());
           if (wedged) {  // 2.2 (§5.11)
-            const int slot = fans.slot_of(f, split.u);
-            const WedgeCoder::Corner at{kRoleMoved, v,     f, fans.face(f), slot,
-                                        v,          arc_sides.data(), arc_sides.size()};
+            const int slot = arc_sides[m].slot;
+            const WedgeCoder::Corner at{kRoleMoved, v, v, arc_sides.data(), arc_sides.size(), m};
             for (int kind = 0; kind < 2; ++kind) {
               if (!has_ids(kind)) continue;
               const uint32_t id = (kind == 0 ? pm.moved_uvs : pm.moved_normals)[k];
@@ -2145,8 +2132,7 @@ void PmStreamReader::State::reset_wedges() {
 bool PmStreamReader::State::start_wedges(ByteReader& in) {
   wedges_ready = true;
   for (int kind = 0; kind < 2 && h.minor >= 4; ++kind) {  // 2.4 (§5.11)
-    wedges[kind].predict_by_values(positions.significant,
-                                   table_significant[kind].digits != 0 ? &table_significant[kind] : nullptr);
+    wedges[kind].predict_by_values(positions.significant, in_use(table_significant[kind]));
   }
   for (int kind = 0; kind < 2; ++kind) {
     if (!(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
@@ -2236,8 +2222,7 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
     }
     previous = id;
     for (std::size_t c = 0; c < components; ++c) {
-      if (!read_table_value(in, bits != 0 ? &grid : nullptr,
-                            significant.digits != 0 ? &significant : nullptr, c,
+      if (!read_table_value(in, bits != 0 ? &grid : nullptr, in_use(significant), c,
                             values[components * std::size_t(id) + c], units[c])) {
         return false;
       }
@@ -2362,10 +2347,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       const std::size_t components = kind == 0 ? 2 : 3;
       const uint32_t* units = wedges[kind].units(id);
       const bool on_grid = (kind == 0 ? h.uv_bits : h.normal_bits) != 0;
-      const SignificantDecimals& significant = table_significant[kind];  // 2.3 (§5.4)
-      for (std::size_t c = 0; c < components; ++c) {
-        if (!float_of_unit(on_grid ? &grid : nullptr, significant.digits != 0 ? &significant : nullptr,
-                           units[c], c, values[components * std::size_t{id} + c])) {
+      for (std::size_t c = 0; c < components; ++c) {  // 2.3's numbers too (§5.4)
+        if (!float_of_unit(on_grid ? &grid : nullptr, in_use(table_significant[kind]), units[c], c,
+                           values[components * std::size_t{id} + c])) {
           return in.fail(ErrorCode::kCorruptStream, where + ": a corner of vertex " +
                                                         std::to_string(at.vertex) +
                                                         " has a table value that is no decimal's");
@@ -2523,8 +2507,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     NormalFrame frame;
     const bool framed =
         ranged && positions.has_frames() && has_fan && normal_frame(positions, split.u, fan, offsets, frame);
-    int64_t r[3] = {0, 0, 0}, d[3], units[3] = {0, 0, 0};
-    uint32_t coded[3] = {0, 0, 0};  // v's units as decoded so far
+    int64_t r[3] = {0, 0, 0}, d[3];
+    uint32_t units[3] = {0, 0, 0};  // v's, as decoded so far
     for (int c = 0; c < 3; ++c)
       d[c] = int64_t{predicted[c]} - positions.units[3 * std::size_t{split.u} + c];
     for (int k = 0; k < 3; ++k) {
@@ -2550,20 +2534,19 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       if (along_normal && positions.grid == nullptr) {  // 2.4: significant decimals
         unit = int64_t{normal_prediction_of_values(*positions.significant, frame,
                                                    &positions.units[3 * std::size_t{split.u}],
-                                                   predicted, coded)} + residual;
+                                                   predicted, units)} + residual;
       } else if (along_normal) {
         unit += normal_offset(frame, d, r, position_grid.bits);  // r of the other two: checked
       }
       const int64_t top = h.position_bits != 0 ? (int64_t{1} << h.position_bits) - 1 : 0xFFFFFFFFll;
       if (unit < 0 || unit > top) return bad(v, "has a position beyond the grid");
       r[c] = residual;
-      units[c] = unit;
-      coded[c] = static_cast<uint32_t>(unit);
+      units[c] = static_cast<uint32_t>(unit);
     }
     for (int c = 0; c < 3; ++c) {
-      positions.units.push_back(static_cast<uint32_t>(units[c]));
+      positions.units.push_back(units[c]);
       float x = 0;
-      if (!positions.to_float(static_cast<uint32_t>(units[c]), c, x)) {
+      if (!positions.to_float(units[c], c, x)) {
         return bad(v, "has a position that is no decimal's (§5.3)");
       }
       pm.positions.push_back(x);
@@ -2580,14 +2563,13 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       }
     }
     // Attributes: the moved corners, then the new faces' corners and materials.
-    if (wedge_rc[0] || wedge_rc[1]) arc_faces(fans, split.u, arc, arc_sides);
+    if (wedged) arc_faces(fans, split.u, arc, arc_sides);
     for (std::size_t k = 0; k < arc.size(); ++k) {
       uint32_t id;
       if (wedged) {  // 2.2 (§5.11)
         const uint32_t f = arc[k];
-        const int slot = fans.slot_of(f, split.u);
-        const WedgeCoder::Corner at{kRoleMoved, v,     f, fans.face(f), slot,
-                                    v,          arc_sides.data(), arc_sides.size()};
+        const int slot = arc_sides[k].slot;
+        const WedgeCoder::Corner at{kRoleMoved, v, v, arc_sides.data(), arc_sides.size(), k};
         for (int kind = 0; kind < 2; ++kind) {
           if (!wedge_rc[kind]) continue;
           if (!wedge_corner(kind, at, id)) return false;

@@ -17,6 +17,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "integer_scaling.h"
+
 namespace pm::detail {
 
 // Significant decimals (2.3, §5.3): at most 9 digits; powers of 10 up to 10^22 are exact
@@ -34,14 +36,6 @@ inline double scaled_decimal(double m, int k) {
   for (; k > kMaxPowerOf10; k -= kMaxPowerOf10) m *= kPowersOf10[kMaxPowerOf10];
   for (; k < -kMaxPowerOf10; k += kMaxPowerOf10) m /= kPowersOf10[kMaxPowerOf10];
   return k >= 0 ? m * kPowersOf10[k] : m / kPowersOf10[-k];
-}
-
-// The integer nearest to num / den (den > 0), halves up: ⌊(2 num + den) / (2 den)⌋.
-inline __int128 rounded_quotient(__int128 num, __int128 den) {
-  const __int128 twice = 2 * num + den, twice_den = 2 * den;
-  __int128 q = twice / twice_den;
-  if (twice % twice_den != 0 && twice < 0) --q;  // C++ truncates towards 0; this floors
-  return q;
 }
 
 // 2.4 (§5.3): values at most this many decades below the largest of a prediction's are
@@ -148,5 +142,10 @@ struct SignificantDecimals {
     return static_cast<uint32_t>(negative ? kZero - n : kZero + n);
   }
 };
+
+// `numbers` when they are used (digits > 0), else null.
+inline const SignificantDecimals* in_use(const SignificantDecimals& numbers) {
+  return numbers.digits != 0 ? &numbers : nullptr;
+}
 
 }  // namespace pm::detail

@@ -152,12 +152,12 @@ class WedgeCoder {
   struct Corner {
     WedgeRole role;
     uint32_t vertex;
-    uint32_t face = kNoAttribute;
-    const uint32_t* face_vertices = nullptr;
-    int slot = 0;
+    // A moved corner: the new vertex, the split's moved faces in the arc's order, and which
+    // of them the corner is in.
     uint32_t v = 0;
-    const ArcFace* arc = nullptr;  // 2.4: the split's moved faces, in the arc's order
+    const ArcFace* arc = nullptr;
     std::size_t arc_size = 0;
+    std::size_t moved = 0;
   };
 
   // 2.4 (§5.11): a moved corner's new value is predicted through the arc face that holds v
@@ -313,12 +313,12 @@ class WedgeCoder {
     uint32_t source = kNoAttribute;
     Prediction made;
     if (at.role == kRoleMoved) {
-      const uint32_t s = current_[3 * std::size_t{at.face} + at.slot];
+      const ArcFace& own = at.arc[at.moved];
+      const uint32_t s = current_[3 * std::size_t{own.face} + own.slot];
       source = s;
       if (components_ == 2 && s != kNoAttribute) {
-        const ArcFace own{at.face, at.face_vertices, at.slot};
-        const ArcFace* faces = by_values_ && at.arc != nullptr ? at.arc : &own;
-        const std::size_t count = by_values_ && at.arc != nullptr ? at.arc_size : 1;
+        const ArcFace* faces = by_values_ ? at.arc : &own;
+        const std::size_t count = by_values_ ? at.arc_size : 1;
         FaceMap best;
         for (std::size_t k = 0; k < count; ++k) {
           const std::size_t base = 3 * std::size_t{faces[k].face};
@@ -373,21 +373,15 @@ class WedgeCoder {
       const uint32_t unit = unit_at(3 * std::size_t(corner) + c);
       return position_numbers_ != nullptr ? position_numbers_->linear(unit, scale) : int64_t{unit};
     };
-    int64_t e1[3], e2[3], d[3];
+    int64_t nine[9];  // e1 = a - u, e2 = b - u, d = v - u
+    int64_t *e1 = nine, *e2 = nine + 3, *d = nine + 6;
     for (int c = 0; c < 3; ++c) {
       const int64_t pu = at(0, c);
       e1[c] = at(1, c) - pu;
       e2[c] = at(2, c) - pu;
       d[c] = at(3, c) - pu;
     }
-    const auto magnitude = [](int64_t x) { return x < 0 ? -x : x; };
-    int64_t largest = 0;
-    for (int c = 0; c < 3; ++c)
-      largest = std::max({largest, magnitude(e1[c]), magnitude(e2[c]), magnitude(d[c])});
-    int halvings = 0;
-    while ((largest >> halvings) >= (int64_t{1} << 14)) ++halvings;
-    const auto halve = [&](int64_t x) { return x < 0 ? -(-x >> halvings) : x >> halvings; };
-    for (int c = 0; c < 3; ++c) e1[c] = halve(e1[c]), e2[c] = halve(e2[c]), d[c] = halve(d[c]);
+    halve_below(nine, 9, 14);
     // Each dot product below 3 * 2^28; each product of two below 2^60.
     const int64_t g11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
     const int64_t g12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
