@@ -5,8 +5,8 @@
 // a step in the decade 0.01–0.1 is a tenth of one in 0.1–1, and between −0.01 and +0.01 lie
 // all the decades down to the first. The mean of the numbers of 0.05 and 0.15 is far from the
 // number of 0.1, and near zero, the mean of ±0.05 is some tiny decimal, millions of numbers
-// from where the vertex is. Taubin and Rossignac 1998 ("Geometric compression through
-// topological surgery", ACM TOG 17(2), §5) predict positions linearly from neighbours, which
+// from where the vertex is. The stream predicts a new vertex by the mean of its neighbours
+// (Taubin, Guéziec, Horn and Lazarus 1998, "Progressive forest split compression", §5), which
 // presumes coordinates linear in the value; integers of one scale give that back exactly,
 // without floating point, so that every reader gets the same predictions.
 // Internal to the codec.
