@@ -256,6 +256,23 @@ Status parse_header2(std::string_view bytes, Header2& h) {
 // ---------------------------------------------------------------------------------------
 // Primitive codings (§5.1).
 
+// A split's error as stored with WriteOptions::error_bits: the float's `bits` significant
+// bits (the leading one and bits - 1 of its 23 stored ones), rounded up, so that it still
+// bounds the level's distance to the input (a reader's choice of level by error only gets
+// safer); 0 or 24 keep every bit. Rounding up keeps the errors' order, so they stay
+// non-increasing along the stream (§5.5). A value that would round to infinity stays as is.
+float stored_error(float error, int bits) {
+  if (bits <= 0 || bits >= 24 || !(error > 0) || !std::isfinite(error)) return error;
+  uint32_t b = 0;
+  std::memcpy(&b, &error, sizeof b);
+  const uint32_t below = (1u << (24 - bits)) - 1;  // the stored bits dropped
+  if ((b & below) == 0) return error;
+  b = (b | below) + 1;  // up to the next value with `bits` significant bits
+  float rounded = 0;
+  std::memcpy(&rounded, &b, sizeof rounded);
+  return std::isfinite(rounded) ? rounded : error;
+}
+
 // Floats as unsigned integers in the order of their values (negative floats reversed), so
 // that the difference of two near floats is a small integer whatever their signs and
 // exponents. A bijection on bit patterns: NaN payloads and -0 survive.
@@ -1305,7 +1322,7 @@ struct Writer {
       ByteWriter u_out(streams[kStreamU]), vl_out(streams[kStreamVl]), vr_out(streams[kStreamVr]),
           explicit_out(streams[kStreamExplicit]), material_out(streams[kStreamMaterials]),
           uv_out(streams[kStreamUvCodes]), normal_out(streams[kStreamNormalCodes]);
-      previous_error = pm.splits[i].error;  // the index's error before this chunk
+      previous_error = stored_error(pm.splits[i].error, options.error_bits);  // the index's, before this chunk
       for (const std::size_t end = i + size; i < end; ++i) {
         const VertexSplit& split = pm.splits[i];
         const auto v = static_cast<uint32_t>(pm.base_vertex_count + i);
@@ -1322,10 +1339,11 @@ struct Writer {
         } else {
           u_out.put_varint(v - 1 - split.u);
         }
+        const float error = stored_error(split.error, options.error_bits);
         const int64_t error_step = int64_t{ordered_from_float(previous_error)} -
-                                   int64_t{ordered_from_float(split.error)};
+                                   int64_t{ordered_from_float(error)};
         put_varint64(streams[kStreamErrors], zigzag(error_step));
-        previous_error = split.error;
+        previous_error = error;
         record.assign(pm.moved_faces.begin() + split.moved_begin,
                       pm.moved_faces.begin() + split.moved_begin + split.moved_count);
         const std::size_t ahead = i + SplitFans::Prefetch::kAhead;
@@ -1478,7 +1496,7 @@ struct Writer {
         fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(), coded ? &fan : nullptr,
                    place_l);
       }
-      entry.error_after = i < pm.splits.size() ? pm.splits[i].error : 0.0f;
+      entry.error_after = i < pm.splits.size() ? stored_error(pm.splits[i].error, options.error_bits) : 0.0f;
       index_out.put_varint(entry.splits);
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
@@ -1531,9 +1549,13 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
                                                      " bits (0 for none, or 4 to 24)");
     }
   }
+  if (options.error_bits < 0 || options.error_bits > 24) {
+    return Status(ErrorCode::kInvalidArgument, "errors of " + std::to_string(options.error_bits) +
+                                                   " significant bits (0 for every bit, or 1 to 24)");
+  }
   if (options.minor_version > kNewestMinor) {
     return Status(ErrorCode::kInvalidArgument, "format 2." + std::to_string(options.minor_version) +
-                                                   " (this writer writes 2.0 to 2.3)");
+                                                   " (this writer writes 2.0 to 2.4)");
   }
   if (options.chunk_splits < 1 || options.chunk_splits > (1u << 20)) {
     return Status(ErrorCode::kInvalidArgument, "chunks of " + std::to_string(options.chunk_splits) +
@@ -1561,7 +1583,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   h.chunk_count = static_cast<uint32_t>(plan_chunks(h.split_count, options.chunk_splits).size());
   h.minor = options.minor_version;
   if (h.minor >= 2) w.plan_tables();
-  h.max_error = pm.splits.empty() ? 0.0f : pm.splits[0].error;
+  h.max_error = pm.splits.empty() ? 0.0f : stored_error(pm.splits[0].error, options.error_bits);
   h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
                  (pm.has_materials() ? kAttributeMaterialIds : 0);
   h.options = pm.keeps_order() ? kOptionKeepsOrder : 0;

@@ -209,6 +209,70 @@ TEST(PmStream, QuantizedPositionsLieOnTheGridWithinHalfAStep) {
   }
 }
 
+// The float's `bits` significant bits of x > 0: whether x has no more.
+bool has_significant_bits(float x, int bits) {
+  uint32_t b = 0;
+  std::memcpy(&b, &x, sizeof b);
+  return (b & ((1u << (24 - bits)) - 1)) == 0;
+}
+
+TEST(PmStream, ErrorBitsRoundEachErrorUpAndKeepTheRest) {
+  // Literal errors: 1.03 and 0.3 round up to 1 + 1/16 and 1.25 / 4 with 5 significant bits;
+  // 1, a power of two, and 0.75 (1.5 / 2) have fewer and stay.
+  ProgressiveMesh pm = generated_mesh(6);
+  const float errors[] = {1.03f, 1.0f, 0.75f, 0.3f, 0.3f, 0.0f};
+  for (std::size_t i = 0; i < pm.splits.size(); ++i) pm.splits[i].error = errors[i];
+  WriteOptions options;
+  options.error_bits = 5;
+  ProgressiveMesh rounded = read(write(pm, options));
+  const std::vector<float> expected = {1.0625f, 1.0f, 0.75f, 0.3125f, 0.3125f, 0.0f};
+  std::vector<float> got;
+  for (const VertexSplit& split : rounded.splits) got.push_back(split.error);
+  EXPECT_EQ(got, expected);
+  // Everything else is the stream without rounding.
+  ProgressiveMesh exact = read(write(pm));
+  for (std::size_t i = 0; i < pm.splits.size(); ++i) exact.splits[i].error = expected[i];
+  expect_identical(with_sorted_moves(rounded), with_sorted_moves(exact));
+
+  // Over many chunks: each error at least the exact one, at most 1/16 above it, with 5
+  // significant bits; the header's and the index's errors are the splits' own.
+  const ProgressiveMesh many = generated_mesh(3000);
+  options.chunk_splits = 1024;
+  const std::string bytes = write(many, options);
+  const ProgressiveMesh decoded = read(bytes);
+  ASSERT_EQ(decoded.splits.size(), many.splits.size());
+  int changed = 0;
+  for (std::size_t i = 0; i < many.splits.size(); ++i) {
+    const float e = many.splits[i].error, r = decoded.splits[i].error;
+    ASSERT_GE(r, e) << i;
+    ASSERT_LE(r, e * (1.0f + 1.0f / 16)) << i;
+    ASSERT_TRUE(has_significant_bits(r, 5)) << i << ": " << r;
+    changed += r != e;
+  }
+  EXPECT_GT(changed, 2900);
+  PmInfo info;
+  ASSERT_TRUE(read_pm_info(bytes, info).is_ok());
+  EXPECT_EQ(info.max_error, decoded.splits[0].error);
+  uint32_t level = 0;
+  for (const PmInfo::Chunk& chunk : info.chunks) {
+    level += chunk.splits;
+    EXPECT_EQ(chunk.error_after, error_at_level(decoded, level));
+  }
+  // Fewer bits, fewer bytes: the errors stream is most of what changes.
+  WriteOptions every_bit = options;
+  every_bit.error_bits = 0;
+  EXPECT_LT(bytes.size(), write(many, every_bit).size());
+  // 24 bits are every bit, as 0 is; out of range is refused.
+  options.error_bits = 24;
+  EXPECT_EQ(write(many, options), write(many, every_bit));
+  expect_identical(with_sorted_moves(read(write(many, options))), with_sorted_moves(many));
+  std::string out;
+  for (int bits : {-1, 25}) {
+    options.error_bits = bits;
+    EXPECT_EQ(write_pm(many, options, out).code(), ErrorCode::kInvalidArgument) << bits;
+  }
+}
+
 TEST(PmStream, LooseVerticesWithoutABaseMesh) {
   ProgressiveMesh pm;
   pm.loose_vertex_count = 2;

@@ -35,6 +35,12 @@ struct WriteOptions {
   int position_bits = 0;
   int uv_bits = 0;
   int normal_bits = 0;
+  // Each split's error (the bound a reader chooses levels by) with this many significant
+  // bits, rounded up so that it stays a bound (lossy, by the caller's choice, like the grids
+  // above; a level chosen by error can only be finer than with every bit): 0 keeps every
+  // bit; 1..24. On a grid, the errors' low bits are far below the grid's step and cost a bit
+  // or two per split; pmenc keeps 4 with --quantize.
+  int error_bits = 0;
   // The splits are stored in chunks of at most this many (each compressed on its own, with
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
   // smaller (256, 512, ...) so that a stream cut early still refines. 1..2^20.
