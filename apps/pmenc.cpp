@@ -16,11 +16,6 @@ namespace {
 
 constexpr const char* kTool = "pmenc";
 
-// With --quantize, each split's error keeps this many significant bits (at most 1/16 over):
-// on a grid the float's low bits are far below the step, and cost 0.4% to 2.6% of the
-// shared meshes' 14-bit streams (tests/bench/size.md).
-constexpr int kDefaultErrorBits = 5;
-
 struct Settings {
   pm::EncodeOptions encode;
   pm::WriteOptions write;
@@ -28,7 +23,7 @@ struct Settings {
   bool skip_existing = false;
   bool create_directories = false;  // --out-dir: the mirrored tree is made as needed
   bool layered = false;             // --layered
-  int error_bits = -1;              // --error-bits; -1: kDefaultErrorBits with --quantize, else 0
+  int error_bits = -1;              // --error-bits; -1: kQuantizedErrorBits with --quantize, else 0
   // --fast-from: the fast loop on meshes of at least this many faces (0: only with --fast).
   // The default loop's measured error costs 30 to 55 microseconds a face: 46 to 87 s on 1.6
   // million faces (by the machine's load), against under 3 s for the fast loop
@@ -240,7 +235,7 @@ int main(int argc, char** argv) {
   app.add_option("--error-bits", settings.error_bits,
                  "Keep BITS significant bits of each split's error bound, rounded up so that it "
                  "stays a bound (lossy; 0: every bit; default: " +
-                     std::to_string(kDefaultErrorBits) + " with --quantize, else 0)")
+                     std::to_string(pm::kQuantizedErrorBits) + " with --quantize, else 0)")
       ->check(CLI::Range(0, 24));
   app.add_flag("--layered", settings.layered,
                "Layer the splits within whole chunks (--layer-window over each chunk): "
@@ -295,7 +290,7 @@ int main(int argc, char** argv) {
   if (settings.encode.threads == 0 && run.jobs > 1 && tasks.size() > 1) settings.encode.threads = 1;
   settings.write.threads = settings.encode.threads;
   settings.write.error_bits = settings.error_bits >= 0     ? settings.error_bits
-                              : settings.write.position_bits > 0 ? kDefaultErrorBits
+                              : settings.write.position_bits > 0 ? pm::kQuantizedErrorBits
                                                                  : 0;
   return pm::cli::run_batch(tasks, run,
                             [&settings](const pm::cli::Task& task, pm::cli::JobProgress& progress) {

@@ -17,7 +17,8 @@
 //                   coordinates, 8-bit normals); single resolution
 //   pm q14          pmenc --quantize 14 --quantize-uv 10 --quantize-normal 8: the same bits
 //                   as draco's, still every level of detail (splits in layers within windows
-//                   of 1/16 of the vertices, the default)
+//                   of 1/16 of the vertices, the default; errors with pmenc's 5 significant
+//                   bits)
 //   pm q14 layered  the same with pmenc --layered (splits in layers within whole chunks)
 //   pm q14 greedy   the same with pmenc --layer-window 0 (the simplifier's order)
 // The external tools run as processes (std::system); a missing tool gives "n/a".
@@ -65,6 +66,7 @@ std::size_t pm_size(const pm::ProgressiveMesh& progressive, int bits, int uv_bit
   options.position_bits = bits;
   options.uv_bits = uv_bits;
   options.normal_bits = normal_bits;
+  options.error_bits = bits > 0 ? pm::kQuantizedErrorBits : 0;  // as pmenc --quantize
   std::string bytes;
   if (pm::Status s = pm::write_pm(progressive, options, bytes); !s) die("write_pm: " + s.message());
   return bytes.size();

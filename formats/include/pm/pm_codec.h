@@ -22,6 +22,10 @@ inline constexpr uint16_t kFormatMajor = 2;
 // texture coordinates through the moved face that holds the new vertex.
 inline constexpr uint16_t kFormatMinor = 4;
 
+// The error bits pmenc keeps with --quantize (WriteOptions::error_bits): at most 1/16 over
+// the exact bound, 0.4% to 2.6% smaller 14-bit streams on the shared meshes.
+inline constexpr int kQuantizedErrorBits = 5;
+
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
   // Quantization (lossy, by the caller's choice; 0 keeps every float bit): positions on a
@@ -39,7 +43,7 @@ struct WriteOptions {
   // bits, rounded up so that it stays a bound (lossy, by the caller's choice, like the grids
   // above; a level chosen by error can only be finer than with every bit): 0 keeps every
   // bit; 1..24. On a grid, the errors' low bits are far below the grid's step and cost a bit
-  // or two per split; pmenc keeps 4 with --quantize.
+  // or two per split; pmenc keeps kQuantizedErrorBits with --quantize.
   int error_bits = 0;
   // The splits are stored in chunks of at most this many (each compressed on its own, with
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
