@@ -260,7 +260,7 @@ Status parse_header2(std::string_view bytes, Header2& h) {
 // bits (the leading one and bits - 1 of its 23 stored ones), rounded up, so that it still
 // bounds the level's distance to the input (a reader's choice of level by error only gets
 // safer); 0 or 24 keep every bit. Rounding up keeps the errors' order, so they stay
-// non-increasing along the stream (§5.5). A value that would round to infinity stays as is.
+// non-increasing along the stream (§5.6). A value that would round to infinity stays as is.
 float stored_error(float error, int bits) {
   if (bits <= 0 || bits >= 24 || !(error > 0) || !std::isfinite(error)) return error;
   uint32_t b = 0;
@@ -1322,7 +1322,8 @@ struct Writer {
       ByteWriter u_out(streams[kStreamU]), vl_out(streams[kStreamVl]), vr_out(streams[kStreamVr]),
           explicit_out(streams[kStreamExplicit]), material_out(streams[kStreamMaterials]),
           uv_out(streams[kStreamUvCodes]), normal_out(streams[kStreamNormalCodes]);
-      previous_error = stored_error(pm.splits[i].error, options.error_bits);  // the index's, before this chunk
+      // The index's error before this chunk.
+      previous_error = stored_error(pm.splits[i].error, options.error_bits);
       for (const std::size_t end = i + size; i < end; ++i) {
         const VertexSplit& split = pm.splits[i];
         const auto v = static_cast<uint32_t>(pm.base_vertex_count + i);
@@ -1496,7 +1497,8 @@ struct Writer {
         fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(), coded ? &fan : nullptr,
                    place_l);
       }
-      entry.error_after = i < pm.splits.size() ? stored_error(pm.splits[i].error, options.error_bits) : 0.0f;
+      entry.error_after =
+          i < pm.splits.size() ? stored_error(pm.splits[i].error, options.error_bits) : 0.0f;
       index_out.put_varint(entry.splits);
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
