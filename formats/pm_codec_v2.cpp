@@ -795,13 +795,15 @@ auto with_fan_offsets(const VertexValues& positions, uint32_t u, const SplitFans
 template <typename Offset>
 bool normal_frame_of(const Offset& offset, const SplitFans::Fan& fan, NormalFrame& out) {
   int64_t n[3] = {0, 0, 0};
+  int64_t e1[3], e2[3];  // face k's edges from u: to ring[k] and ring[k + 1]
+  for (int c = 0; c < 3; ++c) e1[c] = offset(0, c);
   for (std::size_t k = 0; k < fan.faces.size(); ++k) {
-    int64_t e1[3], e2[3];
-    for (int c = 0; c < 3; ++c) e1[c] = offset(k, c), e2[c] = offset(k + 1, c);
+    for (int c = 0; c < 3; ++c) e2[c] = offset(k + 1, c);
     // Each product is below 2^48 (each offset below 2^24), each sum of 1024 below 2^60.
     n[0] += e1[1] * e2[2] - e1[2] * e2[1];
     n[1] += e1[2] * e2[0] - e1[0] * e2[2];
     n[2] += e1[0] * e2[1] - e1[1] * e2[0];
+    for (int c = 0; c < 3; ++c) e1[c] = e2[c];
   }
   const auto magnitude = [](int64_t x) { return x < 0 ? -x : x; };
   halve_below(n, 3, 15);
@@ -870,15 +872,23 @@ uint32_t normal_prediction_of_values(const SignificantDecimals& numbers, const N
 template <typename Offset>
 std::size_t lopsided_place_of(const Offset& diff, const SplitFans::Fan& fan) {
   const std::size_t n = fan.faces.size();
+  // The offsets of a fan of up to kKept faces (nearly all) are kept for the second pass.
+  constexpr std::size_t kKept = 16;
+  int64_t kept[3 * kKept];
+  const bool keep = n <= kKept;
   int64_t direction[3] = {0, 0, 0};  // below 2^34
   for (std::size_t k = 0; k < n; ++k) {
-    for (int c = 0; c < 3; ++c) direction[c] += diff(k, c);
+    for (int c = 0; c < 3; ++c) {
+      const int64_t d = diff(k, c);
+      if (keep) kept[3 * k + c] = d;
+      direction[c] += d;
+    }
   }
   std::size_t best = 0;
   int64_t best_score = 0;
   for (std::size_t k = 0; k < n; ++k) {
     int64_t score = 0;  // three products below 2^58
-    for (int c = 0; c < 3; ++c) score += diff(k, c) * direction[c];
+    for (int c = 0; c < 3; ++c) score += (keep ? kept[3 * k + c] : diff(k, c)) * direction[c];
     if (k == 0 || score > best_score) best = k, best_score = score;
   }
   return best;
@@ -1451,8 +1461,10 @@ struct Writer {
           }
         }
         // Attributes: the moved corners in the order stored (the arc's), then fl and fr.
-        if (wedged) arc_faces(fans, split.u, arc, arc_sides);
-        for (std::size_t m = 0; m < arc.size(); ++m) {
+        // The moved corners' ids, when the mesh has any (2.2: their faces, for the wedges).
+        const bool moved_ids = has_ids(0) || has_ids(1);
+        if (wedged && moved_ids) arc_faces(fans, split.u, arc, arc_sides);
+        for (std::size_t m = 0; moved_ids && m < arc.size(); ++m) {
           const uint32_t f = arc[m];
           const std::size_t k = split.moved_begin +
                                 (std::find(record.begin(), record.end(), f) - record.begin());
@@ -2587,8 +2599,10 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       }
     }
     // Attributes: the moved corners, then the new faces' corners and materials.
-    if (wedged) arc_faces(fans, split.u, arc, arc_sides);
-    for (std::size_t k = 0; k < arc.size(); ++k) {
+    // The moved corners' ids, when the stream has any (2.2: their faces, for the wedges).
+    const bool moved_ids = wedged ? wedge_rc[0] || wedge_rc[1] : uv_codes || normal_codes;
+    if (wedged && moved_ids) arc_faces(fans, split.u, arc, arc_sides);
+    for (std::size_t k = 0; moved_ids && k < arc.size(); ++k) {
       uint32_t id;
       if (wedged) {  // 2.2 (§5.11)
         const uint32_t f = arc[k];

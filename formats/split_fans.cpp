@@ -48,15 +48,22 @@ bool SplitFans::fan(uint32_t u, Fan& out) {
   out.ring.clear();
   out.faces.clear();
   out.closed = false;
-  wedges_.clear();
   if (u >= first_corner_.size()) return false;
-  for (uint32_t c = first_corner_[u]; c != kNone;) {
+  // Over the last fan's wedges in place, then appended (cheaper than a push_back each).
+  const std::size_t room = wedges_.size();
+  std::size_t n = 0;
+  for (uint32_t c = first_corner_[u]; c != kNone; ++n) {
     const uint32_t f = c / 3, k = c % 3;
     const Face& face = faces_[f];
-    wedges_.push_back({face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3], f, c});
+    const Wedge wedge{face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3], f, c};
+    if (n < room) {
+      wedges_[n] = wedge;
+    } else {
+      wedges_.push_back(wedge);
+    }
     c = face.next[k];
   }
-  const std::size_t n = wedges_.size();
+  wedges_.resize(n);
   if (n == 0) return false;
   if (chained_fan(out)) return true;
   ++searches_;
@@ -118,12 +125,24 @@ bool SplitFans::chained_fan(Fan& out) {
   const uint32_t last_b = w[n - 1].b;
   std::size_t smallest = 0;
   if (n <= kSmallFan) {
+    // Each a once: a 128-bit set of hashed a's (Fibonacci hashing, Knuth 1998, TAOCP vol. 3,
+    // §6.4) finds no two alike in nearly every fan (one in ten of valence 6 has two in one
+    // place), and only a fan where it does is compared pair by pair (the pairs cost more than
+    // the rest of the walk).
+    uint64_t seen[2] = {0, 0};
+    bool alike = false;
     for (std::size_t i = 0; i < n; ++i) {
       if (i > 0 && w[i].a == last_b) return false;
+      const auto place = static_cast<unsigned>((w[i].a * 0x9E3779B97F4A7C15ull) >> 57);
+      const uint64_t bit = uint64_t{1} << (place & 63);
+      alike |= (seen[place >> 6] & bit) != 0;
+      seen[place >> 6] |= bit;
+      if (w[i].a < w[smallest].a) smallest = i;
+    }
+    for (std::size_t i = 0; alike && i < n; ++i) {
       for (std::size_t j = i + 1; j < n; ++j) {
         if (w[j].a == w[i].a) return false;
       }
-      if (w[i].a < w[smallest].a) smallest = i;
     }
   } else {  // the same checks, sorted
     seconds_.clear();
@@ -281,31 +300,35 @@ void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, cons
     const uint32_t f = face_at(place);
     return 3 * f + slot(f, u);
   };
-  corners_.clear();
+  // u's and then v's corners, each at most the fan's faces and the two new ones, written
+  // through a pointer (push_back's capacity check per corner cost as much as the rest).
+  if (corners_.size() < n + 2) corners_.resize(n + 2);
+  uint32_t* const corners = corners_.data();
+  uint32_t* out = corners;
   if (fan.closed) {
-    for (std::size_t k = end; k < first + n; ++k) corners_.push_back(u_corner(k));
+    for (std::size_t k = end; k < first + n; ++k) *out++ = u_corner(k);
   } else {
-    for (std::size_t k = 0; k < first; ++k) corners_.push_back(u_corner(k));
+    for (std::size_t k = 0; k < first; ++k) *out++ = u_corner(k);
   }
-  if (fl != kNone) corners_.push_back(3 * fl + 1);
-  if (fr != kNone) corners_.push_back(3 * fr);
+  if (fl != kNone) *out++ = 3 * fl + 1;
+  if (fr != kNone) *out++ = 3 * fr;
   if (!fan.closed) {
-    for (std::size_t k = end; k < n; ++k) corners_.push_back(u_corner(k));
+    for (std::size_t k = end; k < n; ++k) *out++ = u_corner(k);
   }
-  if (corners_.empty()) {
+  if (out == corners) {
     first_corner_[u] = kNone;
   } else {
-    relink(u, corners_.data(), corners_.size());
+    relink(u, corners, static_cast<std::size_t>(out - corners));
   }
-  corners_.clear();
-  if (fl != kNone && fr == kNone) corners_.push_back(3 * fl);
+  out = corners;
+  if (fl != kNone && fr == kNone) *out++ = 3 * fl;
   for (std::size_t k = first; k < end; ++k) {
     const uint32_t f = face_at(k);
-    corners_.push_back(3 * f + slot(f, v));
+    *out++ = 3 * f + slot(f, v);
   }
-  if (fr != kNone) corners_.push_back(3 * fr + 1);
-  if (fl != kNone && fr != kNone) corners_.push_back(3 * fl);
-  relink(v, corners_.data(), corners_.size());
+  if (fr != kNone) *out++ = 3 * fr + 1;
+  if (fl != kNone && fr != kNone) *out++ = 3 * fl;
+  relink(v, corners, static_cast<std::size_t>(out - corners));
   if (fl != kNone) {
     const uint32_t f = face_at(first);
     insert_after(3 * f + slot(f, vl), 3 * fl + 2);
