@@ -1098,6 +1098,11 @@ struct Writer {
   const std::vector<float>& table(int kind) const { return kind == 0 ? pm.uvs : pm.normals; }
   const Grid& grid(int kind) const { return kind == 0 ? uv_grid : normal_grid; }
   bool has_ids(int kind) const { return kind == 0 ? pm.has_uvs() : pm.has_normals(); }
+  // The error bound of the level before split i as stored (WriteOptions::error_bits): split
+  // i's, the full mesh's 0 after the last; the header, the index and the errors stream alike.
+  float error_before(std::size_t i) const {
+    return i < pm.splits.size() ? stored_error(pm.splits[i].error, options.error_bits) : 0.0f;
+  }
   // Entry `id`'s values in the integers residuals are taken in: grid indices or float bits.
   void units_of(int kind, uint32_t id, uint32_t* out) const {
     const std::size_t components = kind == 0 ? 2 : 3;
@@ -1314,6 +1319,8 @@ struct Writer {
     std::size_t i = 0;
     std::vector<uint64_t> position_codes, color_codes;
     const bool ranged = h.minor >= 1, wedged = h.minor >= 2;
+    // The moved corners' ids, when the mesh has any (2.2: their faces, for the wedges).
+    const bool moved_ids = has_ids(0) || has_ids(1);
     // The models carry over from chunk to chunk (§5.10): chunks are decoded in order anyway.
     auto models = std::make_unique<ChunkModels>();
     if (wedged) start_wedges();
@@ -1332,8 +1339,7 @@ struct Writer {
       ByteWriter u_out(streams[kStreamU]), vl_out(streams[kStreamVl]), vr_out(streams[kStreamVr]),
           explicit_out(streams[kStreamExplicit]), material_out(streams[kStreamMaterials]),
           uv_out(streams[kStreamUvCodes]), normal_out(streams[kStreamNormalCodes]);
-      // The index's error before this chunk.
-      previous_error = stored_error(pm.splits[i].error, options.error_bits);
+      previous_error = error_before(i);  // the index's error before this chunk
       for (const std::size_t end = i + size; i < end; ++i) {
         const VertexSplit& split = pm.splits[i];
         const auto v = static_cast<uint32_t>(pm.base_vertex_count + i);
@@ -1350,7 +1356,7 @@ struct Writer {
         } else {
           u_out.put_varint(v - 1 - split.u);
         }
-        const float error = stored_error(split.error, options.error_bits);
+        const float error = error_before(i);
         const int64_t error_step = int64_t{ordered_from_float(previous_error)} -
                                    int64_t{ordered_from_float(error)};
         put_varint64(streams[kStreamErrors], zigzag(error_step));
@@ -1461,8 +1467,6 @@ struct Writer {
           }
         }
         // Attributes: the moved corners in the order stored (the arc's), then fl and fr.
-        // The moved corners' ids, when the mesh has any (2.2: their faces, for the wedges).
-        const bool moved_ids = has_ids(0) || has_ids(1);
         if (wedged && moved_ids) arc_faces(fans, split.u, arc, arc_sides);
         for (std::size_t m = 0; moved_ids && m < arc.size(); ++m) {
           const uint32_t f = arc[m];
@@ -1509,8 +1513,7 @@ struct Writer {
         fans.split(split.u, v, split.vl, split.vr, arc.data(), arc.size(), coded ? &fan : nullptr,
                    place_l);
       }
-      entry.error_after =
-          i < pm.splits.size() ? stored_error(pm.splits[i].error, options.error_bits) : 0.0f;
+      entry.error_after = error_before(i);
       index_out.put_varint(entry.splits);
       index_out.put_varint(entry.new_faces);
       index_out.put_varint(entry.moved_faces);
@@ -1597,7 +1600,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   h.chunk_count = static_cast<uint32_t>(plan_chunks(h.split_count, options.chunk_splits).size());
   h.minor = options.minor_version;
   if (h.minor >= 2) w.plan_tables();
-  h.max_error = pm.splits.empty() ? 0.0f : stored_error(pm.splits[0].error, options.error_bits);
+  h.max_error = w.error_before(0);
   h.attributes = (pm.has_uvs() ? kAttributeUvIds : 0) | (pm.has_normals() ? kAttributeNormalIds : 0) |
                  (pm.has_materials() ? kAttributeMaterialIds : 0);
   h.options = pm.keeps_order() ? kOptionKeepsOrder : 0;
@@ -2430,6 +2433,8 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       previous_u = chunk_u[j];
     }
   }
+  // The moved corners' ids, when the stream has any (2.2: their faces, for the wedges).
+  const bool moved_ids = wedged ? wedge_rc[0] || wedge_rc[1] : uv_codes || normal_codes;
   SplitFans::Prefetch prefetch(fans, &positions.units);
   constexpr std::size_t kAhead = SplitFans::Prefetch::kAhead;
   for (std::size_t k = 0; ranged && k < kAhead; ++k)
@@ -2599,8 +2604,6 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       }
     }
     // Attributes: the moved corners, then the new faces' corners and materials.
-    // The moved corners' ids, when the stream has any (2.2: their faces, for the wedges).
-    const bool moved_ids = wedged ? wedge_rc[0] || wedge_rc[1] : uv_codes || normal_codes;
     if (wedged && moved_ids) arc_faces(fans, split.u, arc, arc_sides);
     for (std::size_t k = 0; moved_ids && k < arc.size(); ++k) {
       uint32_t id;

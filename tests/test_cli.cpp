@@ -175,13 +175,6 @@ TEST(Cli, ErrorBitsRoundTheErrorsUpByDefaultOnlyWhenQuantized) {
     for (const VertexSplit& split : pm.splits) out.push_back(split.error);
     return out;
   };
-  // The significant bits of x: 24 less the trailing zeros of its stored mantissa.
-  const auto significant_bits = [](float x) {
-    uint32_t b = 0;
-    std::memcpy(&b, &x, sizeof b);
-    const uint32_t mantissa = b & 0x7FFFFFu;
-    return mantissa == 0 ? 1 : 24 - __builtin_ctz(mantissa);
-  };
   const std::vector<float> exact = errors({});
   ASSERT_GT(exact.size(), 100u);
   EXPECT_EQ(errors({"--quantize", "14", "--error-bits", "0"}), exact);
@@ -195,12 +188,12 @@ TEST(Cli, ErrorBitsRoundTheErrorsUpByDefaultOnlyWhenQuantized) {
     for (std::size_t i = 0; i < exact.size(); ++i) {
       ASSERT_GE(rounded[i], exact[i]) << i;
       ASSERT_LE(rounded[i], exact[i] * (1.0f + std::ldexp(1.0f, 1 - bits))) << i;
-      if (rounded[i] > 0) most_bits = std::max(most_bits, significant_bits(rounded[i]));
+      if (rounded[i] > 0) most_bits = std::max(most_bits, test::significant_bits(rounded[i]));
     }
     EXPECT_EQ(most_bits, bits) << options.front();
   }
   int most_exact_bits = 0;
-  for (float e : exact) if (e > 0) most_exact_bits = std::max(most_exact_bits, significant_bits(e));
+  for (float e : exact) if (e > 0) most_exact_bits = std::max(most_exact_bits, test::significant_bits(e));
   EXPECT_GT(most_exact_bits, 8);
   EXPECT_EQ(pmenc({input, "-o", dir.file("x.pm"), "--error-bits", "25"}).exit_code, 2);
   EXPECT_EQ(listing(dir.path()), std::vector<std::string>{"t.pm"});

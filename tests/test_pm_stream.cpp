@@ -209,13 +209,6 @@ TEST(PmStream, QuantizedPositionsLieOnTheGridWithinHalfAStep) {
   }
 }
 
-// The float's `bits` significant bits of x > 0: whether x has no more.
-bool has_significant_bits(float x, int bits) {
-  uint32_t b = 0;
-  std::memcpy(&b, &x, sizeof b);
-  return (b & ((1u << (24 - bits)) - 1)) == 0;
-}
-
 TEST(PmStream, ErrorBitsRoundEachErrorUpAndKeepTheRest) {
   // Literal errors: 1.03 and 0.3 round up to 1 + 1/16 and 1.25 / 4 with 5 significant bits;
   // 1, a power of two, and 0.75 (1.5 / 2) have fewer and stay.
@@ -246,7 +239,7 @@ TEST(PmStream, ErrorBitsRoundEachErrorUpAndKeepTheRest) {
     const float e = many.splits[i].error, r = decoded.splits[i].error;
     ASSERT_GE(r, e) << i;
     ASSERT_LE(r, e * (1.0f + 1.0f / 16)) << i;
-    ASSERT_TRUE(has_significant_bits(r, 5)) << i << ": " << r;
+    ASSERT_LE(test::significant_bits(r), 5) << i << ": " << r;
     changed += r != e;
   }
   EXPECT_GT(changed, 2900);

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
+#include <cstring>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -214,5 +216,14 @@ std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& bytes);
 // Whether path names an existing file (or directory).
 bool file_exists(const std::string& path);
+
+// The significant bits of a normal float: 24 less the trailing zeros of its stored mantissa
+// (1 for a power of two).
+inline int significant_bits(float x) {
+  uint32_t b = 0;
+  std::memcpy(&b, &x, sizeof b);
+  const uint32_t mantissa = b & 0x7FFFFFu;
+  return mantissa == 0 ? 1 : 24 - __builtin_ctz(mantissa);
+}
 
 }  // namespace pm::test

@@ -423,5 +423,14 @@ TEST(AttributedFaces, RotationsOfAFaceWithTwoEqualCornersCompareEqual) {
   EXPECT_FALSE(same_attributed_faces(a, b));
 }
 
+TEST(SignificantBits, CountTheMantissaUpToItsLastOne) {
+  EXPECT_EQ(significant_bits(1.0f), 1);
+  EXPECT_EQ(significant_bits(0.25f), 1);
+  EXPECT_EQ(significant_bits(0.75f), 2);       // 1.1 (binary) / 2
+  EXPECT_EQ(significant_bits(0.3125f), 3);     // 1.01 / 4
+  EXPECT_EQ(significant_bits(1.0625f), 5);     // 1.0001
+  EXPECT_EQ(significant_bits(1.0f + 0x1p-23f), 24);
+}
+
 }  // namespace
 }  // namespace pm::test
