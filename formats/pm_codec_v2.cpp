@@ -50,15 +50,15 @@
 #include "byte_io.h"
 #include "corner_codes.h"
 #include "wedge_codes.h"
-#include "attribute_renumbering.h"
-#include "huge_pages.h"
-#include "in_turn.h"
+#include "stream_order/attribute_renumbering.h"
+#include "core/huge_pages.h"
+#include "core/in_turn.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
 #include "range_coder.h"
 #include "significant_decimals.h"
 #include "split_fans.h"
-#include "validate_decoded.h"
+#include "levels/validate_decoded.h"
 
 namespace pm {
 namespace detail {

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "huge_pages.h"
+#include "core/huge_pages.h"
 
 namespace pm::detail {
 

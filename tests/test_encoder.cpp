@@ -8,7 +8,7 @@
 #include <set>
 #include <tuple>
 
-#include "manifold_repair.h"
+#include "simplify/manifold_repair.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
@@ -16,7 +16,7 @@
 #include "pm/surface_distance.h"
 #include "test_meshes.h"
 #include "test_util.h"
-#include "vertex_classification.h"
+#include "simplify/vertex_classification.h"
 
 namespace pm {
 namespace {

@@ -1,4 +1,4 @@
-// The fast loop's addressable heap (lib/src/indexed_heap.h): least key first, ties to the
+// The fast loop's addressable heap (lib/src/simplify/indexed_heap.h): least key first, ties to the
 // smaller id, keys changed and ids removed in place, against a sorted reference.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "indexed_heap.h"
+#include "simplify/indexed_heap.h"
 
 namespace pm {
 namespace {

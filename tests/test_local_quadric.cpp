@@ -1,12 +1,12 @@
-// The fast loop's float32 quadric relative to its vertex (lib/src/local_quadric.h) measures
+// The fast loop's float32 quadric relative to its vertex (lib/src/simplify/local_quadric.h) measures
 // what the double quadric (quadric.h) measures, and keeps small errors far from the origin.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "local_quadric.h"
-#include "quadric.h"
+#include "simplify/local_quadric.h"
+#include "simplify/quadric.h"
 
 namespace pm {
 namespace {

@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "mesh_readers.h"
+#include "io/mesh_readers.h"
 #include "pm/mesh.h"
 #include "pm/mesh_io.h"
 #include "pm/status.h"

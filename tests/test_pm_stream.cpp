@@ -21,7 +21,7 @@
 #include "../formats/byte_io.h"
 #include "../formats/pm_layout.h"
 #include "../formats/range_coder.h"
-#include "huge_pages.h"
+#include "core/huge_pages.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"

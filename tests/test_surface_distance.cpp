@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "geometry.h"
+#include "simplify/geometry.h"
 #include "pm/mesh_io.h"
 #include "pm/surface_distance.h"
 #include "test_util.h"

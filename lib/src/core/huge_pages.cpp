@@ -1,0 +1,30 @@
+// Transparent huge pages for large random-access arrays (see huge_pages.h).
+#include "core/huge_pages.h"
+
+#include <cstdint>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace pm::detail {
+
+void prefer_huge_pages(const void* data, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHugePage = std::uintptr_t{1} << 21;
+  // Below a few huge pages the TLB covers the array anyway.
+  constexpr std::size_t kLeast = 4 * kHugePage;
+  if (data == nullptr || bytes < kLeast) return;
+  const auto start = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t begin = (start + kHugePage - 1) & ~(kHugePage - 1);
+  const std::uintptr_t end = (start + bytes) & ~(kHugePage - 1);
+  if (end <= begin) return;
+  // A hint: an error (an old kernel, huge pages disabled) leaves the pages as they were.
+  (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+
+}  // namespace pm::detail

@@ -1,0 +1,87 @@
+// Attribute error as a quadric (Hoppe 1999, "New quadric metric for simplifying meshes
+// with appearance attributes", §4; the same space as Garland and Heckbert 1998,
+// "Simplifying surfaces with color and texture using quadric error metrics", §3).
+//
+// Each face carries its K attribute components (texture u, v; or a normal's x, y, z) as
+// a linear function of position over its plane: a_j(p) = g_j . p + d_j, with g_j in the
+// plane (Hoppe 1999, §4: the gradient from the 4x4 system of the three corners and the
+// normal). A vertex whose attribute is s but which sits at p is off by a_j(p) - s_j on
+// that face; the quadric sums area * sum_j (g_j . p + d_j - s_j)^2 over the faces of a
+// wedge, as a quadratic form in x = (p, s) of dimension 3 + K, so that merging two
+// wedges is adding their quadrics, as for the geometric one.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include "simplify/geometry.h"
+
+namespace pm {
+
+template <int K>
+struct AttributeQuadric {
+  static constexpr int kDim = 3 + K;
+  static constexpr int kPacked = kDim * (kDim + 1) / 2;
+  std::array<double, kPacked> a{};  // upper triangle of A, row by row
+  std::array<double, kDim> b{};
+  double c = 0;
+  double weight = 0;  // total area, to turn the error into a mean
+
+  static constexpr int index(int i, int j) {  // i <= j
+    return i * kDim - i * (i - 1) / 2 + (j - i);
+  }
+
+  // The face (p[0], p[1], p[2]) whose corners carry values[i][0..K), weighted by its area.
+  // A degenerate face contributes nothing: it has no gradient.
+  static AttributeQuadric from_face(const Vec3 (&p)[3], const float* const (&values)[3],
+                                    double area) {
+    AttributeQuadric q;
+    const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const double g11 = e1 | e1, g12 = e1 | e2, g22 = e2 | e2;
+    const double det = g11 * g22 - g12 * g12;  // |e1 x e2|^2
+    if (!(det > 0) || !(area > 0)) return q;
+    for (int j = 0; j < K; ++j) {
+      // g = alpha e1 + beta e2 with g.e1 = a1 - a0 and g.e2 = a2 - a0: g lies in the plane.
+      const double d1 = double(values[1][j]) - values[0][j];
+      const double d2 = double(values[2][j]) - values[0][j];
+      const double alpha = (g22 * d1 - g12 * d2) / det;
+      const double beta = (g11 * d2 - g12 * d1) / det;
+      const Vec3 g = alpha * e1 + beta * e2;
+      const double d = values[0][j] - (g | p[0]);
+      // (c . x + d)^2 with c = (g, -e_j): A += c c^T, b += d c, const += d^2.
+      double cvec[kDim] = {g[0], g[1], g[2]};
+      for (int k = 0; k < K; ++k) cvec[3 + k] = k == j ? -1.0 : 0.0;
+      for (int r = 0; r < kDim; ++r) {
+        if (cvec[r] == 0) continue;
+        for (int s = r; s < kDim; ++s) q.a[index(r, s)] += area * cvec[r] * cvec[s];
+        q.b[r] += area * d * cvec[r];
+      }
+      q.c += area * d * d;
+    }
+    q.weight = area;
+    return q;
+  }
+
+  AttributeQuadric& operator+=(const AttributeQuadric& o) {
+    for (int i = 0; i < kPacked; ++i) a[i] += o.a[i];
+    for (int i = 0; i < kDim; ++i) b[i] += o.b[i];
+    c += o.c;
+    weight += o.weight;
+    return *this;
+  }
+
+  // Area-weighted sum of squared attribute deviations of the point p carrying values s.
+  double error(const Vec3& p, const float* s) const {
+    double x[kDim] = {p[0], p[1], p[2]};
+    for (int k = 0; k < K; ++k) x[3 + k] = s[k];
+    double e = c;
+    for (int r = 0; r < kDim; ++r) {
+      double row = a[index(r, r)] * x[r];
+      for (int t = r + 1; t < kDim; ++t) row += 2 * a[index(r, t)] * x[t];
+      e += x[r] * row + 2 * b[r] * x[r];
+    }
+    return e > 0 ? e : 0;  // rounding can make a zero error slightly negative
+  }
+};
+
+}  // namespace pm

@@ -1,0 +1,42 @@
+// The fast collapse loop (pmenc --fast, EncodeOptions::fast): Garland and Heckbert's quadric
+// metric on a flat, array-based connectivity (Campagna, Kobbelt and Seidel 1998, "Directed
+// edges"), without the measured error the default loop charges (removed_points.h). It
+// keeps every rule that makes the result a valid progressive mesh of the same topology:
+// the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
+// carried faces, boundaries and feature edges. Geometry only: the encoder takes the default
+// loop when texture coordinates, normals or materials are to be kept.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "simplify/collapse_sequence.h"
+#include "simplify/manifold_repair.h"
+#include "pm/encoder.h"
+#include "pm/mesh.h"
+#include "pm/status.h"
+
+namespace pm {
+
+struct FastSimplification {
+  std::vector<Collapse> collapses;
+  std::vector<uint32_t> moved_faces;  // half-edge-mesh face ids, Collapse::moved_begin
+  BaseMesh base;
+  std::vector<float> points;  // three per half-edge-mesh vertex
+};
+
+// Runs the whole collapse sequence on repaired.mesh, in its ids. Its triangles and points
+// are copied into flat arrays first, then the OpenMesh mesh is cleared to give its memory
+// back: afterwards only repaired's per-vertex and per-face tables remain, and out.points
+// replaces its points. Requires options.metric == Metric::kQuadric. kInternal if the mesh
+// is not the manifold build_manifold_mesh makes.
+Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out);
+
+// The same on the input as it is, in its ids, when it is a manifold that needs no repair (see
+// build_manifold_mesh: no face with a repeated vertex, no vertex without faces, every edge
+// in one face or two of opposite orientation, every vertex's faces one fan): the OpenMesh
+// mesh is never built. False, with nothing done, otherwise. The input must have passed
+// check_encodable.
+bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options, FastSimplification& out);
+
+}  // namespace pm

@@ -1,0 +1,66 @@
+// Small double-precision geometry used by the error and legality functions.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "simplify/half_edge_mesh.h"
+
+namespace pm {
+
+using Vec3 = OpenMesh::Vec3d;
+
+inline Vec3 to_vec3(const HalfEdgeMesh::Point& p) {
+  return Vec3(p[0], p[1], p[2]);
+}
+inline Vec3 point_of(const HalfEdgeMesh& mesh, HalfEdgeMesh::VertexHandle v) {
+  return to_vec3(mesh.point(v));
+}
+
+// Twice the area vector of triangle (a, b, c): its direction is the normal.
+inline Vec3 area_vector(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return (b - a) % (c - a);
+}
+
+// Distance from p to the segment [a, b]. Inline, like point_triangle_distance: the
+// simplifier's innermost loops call them.
+inline double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.sqrnorm();
+  if (len2 == 0.0) return (p - a).norm();
+  const double t = std::clamp(((p - a) | ab) / len2, 0.0, 1.0);
+  return (p - (a + ab * t)).norm();
+}
+
+// Distance from p to the line through a and b (to a when a == b).
+double point_line_distance(const Vec3& p, const Vec3& a, const Vec3& b);
+
+// Distance from p to the closed triangle (a, b, c) (Ericson 2005, "Real-Time Collision
+// Detection", §5.1.5: closest point by Voronoi regions of the triangle).
+inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Ericson 2005, §5.1.5, ClosestPtPointTriangle.
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab | ap, d2 = ac | ap;
+  if (d1 <= 0 && d2 <= 0) return (p - a).norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab | bp, d4 = ac | bp;
+  if (d3 >= 0 && d4 <= d3) return (p - b).norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return point_segment_distance(p, a, b);
+  const Vec3 cp = p - c;
+  const double d5 = ab | cp, d6 = ac | cp;
+  if (d6 >= 0 && d5 <= d6) return (p - c).norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return point_segment_distance(p, a, c);
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return point_segment_distance(p, b, c);
+  const double denom = va + vb + vc;
+  if (denom == 0.0) {  // degenerate triangle: nearest of its edges
+    return std::min({point_segment_distance(p, a, b), point_segment_distance(p, b, c),
+                     point_segment_distance(p, a, c)});
+  }
+  const double v = vb / denom, w = vc / denom;
+  return (p - (a + ab * v + ac * w)).norm();
+}
+
+}  // namespace pm

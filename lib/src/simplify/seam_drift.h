@@ -1,0 +1,57 @@
+// How far a texture seam has drifted from the input's seam curve, tracked through the
+// collapses. A seam collapse slides v along the seam onto u (Hoppe 1999, "New quadric
+// metric for simplifying meshes with appearance attributes", §5; Garland and Heckbert 1998,
+// §4: collapse along a discontinuity, never across it), so the seam polyline u-v-w
+// becomes the chord u-w. The constraint planes of the quadric hold that chord in place on
+// average; this measures the worst case, as RemovedPoints does for the surface (Klein,
+// Liebich and Straßer 1996): every input vertex of a seam that has been removed is
+// attached to the current seam edge that replaced it, and a collapse is charged the largest
+// distance from the points it would attach to the new edge.
+//
+// Why it matters. The surface distance does not see a seam that moves within the surface
+// (a chord across a flat region lies on the surface), but the texture does: the faces on one
+// side of the chord then show their chart where the input showed the other one. On spot at
+// 10% of the faces, such chords made most of the texture-coordinate error measured at the
+// closest surface point (tests/bench/uv.md).
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "simplify/corner_attributes.h"
+#include "simplify/half_edge_mesh.h"
+
+namespace pm {
+
+class SeamDrift {
+ public:
+  // The seams are the texture-coordinate seams of `attributes` on `mesh` as it is now.
+  SeamDrift(const HalfEdgeMesh& mesh, const CornerAttributes& attributes);
+
+  // If half-edge h (v -> u) were collapsed: when v lies on a seam (two seam edges, v-u and
+  // v-w), the largest distance from v and the removed seam points of v-u and v-w to the
+  // segment u-w; 0 when v is on no seam.
+  double collapse_drift(HalfEdgeMesh::HalfedgeHandle h) const;
+
+  // Attaches v and those points to u-w. Call just before the mesh collapses h.
+  void collapse(HalfEdgeMesh::HalfedgeHandle h);
+
+ private:
+  static constexpr uint32_t kNone = 0xffffffffu;
+  static constexpr std::size_t kMeasuredPoints = 256;  // per seam edge and query
+  // The seam neighbour of v other than u, kNone when v is not on exactly two seam edges
+  // with one of them v-u (then the collapse moves no seam: the legality rules allow no
+  // other seam collapse).
+  uint32_t other_seam_end(HalfEdgeMesh::HalfedgeHandle h) const;
+  static uint64_t key(uint32_t a, uint32_t b) {
+    return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
+  }
+
+  const HalfEdgeMesh& mesh_;
+  const CornerAttributes& attributes_;
+  // Per current seam edge (vertex pair), the input seam vertices it replaced.
+  std::unordered_map<uint64_t, std::vector<uint32_t>> points_;
+};
+
+}  // namespace pm
