@@ -264,28 +264,28 @@ class MaterialCopier {
     return Status(ErrorCode::kParseError, "material source: " + what + " does not exist");
   }
 
-  Status copy_indexed(const char* kind, std::size_t index, std::map<std::size_t, std::size_t>& copied, Json& out,
-                      Json& item) {
+  // The source's `kind`[index], which must be an object.
+  Status source_object(const char* kind, std::size_t index, Json& item) {
     if (!document_.contains(kind) || !document_[kind].is_array() || index >= document_[kind].size())
       return missing(std::string(kind) + " " + std::to_string(index));
     item = document_[kind][index];
-    if (!item.is_object()) return Status(ErrorCode::kParseError, std::string("material source: ") + kind + " " + std::to_string(index) + " is not an object");
-    (void)copied;
-    (void)out;
+    if (!item.is_object())
+      return Status(ErrorCode::kParseError,
+                    std::string("material source: ") + kind + " " + std::to_string(index) + " is not an object");
     return Status::ok();
   }
 
   Status copy_texture(std::size_t index, Json& out, BinaryBuilder& binary, Json& views, std::size_t& copy) {
     if (auto found = textures_.find(index); found != textures_.end()) return copy = found->second, Status::ok();
     Json texture;
-    if (Status s = copy_indexed("textures", index, textures_, out, texture); !s) return s;
+    if (Status s = source_object("textures", index, texture); !s) return s;
     if (texture.contains("sampler") && texture["sampler"].is_number_unsigned()) {
       const std::size_t sampler = texture["sampler"].get<std::size_t>();
       if (auto found = samplers_.find(sampler); found != samplers_.end()) {
         texture["sampler"] = found->second;
       } else {
         Json copied;
-        if (Status s = copy_indexed("samplers", sampler, samplers_, out, copied); !s) return s;
+        if (Status s = source_object("samplers", sampler, copied); !s) return s;
         note_extensions(copied);
         out["samplers"].push_back(copied);
         texture["sampler"] = samplers_[sampler] = out["samplers"].size() - 1;
@@ -315,7 +315,7 @@ class MaterialCopier {
   Status copy_image(std::size_t index, Json& out, BinaryBuilder& binary, Json& views, std::size_t& copy) {
     if (auto found = images_.find(index); found != images_.end()) return copy = found->second, Status::ok();
     Json image;
-    if (Status s = copy_indexed("images", index, images_, out, image); !s) return s;
+    if (Status s = source_object("images", index, image); !s) return s;
     if (image.contains("uri") && image["uri"].is_string()) {
       const std::string uri = image["uri"];
       const bool relative = uri.rfind("data:", 0) != 0 && uri.find("://") == std::string::npos &&
