@@ -1,0 +1,278 @@
+#!/usr/bin/python3
+"""Checks the source tree's layout rules (issue 26).
+
+1. Every author-and-year citation in the comments of lib/, formats/ and apps/ ("Hoppe 1996,
+   §3", "Garland and Heckbert 1997", "Cignoni et al. 1998", "Figueroa, "Title", 1995") names
+   a work that docs/references.md lists, and the citing file is among that work's files;
+   a file listed for a work must exist and cite it.
+2. No source file in lib/ or formats/ is over 1,000 lines, none in apps/ over 400.
+3. Every folder under lib/src/ has a README.md.
+
+A work is known by its first author's surname and its year: "Schroeder, Zarge and Lorensen
+1992" and "Schroeder 1992" are the same work, as are "Cignoni et al. 1998" and "Cignoni,
+Rocchini and Scopigno 1998". docs/references.md gives each work a heading that cites it
+("### Garland and Heckbert 1997") and a "- **Files**:" line of backquoted paths.
+
+Usage: check_layout.py [--root DIR] [--list] [--update] [selftest] [citations] [sizes] [readmes]
+  CHECKS    which checks to run (all by default); selftest runs the citation finder on
+            cases it must get right, citations and readmes are rules 1 and 3, sizes rule 2
+  --root    the source tree (by default the one this script is in)
+  --list    print every citation found (file:line: work: the text matched), then check
+  --update  rewrite the Files lines of docs/references.md from the comments (after moving or
+            splitting files); a work the file does not list still fails: write its entry.
+Exit status 0 when every rule holds, 1 otherwise (each failure on one line), 2 on bad usage.
+"""
+import os
+import re
+import sys
+
+SOURCE_SUFFIXES = (".h", ".hpp", ".cpp", ".cc", ".c", ".inl")
+CITING_ROOTS = ("lib", "formats", "apps")
+LINE_LIMITS = {"lib": 1000, "formats": 1000, "apps": 400}
+REFERENCES = os.path.join("docs", "references.md")
+
+# Capitalised words that can stand before a year without naming an author: sentence
+# openers, months, venues, products.
+NOT_AUTHORS = {
+    "A", "An", "And", "As", "At", "Before", "Between", "By", "Circa", "Copyright", "Debian",
+    "Draco", "Eurographics", "Format", "From", "Graphics", "Ieee", "In", "Its", "January",
+    "February", "March", "April", "May", "June", "July", "August", "September", "October",
+    "November", "December", "Of", "On", "Proceedings", "Proc", "See", "Siggraph", "Since",
+    "The", "Then", "To", "Until", "Up", "Version", "Visualization", "Year", "Years", "Zstd",
+}
+NAME = r"(?:[A-ZÀ-Þ][a-zß-ÿ][^\W\d_]*(?:['’-][A-ZÀ-Þ]?[^\W\d_]+)*)"
+AUTHORS = (rf"(?P<authors>{NAME}(?:,\s+{NAME})*(?:,?\s+and\s+{NAME})?"
+           rf"|{NAME}\s+et\s+al\.)")
+YEAR = r"(?:19[7-9]\d|20[0-2]\d)"
+# "Hoppe 1996", "Schroeder 1992/1997", "Schroeder 1992, 1997", "Hoppe 1996's"; a year glued
+# to digits, a dot or a dash ("1996.5", "2008-11") is not one.
+YEARS = rf"(?P<years>{YEAR}(?:(?:/|,\s*|\s+and\s+){YEAR}(?![\d]))*)(?![\d.\-]\d|\d)"
+CITATION = re.compile(rf"(?<![\w.'’-]){AUTHORS}\s+{YEARS}")
+# Figueroa, "When is double rounding innocuous?", 1995
+TITLED = re.compile(rf"(?<![\w.'’-]){AUTHORS},\s+\"[^\"]{{3,200}}\",?\s+{YEARS}")
+
+
+def comments(text):
+    """Yields (line number, comment text) for each comment block: a run of // comments on
+    consecutive lines is one block, as is each /* */ comment; strings are skipped."""
+    i, n, line = 0, len(text), 1
+    block, block_line, last_line = [], 0, -2
+    while i < n:
+        c = text[i]
+        if c == "\n":
+            line += 1
+            i += 1
+        elif text.startswith("//", i):
+            end = text.find("\n", i)
+            end = n if end < 0 else end
+            if line != last_line + 1 and block:
+                yield block_line, " ".join(block)
+                block = []
+            if not block:
+                block_line = line
+            block.append(text[i + 2:end].lstrip("/!").strip())
+            last_line = line
+            i = end
+        elif text.startswith("/*", i):
+            end = text.find("*/", i + 2)
+            end = n if end < 0 else end
+            body = text[i + 2:end]
+            lines = [l.strip().lstrip("*").strip() for l in body.split("\n")]
+            yield line, " ".join(lines)
+            line += body.count("\n")
+            i = end + 2
+        elif c == '"' or c == "'":
+            # A string or character literal (raw strings are rare enough here to ignore).
+            j = i + 1
+            while j < n and text[j] != c and text[j] != "\n":
+                j += 2 if text[j] == "\\" else 1
+            i = j + 1
+        else:
+            i += 1
+    if block:
+        yield block_line, " ".join(block)
+
+
+def first_author(authors):
+    return re.match(NAME, authors).group(0)
+
+
+def citations(text):
+    """Yields (line, work key, matched text) for the citations in one file's comments."""
+    for line, block in comments(text):
+        block = re.sub(r"\s+", " ", block)
+        found = []
+        for pattern in (CITATION, TITLED):
+            for m in pattern.finditer(block):
+                names = [first_author(m.group("authors"))]
+                # "Since Garland and Heckbert 1997": drop leading words that are not names.
+                words = re.findall(NAME, m.group("authors"))
+                while words and words[0] in NOT_AUTHORS:
+                    words.pop(0)
+                if not words:
+                    continue
+                names = words[0]
+                for year in re.findall(YEAR, m.group("years")):
+                    found.append((m.start(), f"{names} {year}", m.group(0)))
+        seen = set()
+        for start, key, matched in sorted(found):
+            if key in seen:
+                continue
+            seen.add(key)
+            yield line, key, matched
+
+
+def source_files(root, top):
+    for folder, dirs, files in os.walk(os.path.join(root, top)):
+        dirs.sort()
+        for name in sorted(files):
+            if name.endswith(SOURCE_SUFFIXES):
+                yield os.path.relpath(os.path.join(folder, name), root)
+
+
+def read_references(path):
+    """Returns {work key: (heading, [files], line of the Files entry)} and the file's lines."""
+    works, lines = {}, []
+    if not os.path.exists(path):
+        return works, lines
+    with open(path, encoding="utf-8") as f:
+        lines = f.read().split("\n")
+    key = None
+    for number, text in enumerate(lines):
+        if text.startswith("### "):
+            heading = text[4:].strip()
+            m = CITATION.search(heading)
+            key = None
+            if m:
+                key = f"{first_author(m.group('authors'))} {re.findall(YEAR, m.group('years'))[0]}"
+                works[key] = (heading, [], None)
+        elif text.startswith("#"):
+            key = None
+        elif key and re.match(r"\s*-\s*\*\*Files\*\*:", text):
+            files = re.findall(r"`([^`]+)`", text)
+            works[key] = (works[key][0], files, number)
+    return works, lines
+
+
+def check_citations(root, options, failures):
+    cited = {}  # work key -> {file: (line, matched)}
+    for top in CITING_ROOTS:
+        for path in source_files(root, top):
+            with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
+                text = f.read()
+            for line, key, matched in citations(text):
+                cited.setdefault(key, {}).setdefault(path, (line, matched))
+                if "--list" in options:
+                    print(f"{path}:{line}: {key}: {matched}")
+    references = os.path.join(root, REFERENCES)
+    works, lines = read_references(references)
+    if "--update" in options and lines:
+        for key, (heading, files, number) in works.items():
+            if number is not None and key in cited:
+                lines[number] = "- **Files**: " + ", ".join(f"`{p}`" for p in sorted(cited[key]))
+        with open(references, "w", encoding="utf-8") as f:
+            f.write("\n".join(lines))
+        works, lines = read_references(references)
+    for key in sorted(cited):
+        for path, (line, matched) in sorted(cited[key].items()):
+            if key not in works:
+                failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), which {REFERENCES} does not list")
+            elif path not in works[key][1]:
+                failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), but {REFERENCES} does not list "
+                                f"this file among its files (check_layout.py --update rewrites them)")
+    for key, (heading, files, number) in sorted(works.items()):
+        if number is None:
+            failures.append(f"{REFERENCES}: {heading} has no '- **Files**:' line")
+        for path in files:
+            if path not in cited.get(key, {}):
+                failures.append(f"{REFERENCES}: {heading} lists {path}, whose comments do not cite {key} "
+                                f"(check_layout.py --update rewrites the Files lines)")
+    files_citing = len({p for files in cited.values() for p in files})
+    return f"{len(cited)} works cited in {files_citing} files"
+
+
+def check_sizes(root, options, failures):
+    checked = 0
+    for top, limit in LINE_LIMITS.items():
+        for path in source_files(root, top):
+            checked += 1
+            with open(os.path.join(root, path), "rb") as f:
+                count = f.read().count(b"\n")
+            if count > limit:
+                failures.append(f"{path}: {count} lines, over the {limit} a source file in {top}/ may have")
+    return f"{checked} source files sized"
+
+
+def check_readmes(root, options, failures):
+    folders = 0
+    for folder, dirs, files in os.walk(os.path.join(root, "lib", "src")):
+        dirs.sort()
+        folders += 1
+        if "README.md" not in files:
+            failures.append(f"{os.path.relpath(folder, root)}/: no README.md "
+                            f"(a paragraph: what it does, its papers, what it may include)")
+    return f"{folders} folders of lib/src"
+
+
+# The citation finder on cases it must get right: (source text, works it must find).
+SELF_TEST = [
+    ("// Hoppe 1996, §3: wedges", ["Hoppe 1996"]),
+    ("// Garland and Heckbert 1997's quadrics", ["Garland 1997"]),
+    ("// (Cignoni et al. 1998)", ["Cignoni 1998"]),
+    ("// Klein, Liebich and Straßer 1996", ["Klein 1996"]),
+    ("// Taubin, Guéziec, Horn and Lazarus 1998, §5", ["Taubin 1998"]),
+    ("// El-Sana and Varshney 1999, §3", ["El-Sana 1999"]),
+    ("// Schroeder 1992/1997 and Schroeder 1992, 1997", ["Schroeder 1992", "Schroeder 1997"]),
+    ("// the link condition (Dey, Edelsbrunner, Guha and\n// Nekhayev 1999, §2)", ["Dey 1999"]),
+    ("/* Marpe et al.\n * 2003, §III.A */", ["Marpe 2003"]),
+    ("// Since Garland and Heckbert 1997, see Hoppe et al. 1993", ["Garland 1997", "Hoppe 1993"]),
+    ('// (Figueroa, "When is double rounding innocuous?", 1995)', ["Figueroa 1995"]),
+    # Not citations: versions, dates, venues, standards, sentence openers, strings, code.
+    ("// C++17, zstd 1.5.4, Debian 12, OpenMesh 9, format 2.4, IEEE 754-2008", []),
+    ("// (CGI 2003), SIGGRAPH 1996, In 1996, Since 2019, November 2026, Copyright 2024", []),
+    ("// [31, 2017] / 2048; 1996.5; 2008-11-02", []),
+    ('const char* s = "Hoppe 1996"; int Hoppe = 1996;', []),
+    ("// Hoppe\n\nint x;  // 1996", []),
+]
+
+
+def check_selftest(root, options, failures):
+    for text, expected in SELF_TEST:
+        found = sorted({key for line, key, matched in citations(text)})
+        if found != sorted(expected):
+            failures.append(f"check_layout.py self-test: {text!r} gives {found}, not {sorted(expected)}")
+    return f"{len(SELF_TEST)} self-test cases"
+
+
+CHECKS = {"selftest": check_selftest, "citations": check_citations, "sizes": check_sizes,
+          "readmes": check_readmes}
+
+
+def main(argv):
+    options, checks, root = set(), [], None
+    args = iter(argv)
+    for arg in args:
+        if arg == "--root":
+            root = next(args, None)
+        elif arg in ("--list", "--update"):
+            options.add(arg)
+        elif arg in CHECKS:
+            checks.append(arg)
+        else:
+            print(f"check_layout.py: unknown argument {arg!r}\n" + __doc__.split("Usage: ")[1], file=sys.stderr)
+            return 2
+    if root is None:
+        root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+    root = os.path.abspath(root)
+    failures, summary = [], []
+    for name in checks or list(CHECKS):
+        summary.append(CHECKS[name](root, options, failures))
+    for failure in failures:
+        print(failure)
+    print(f"check_layout: {'; '.join(summary)}; {len(failures)} failure{'' if len(failures) == 1 else 's'}",
+          file=sys.stderr)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
