@@ -53,10 +53,11 @@ TITLED = re.compile(rf"(?<![\w.'’-]){AUTHORS},\s+\"[^\"]{{3,200}}\",?\s+{YEARS
 
 
 def comments(text):
-    """Yields (line number, comment text) for each comment block: a run of // comments on
-    consecutive lines is one block, as is each /* */ comment; strings are skipped."""
+    """Yields each comment block as a list of (line number, text) pieces: a run of //
+    comments on consecutive lines is one block, as is each /* */ comment; string and
+    character literals are skipped."""
     i, n, line = 0, len(text), 1
-    block, block_line, last_line = [], 0, -2
+    block, last_line = [], -2
     while i < n:
         c = text[i]
         if c == "\n":
@@ -66,23 +67,21 @@ def comments(text):
             end = text.find("\n", i)
             end = n if end < 0 else end
             if line != last_line + 1 and block:
-                yield block_line, " ".join(block)
+                yield block
                 block = []
-            if not block:
-                block_line = line
-            block.append(text[i + 2:end].lstrip("/!").strip())
+            block.append((line, text[i + 2:end].lstrip("/!").strip()))
             last_line = line
             i = end
         elif text.startswith("/*", i):
             end = text.find("*/", i + 2)
             end = n if end < 0 else end
-            body = text[i + 2:end]
-            lines = [l.strip().lstrip("*").strip() for l in body.split("\n")]
-            yield line, " ".join(lines)
-            line += body.count("\n")
+            body = text[i + 2:end].split("\n")
+            yield [(line + k, l.strip().lstrip("*").strip()) for k, l in enumerate(body)]
+            line += len(body) - 1
             i = end + 2
-        elif c == '"' or c == "'":
-            # A string or character literal (raw strings are rare enough here to ignore).
+        elif c == '"' or (c == "'" and not (i and text[i - 1].isalnum())):
+            # A string or character literal (not a digit separator, 1'000; raw strings are
+            # rare enough here to ignore).
             j = i + 1
             while j < n and text[j] != c and text[j] != "\n":
                 j += 2 if text[j] == "\\" else 1
@@ -90,7 +89,7 @@ def comments(text):
         else:
             i += 1
     if block:
-        yield block_line, " ".join(block)
+        yield block
 
 
 def first_author(authors):
@@ -98,28 +97,30 @@ def first_author(authors):
 
 
 def citations(text):
-    """Yields (line, work key, matched text) for the citations in one file's comments."""
-    for line, block in comments(text):
-        block = re.sub(r"\s+", " ", block)
+    """Yields (line, work key, matched text) for the citations in one file's comments, once
+    per work and comment block, at the line where the citation starts."""
+    for block in comments(text):
+        joined, starts = "", []
+        for line, piece in block:
+            starts.append((len(joined), line))
+            joined += piece + " "
         found = []
         for pattern in (CITATION, TITLED):
-            for m in pattern.finditer(block):
-                names = [first_author(m.group("authors"))]
+            for m in pattern.finditer(joined):
                 # "Since Garland and Heckbert 1997": drop leading words that are not names.
                 words = re.findall(NAME, m.group("authors"))
                 while words and words[0] in NOT_AUTHORS:
                     words.pop(0)
                 if not words:
                     continue
-                names = words[0]
+                line = max(l for offset, l in starts if offset <= m.start())
                 for year in re.findall(YEAR, m.group("years")):
-                    found.append((m.start(), f"{names} {year}", m.group(0)))
+                    found.append((m.start(), line, f"{words[0]} {year}", " ".join(m.group(0).split())))
         seen = set()
-        for start, key, matched in sorted(found):
-            if key in seen:
-                continue
-            seen.add(key)
-            yield line, key, matched
+        for start, line, key, matched in sorted(found):
+            if key not in seen:
+                seen.add(key)
+                yield line, key, matched
 
 
 def source_files(root, top):
@@ -131,10 +132,11 @@ def source_files(root, top):
 
 
 def read_references(path):
-    """Returns {work key: (heading, [files], line of the Files entry)} and the file's lines."""
-    works, lines = {}, []
+    """Returns {work key: (heading, [files], line of the Files entry)}, the file's lines and
+    the headings that repeat a work."""
+    works, lines, duplicates = {}, [], []
     if not os.path.exists(path):
-        return works, lines
+        return works, lines, duplicates
     with open(path, encoding="utf-8") as f:
         lines = f.read().split("\n")
     key = None
@@ -145,13 +147,15 @@ def read_references(path):
             key = None
             if m:
                 key = f"{first_author(m.group('authors'))} {re.findall(YEAR, m.group('years'))[0]}"
+                if key in works:
+                    duplicates.append(f"{REFERENCES}:{number + 1}: a second entry for {key}")
                 works[key] = (heading, [], None)
         elif text.startswith("#"):
             key = None
         elif key and re.match(r"\s*-\s*\*\*Files\*\*:", text):
             files = re.findall(r"`([^`]+)`", text)
             works[key] = (works[key][0], files, number)
-    return works, lines
+    return works, lines, duplicates
 
 
 def check_citations(root, options, failures):
@@ -165,14 +169,17 @@ def check_citations(root, options, failures):
                 if "--list" in options:
                     print(f"{path}:{line}: {key}: {matched}")
     references = os.path.join(root, REFERENCES)
-    works, lines = read_references(references)
+    works, lines, duplicates = read_references(references)
+    if not lines:
+        failures.append(f"{REFERENCES}: missing")
+    failures.extend(duplicates)
     if "--update" in options and lines:
         for key, (heading, files, number) in works.items():
             if number is not None and key in cited:
                 lines[number] = "- **Files**: " + ", ".join(f"`{p}`" for p in sorted(cited[key]))
         with open(references, "w", encoding="utf-8") as f:
             f.write("\n".join(lines))
-        works, lines = read_references(references)
+        works, lines, duplicates = read_references(references)
     for key in sorted(cited):
         for path, (line, matched) in sorted(cited[key].items()):
             if key not in works:
@@ -232,6 +239,7 @@ SELF_TEST = [
     ("// (CGI 2003), SIGGRAPH 1996, In 1996, Since 2019, November 2026, Copyright 2024", []),
     ("// [31, 2017] / 2048; 1996.5; 2008-11-02", []),
     ('const char* s = "Hoppe 1996"; int Hoppe = 1996;', []),
+    ("int n = 1'000;  // Hoppe 1996", ["Hoppe 1996"]),
     ("// Hoppe\n\nint x;  // 1996", []),
 ]
 
