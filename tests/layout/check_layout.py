@@ -183,7 +183,8 @@ def check_citations(root, options, failures):
     for key in sorted(cited):
         for path, (line, matched) in sorted(cited[key].items()):
             if key not in works:
-                failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), which {REFERENCES} does not list")
+                failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), which {REFERENCES} does not list "
+                                f"(give it an entry: heading, full citation, what pm took, Files)")
             elif path not in works[key][1]:
                 failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), but {REFERENCES} does not list "
                                 f"this file among its files (check_layout.py --update rewrites them)")
