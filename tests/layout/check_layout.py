@@ -131,30 +131,37 @@ def source_files(root, top):
                 yield os.path.relpath(os.path.join(folder, name), root)
 
 
+class Entry:
+    """One work's entry in docs/references.md: its heading, the work keys the heading cites
+    ("### Khronos 2017/2021" stands for Khronos 2017 and Khronos 2021), its Files and the
+    line those are on."""
+
+    def __init__(self, heading, keys):
+        self.heading, self.keys, self.files, self.files_line = heading, keys, [], None
+
+
 def read_references(path):
-    """Returns {work key: (heading, [files], line of the Files entry)}, the file's lines and
-    the headings that repeat a work."""
+    """Returns {work key: Entry}, the file's lines and the headings that repeat a work."""
     works, lines, duplicates = {}, [], []
     if not os.path.exists(path):
         return works, lines, duplicates
     with open(path, encoding="utf-8") as f:
         lines = f.read().split("\n")
-    key = None
+    entry = None
     for number, text in enumerate(lines):
-        if text.startswith("### "):
-            heading = text[4:].strip()
-            m = CITATION.search(heading)
-            key = None
+        if text.startswith("#"):
+            m = CITATION.search(text[4:]) if text.startswith("### ") else None
+            entry = None
             if m:
-                key = f"{first_author(m.group('authors'))} {re.findall(YEAR, m.group('years'))[0]}"
-                if key in works:
-                    duplicates.append(f"{REFERENCES}:{number + 1}: a second entry for {key}")
-                works[key] = (heading, [], None)
-        elif text.startswith("#"):
-            key = None
-        elif key and re.match(r"\s*-\s*\*\*Files\*\*:", text):
-            files = re.findall(r"`([^`]+)`", text)
-            works[key] = (works[key][0], files, number)
+                author = first_author(m.group("authors"))
+                keys = [f"{author} {year}" for year in re.findall(YEAR, m.group("years"))]
+                entry = Entry(text[4:].strip(), keys)
+                for key in keys:
+                    if key in works:
+                        duplicates.append(f"{REFERENCES}:{number + 1}: a second entry for {key}")
+                    works[key] = entry
+        elif entry and re.match(r"\s*-\s*\*\*Files\*\*:", text):
+            entry.files, entry.files_line = re.findall(r"`([^`]+)`", text), number
     return works, lines, duplicates
 
 
@@ -173,27 +180,30 @@ def check_citations(root, options, failures):
     if not lines:
         failures.append(f"{REFERENCES}: missing")
     failures.extend(duplicates)
+    entries = list({id(e): e for e in works.values()}.values())
+    citing = lambda entry: {p for key in entry.keys for p in cited.get(key, {})}
     if "--update" in options and lines:
-        for key, (heading, files, number) in works.items():
-            if number is not None and key in cited:
-                lines[number] = "- **Files**: " + ", ".join(f"`{p}`" for p in sorted(cited[key]))
+        for entry in entries:
+            if entry.files_line is not None and citing(entry):
+                lines[entry.files_line] = "- **Files**: " + ", ".join(f"`{p}`" for p in sorted(citing(entry)))
         with open(references, "w", encoding="utf-8") as f:
             f.write("\n".join(lines))
         works, lines, duplicates = read_references(references)
+        entries = list({id(e): e for e in works.values()}.values())
     for key in sorted(cited):
         for path, (line, matched) in sorted(cited[key].items()):
             if key not in works:
                 failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), which {REFERENCES} does not list "
                                 f"(give it an entry: heading, full citation, what pm took, Files)")
-            elif path not in works[key][1]:
+            elif path not in works[key].files:
                 failures.append(f"{path}:{line}: cites {key} (\"{matched}\"), but {REFERENCES} does not list "
                                 f"this file among its files (check_layout.py --update rewrites them)")
-    for key, (heading, files, number) in sorted(works.items()):
-        if number is None:
-            failures.append(f"{REFERENCES}: {heading} has no '- **Files**:' line")
-        for path in files:
-            if path not in cited.get(key, {}):
-                failures.append(f"{REFERENCES}: {heading} lists {path}, whose comments do not cite {key} "
+    for entry in entries:
+        if entry.files_line is None:
+            failures.append(f"{REFERENCES}: {entry.heading} has no '- **Files**:' line")
+        for path in entry.files:
+            if path not in citing(entry):
+                failures.append(f"{REFERENCES}: {entry.heading} lists {path}, whose comments do not cite it "
                                 f"(check_layout.py --update rewrites the Files lines)")
     files_citing = len({p for files in cited.values() for p in files})
     return f"{len(cited)} works cited in {files_citing} files"
