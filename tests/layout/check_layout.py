@@ -25,6 +25,7 @@ Exit status 0 when every rule holds, 1 otherwise (each failure on one line), 2 o
 import os
 import re
 import sys
+import tempfile
 
 SOURCE_SUFFIXES = (".h", ".hpp", ".cpp", ".cc", ".c", ".inl")
 CITING_ROOTS = ("lib", "formats", "apps")
@@ -255,12 +256,45 @@ SELF_TEST = [
 ]
 
 
+# A small tree that breaks each rule once, and the failures the checks must report on it.
+SELF_TEST_TREE = {
+    "lib/src/core/README.md": "core\n",
+    "lib/src/core/a.cpp": "// Hoppe 1996, §3, and Smith and Jones 2011.\nint a;\n",
+    "lib/src/core/b.cpp": "// Hoppe 1996.\n" + "int b;\n" * 1000,
+    "lib/src/bare/c.h": "// nothing cited\n",
+    "apps/d.cpp": "int d;\n" * 401,
+    "docs/references.md": "### Hoppe 1996\n- **Files**: `lib/src/core/a.cpp`, `apps/d.cpp`\n",
+}
+SELF_TEST_FAILURES = [
+    "lib/src/core/a.cpp:1: cites Smith 2011",
+    "lib/src/core/b.cpp:1: cites Hoppe 1996",
+    "docs/references.md: Hoppe 1996 lists apps/d.cpp",
+    "lib/src/core/b.cpp: 1001 lines, over the 1000",
+    "apps/d.cpp: 401 lines, over the 400",
+    "lib/src/bare/: no README.md",
+    "lib/src/: no README.md",
+]
+
+
 def check_selftest(root, options, failures):
     for text, expected in SELF_TEST:
         found = sorted({key for line, key, matched in citations(text)})
         if found != sorted(expected):
             failures.append(f"check_layout.py self-test: {text!r} gives {found}, not {sorted(expected)}")
-    return f"{len(SELF_TEST)} self-test cases"
+    with tempfile.TemporaryDirectory() as tree:
+        for path, text in SELF_TEST_TREE.items():
+            os.makedirs(os.path.dirname(os.path.join(tree, path)), exist_ok=True)
+            with open(os.path.join(tree, path), "w", encoding="utf-8") as f:
+                f.write(text)
+        reported = []
+        for name in ("citations", "sizes", "readmes"):
+            CHECKS[name](tree, set(), reported)
+    for expected in SELF_TEST_FAILURES:
+        if sum(r.startswith(expected) for r in reported) != 1:
+            failures.append(f"check_layout.py self-test: the broken tree does not report '{expected}' once")
+    if len(reported) != len(SELF_TEST_FAILURES):
+        failures.append(f"check_layout.py self-test: the broken tree reports {reported}")
+    return f"{len(SELF_TEST)} self-test cases and a broken tree"
 
 
 CHECKS = {"selftest": check_selftest, "citations": check_citations, "sizes": check_sizes,
