@@ -6,6 +6,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -87,7 +89,8 @@ pm::MeshFormat format_for(const std::string& path, const std::optional<std::stri
 
 // ---- read and write ----------------------------------------------------------------------
 
-Mesh read(const std::string& path, const std::optional<std::string>& format) {
+Mesh read(const std::filesystem::path& file, const std::optional<std::string>& format) {
+  const std::string path = file.string();
   const pm::MeshFormat f = format_for(path, format);
   pm::Mesh mesh;
   pm::Status status;
@@ -101,7 +104,8 @@ Mesh read(const std::string& path, const std::optional<std::string>& format) {
   return wrap_mesh(std::move(mesh));
 }
 
-void write(const std::string& path, const Mesh& mesh, const std::optional<std::string>& format) {
+void write(const std::filesystem::path& file, const Mesh& mesh, const std::optional<std::string>& format) {
+  const std::string path = file.string();
   const pm::MeshFormat f = format_for(path, format);
   pm::Mesh storage;
   const pm::Mesh& m = library_mesh(mesh, "mesh", storage);
@@ -661,7 +665,8 @@ and level (uint32: the first level that has it). A new array.)")
 encode()'s quantize=, zstd_level=, ... ; lossless for a decoded mesh.)")
       .def(
           "save",
-          [](Progressive& p, const std::string& path) {
+          [](Progressive& p, const std::filesystem::path& file) {
+            const std::string path = file.string();
             const std::string& bytes = pmesh::stream_of(p);
             pm::Status status;
             {
@@ -781,7 +786,8 @@ a stream cut short decodes to the finest level it holds. Raises pmesh.Error:
 truncated-stream, corrupt-stream, checksum-mismatch, unsupported-version, resource-limit.)");
   m.def(
       "load",
-      [](const std::string& path, uint64_t max_memory, bool allow_truncated) {
+      [](const std::filesystem::path& file, uint64_t max_memory, bool allow_truncated) {
+        const std::string path = file.string();
         std::string bytes;
         pm::Status status;
         {
