@@ -145,6 +145,16 @@ struct Progressive {
   }
 };
 
+// A read-only view of one of the record's arrays (rows of `columns`; 0: one value a row), kept
+// alive by the Python object that shares the record.
+template <class T>
+auto record_array(const std::vector<T> pm::ProgressiveMesh::*member, std::size_t columns) {
+  return [member, columns](py::object self) {
+    const std::vector<T>& values = (*self.cast<const Progressive&>().pm).*member;
+    return view(values.data(), columns ? values.size() / columns : values.size(), columns, self, false);
+  };
+}
+
 // What the levels of one request are chosen by (pmdec's --faces, --vertices, --ratio, --error).
 struct Selection {
   std::optional<std::size_t> faces, vertices;
@@ -283,71 +293,55 @@ void check_bits(int bits, const char* name) {
 }
 
 
-// encode()'s arguments beyond the mesh, as pmenc's options (README.md, "Use").
+// encode()'s arguments beyond the mesh, as pmenc's options (README.md, "Use"): the library's
+// option structs, filled by the binding, and the choices pmenc derives them from.
 struct EncodeArguments {
+  pm::EncodeOptions encode;
+  pm::WriteOptions write;
   std::string metric = "quadric";
-  int quantize = 0, quantize_uv = 0, quantize_normal = 0;
-  std::optional<int> error_bits;
-  bool fast = false;
+  std::optional<int> error_bits;  // default: kQuantizedErrorBits with quantized positions
   std::size_t fast_from = 1000000;
   std::optional<double> feature_angle;
-  double max_normal_flip = 90;
-  bool keep_corners = false, keep_order = false, drop_attributes = false;
-  std::size_t min_faces = 0, min_vertices = 0;
-  double layer_window = 1.0 / 16;
   bool layered = false;
-  uint32_t chunk_splits = 4096;
-  int zstd_level = 19;
-  unsigned threads = 0;
   py::object progress = py::none();
 };
 
-// The library's options for these arguments, as pmenc sets them; raises on one out of range.
-void options_for(const EncodeArguments& a, std::size_t faces, pm::EncodeOptions& encode,
-                 pm::WriteOptions& write) {
+// Checks the arguments (raises on one out of range) and completes the options as pmenc does.
+void complete_options(EncodeArguments& a, std::size_t faces) {
+  pm::EncodeOptions& encode = a.encode;
+  pm::WriteOptions& write = a.write;
   if (a.metric == "quadric") encode.metric = pm::Metric::kQuadric;
   else if (a.metric == "schroeder") encode.metric = pm::Metric::kSchroeder;
   else invalid_argument("metric must be 'quadric' or 'schroeder', not '" + a.metric + "'");
-  check_bits(a.quantize, "quantize");
-  check_bits(a.quantize_uv, "quantize_uv");
-  check_bits(a.quantize_normal, "quantize_normal");
+  check_bits(write.position_bits, "quantize");
+  check_bits(write.uv_bits, "quantize_uv");
+  check_bits(write.normal_bits, "quantize_normal");
   if (a.error_bits && (*a.error_bits < 0 || *a.error_bits > 24)) invalid_argument("error_bits must be in 0..24");
-  if (a.zstd_level < 1 || a.zstd_level > 22) invalid_argument("zstd_level must be in 1..22");
-  if (a.chunk_splits < 1 || a.chunk_splits > (1u << 20)) invalid_argument("chunk_splits must be in 1..2^20");
-  if (!(a.layer_window >= 0 && a.layer_window <= 1)) invalid_argument("layer_window must be in [0, 1]");
+  if (write.zstd_level < 1 || write.zstd_level > 22) invalid_argument("zstd_level must be in 1..22");
+  if (write.chunk_splits < 1 || write.chunk_splits > (1u << 20)) invalid_argument("chunk_splits must be in 1..2^20");
+  if (!(encode.layer_window >= 0 && encode.layer_window <= 1)) invalid_argument("layer_window must be in [0, 1]");
   if (a.feature_angle && !(*a.feature_angle >= 0 && *a.feature_angle <= 180))
     invalid_argument("feature_angle must be in [0, 180] degrees");
-  if (!(a.max_normal_flip >= 0 && a.max_normal_flip <= 180))
+  if (!(encode.max_normal_flip_deg >= 0 && encode.max_normal_flip_deg <= 180))
     invalid_argument("max_normal_flip must be in [0, 180] degrees");
   if (!a.progress.is_none() && !PyCallable_Check(a.progress.ptr()))
     invalid_argument("progress must be callable");
-  encode.feature_angle_deg = a.feature_angle.value_or(-1);
-  encode.max_normal_flip_deg = a.max_normal_flip;
-  encode.keep_corners = a.keep_corners;
-  encode.keep_order = a.keep_order;
-  encode.drop_attributes = a.drop_attributes;
-  encode.min_faces = a.min_faces;
-  encode.min_vertices = a.min_vertices;
+  encode.feature_angle_deg = a.feature_angle.value_or(-1);  // negative: the metric's default
   // pmenc's --fast-from: large meshes take the fast loop unless asked otherwise.
-  encode.fast = a.fast || (a.fast_from != 0 && faces >= a.fast_from);
-  encode.threads = a.threads;
-  encode.layer_window = a.layered ? std::numeric_limits<double>::infinity() : a.layer_window;
-  encode.layer_chunk_splits = a.chunk_splits;  // the windows stay inside the stream's chunks
-  write.zstd_level = a.zstd_level;
-  write.position_bits = a.quantize;
-  write.uv_bits = a.quantize_uv;
-  write.normal_bits = a.quantize_normal;
-  write.error_bits = a.error_bits.value_or(a.quantize > 0 ? pm::kQuantizedErrorBits : 0);
-  write.chunk_splits = a.chunk_splits;
-  write.threads = a.threads;
+  encode.fast = encode.fast || (a.fast_from != 0 && faces >= a.fast_from);
+  if (a.layered) encode.layer_window = std::numeric_limits<double>::infinity();
+  encode.layer_chunk_splits = write.chunk_splits;  // the windows stay inside the stream's chunks
+  write.error_bits = a.error_bits.value_or(write.position_bits > 0 ? pm::kQuantizedErrorBits : 0);
+  write.threads = encode.threads;
 }
 
-Progressive encode(const Mesh& mesh, const EncodeArguments& arguments) {
+Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
   pm::Mesh storage;
   const pm::Mesh& input = library_mesh(mesh, "input", storage);
-  pm::EncodeOptions options;
+  complete_options(arguments, input.face_count());
+  pm::EncodeOptions& options = arguments.encode;
   Progressive p;
-  options_for(arguments, input.face_count(), options, p.write);
+  p.write = arguments.write;
   // Only a pointer goes into the options: they may be copied on the encoder's threads,
   // where a Python object may not be.
   ProgressCallback callback{arguments.progress, nullptr};
@@ -605,34 +599,18 @@ or faces=[...], vertices=[...], ratio=[...]. Returns the meshes in the order ask
              return pm::vertices_at_level(*p.pm, p.checked_level(level));
            }, py::arg("level"), "Vertices output at a level (welded copies not counted).")
       .def_property_readonly(
-          "positions",
-          [](py::object self) {
-            const pm::ProgressiveMesh& pm = *self.cast<const Progressive&>().pm;
-            return pmesh::view(pm.positions.data(), pm.vertex_count(), 3, self, false);
-          },
+          "positions", pmesh::record_array(&pm::ProgressiveMesh::positions, 3),
           "(vertex_count, 3) float32, read-only: every vertex id's position (base vertices, then "
           "one per split, then loose vertices).")
       .def_property_readonly(
-          "base_faces",
-          [](py::object self) {
-            const pm::ProgressiveMesh& pm = *self.cast<const Progressive&>().pm;
-            return pmesh::view(pm.base_faces.data(), pm.base_face_count(), 3, self, false);
-          },
+          "base_faces", pmesh::record_array(&pm::ProgressiveMesh::base_faces, 3),
           "(b, 3) uint32, read-only: the base mesh's faces, as vertex ids.")
       .def_property_readonly(
-          "moved_faces",
-          [](py::object self) {
-            const pm::ProgressiveMesh& pm = *self.cast<const Progressive&>().pm;
-            return pmesh::view(pm.moved_faces.data(), pm.moved_faces.size(), 0, self, false);
-          },
+          "moved_faces", pmesh::record_array(&pm::ProgressiveMesh::moved_faces, 0),
           "uint32, read-only: the splits' moved face ids, back to back (splits()['moved_begin'], "
           "['moved_count']).")
       .def(
-          "splits",
-          [](py::object self) {
-            const pm::ProgressiveMesh& pm = *self.cast<const Progressive&>().pm;
-            return pmesh::view(pm.splits.data(), pm.splits.size(), 0, self, false);
-          },
+          "splits", pmesh::record_array(&pm::ProgressiveMesh::splits, 0),
           R"(The vertex splits, coarse to fine, as a read-only structured array over the library's
 records (no copy): u, vl, vr (uint32; vl or vr NO_VERTEX on a boundary), error (float32, the
 bound before the split), moved_begin, moved_count (into moved_faces). Split i creates vertex
@@ -725,24 +703,24 @@ encode()'s quantize=, zstd_level=, ... ; lossless for a decoded mesh.)")
         }
         EncodeArguments a;
         a.metric = metric;
-        a.quantize = quantize;
-        a.quantize_uv = quantize_uv;
-        a.quantize_normal = quantize_normal;
+        a.write.position_bits = quantize;
+        a.write.uv_bits = quantize_uv;
+        a.write.normal_bits = quantize_normal;
         a.error_bits = error_bits;
-        a.fast = fast;
+        a.encode.fast = fast;
         a.fast_from = fast_from;
         a.feature_angle = feature_angle;
-        a.max_normal_flip = max_normal_flip;
-        a.keep_corners = keep_corners;
-        a.keep_order = keep_order;
-        a.drop_attributes = drop_attributes;
-        a.min_faces = min_faces;
-        a.min_vertices = min_vertices;
-        a.layer_window = layer_window;
+        a.encode.max_normal_flip_deg = max_normal_flip;
+        a.encode.keep_corners = keep_corners;
+        a.encode.keep_order = keep_order;
+        a.encode.drop_attributes = drop_attributes;
+        a.encode.min_faces = min_faces;
+        a.encode.min_vertices = min_vertices;
+        a.encode.layer_window = layer_window;
         a.layered = layered;
-        a.chunk_splits = chunk_splits;
-        a.zstd_level = zstd_level;
-        a.threads = threads;
+        a.write.chunk_splits = chunk_splits;
+        a.write.zstd_level = zstd_level;
+        a.encode.threads = threads;
         a.progress = progress;
         return pmesh::encode(mesh, a);
       },
