@@ -834,12 +834,8 @@ indices, positions, uvs, normals, colors are read-only views of the runtime's ow
       .def("geomorph", [](Runtime& r, std::size_t from, std::size_t to) {
              if (from > to || to > r.lod->max_level())
                pmesh::invalid_argument("geomorph needs from <= to <= max_level");
-             Geomorph g{r.lod, {}, from, to};
-             {
-               py::gil_scoped_release release;
-               g.morph = r.lod->geomorph(from, to);
-             }
-             return g;
+             // With the GIL held, as every call that changes the runtime: one thread at a time.
+             return Geomorph{r.lod, r.lod->geomorph(from, to), from, to};
            }, py::arg("a"), py::arg("b"),
            R"(A geomorph from level a to level b >= a (Hoppe 1996, §4.2): level b's mesh, each wedge
 that level a lacks starting at its ancestor's position and attributes. Leaves the runtime at

@@ -1,0 +1,59 @@
+// pm_bench_python_peer: the C++ side of python/bench/bench.py. The same calls pmesh makes,
+// timed the same way: pm::encode of a mesh read beforehand, and pm::extract_level of one
+// level (each run's median of `extractions`). One line per measurement on stdout:
+// "encode SECONDS", "level SECONDS".
+//
+//   pm_bench_python_peer MESH RATIO EXTRACTIONS
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/mesh_io.h"
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 4) {
+    std::fprintf(stderr, "usage: pm_bench_python_peer MESH RATIO EXTRACTIONS\n");
+    return 2;
+  }
+  const double ratio = std::atof(argv[2]);
+  const int extractions = std::max(1, std::atoi(argv[3]));
+  pm::Mesh mesh;
+  if (pm::Status s = pm::read_mesh(argv[1], mesh); !s) {
+    std::fprintf(stderr, "pm_bench_python_peer: %s: %s\n", argv[1], s.message().c_str());
+    return 1;
+  }
+  pm::ProgressiveMesh progressive;
+  const auto start = std::chrono::steady_clock::now();
+  if (pm::Status s = pm::encode(mesh, pm::EncodeOptions{}, progressive); !s) {
+    std::fprintf(stderr, "pm_bench_python_peer: encode: %s\n", s.message().c_str());
+    return 1;
+  }
+  std::printf("encode %.6f\n", seconds_since(start));
+  const std::size_t full = pm::faces_at_level(progressive, progressive.splits.size());
+  const std::size_t level = pm::level_for_faces(progressive, std::size_t(std::llround(ratio * double(full))));
+  std::vector<double> times;
+  std::size_t faces = 0;
+  for (int i = 0; i < extractions; ++i) {
+    const auto extract_start = std::chrono::steady_clock::now();
+    const pm::Mesh lod = pm::extract_level(progressive, level);
+    times.push_back(seconds_since(extract_start));
+    faces = lod.face_count();
+  }
+  std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+  std::printf("level %.6f %zu\n", times[times.size() / 2], faces);
+  return 0;
+}
