@@ -135,3 +135,16 @@ export function levelProblem(level) {
   }
   return null;
 }
+
+// A stream of over a million faces for the browser test: the sphere sample split 1:4 four
+// times (1,310,720 faces), encoded at 14 bits (pmenc takes its fast loop: ~20 s).
+export function bigStream() {
+  const out = join(work, 'big.pm');
+  if (!existsSync(out)) {
+    sampleStreams();  // makes samples-obj/
+    const obj = join(work, 'big.obj');
+    execFileSync(process.execPath, [join(sourceDir, 'web/tests/subdivide.mjs'), join(work, 'samples-obj/sphere.obj'), '4', obj]);
+    execFileSync(pmenc, [obj, '-o', out, '--quantize', '14', '-q'], { stdio: ['ignore', 'ignore', 'inherit'] });
+  }
+  return out;
+}

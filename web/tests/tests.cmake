@@ -20,3 +20,7 @@ foreach(name levels streaming)
   set_tests_properties(Web.${name} PROPERTIES FIXTURES_REQUIRED pm_web RESOURCE_LOCK pm_web_work
                        ENVIRONMENT "${PM_WEB_ENV}" TIMEOUT 900 LABELS integration)
 endforeach()
+add_test(NAME Web.browser
+         COMMAND ${PM_NODE} --test --test-reporter=spec ${PROJECT_SOURCE_DIR}/web/tests/browser.test.mjs)
+set_tests_properties(Web.browser PROPERTIES FIXTURES_REQUIRED pm_web RESOURCE_LOCK pm_web_work
+                     ENVIRONMENT "${PM_WEB_ENV}" TIMEOUT 900 LABELS integration)
