@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """pmesh against the C++ library on one mesh (issue 30's goal: within 1.1 times the C++ time
 on nefertiti, no hidden copies): pmesh.encode of the mesh's arrays against pm::encode, and
-ProgressiveMesh.level(ratio=R) against pm::extract_level. Runs alternate between the two
+ProgressiveMesh.level(ratio=R) against pm::extract_level, for each ratio. Runs alternate between the two
 (pm_bench_python_peer, then Python, RUNS times) so that the machine's load falls on both
 alike; each time is the median of its runs (a level: of 21 extractions a run). Prints a
 markdown table with the machine, the date and the load average.
 
-    PYTHONPATH=build/python /usr/bin/python3 python/bench/bench.py [--mesh M] [--runs N]
+    PYTHONPATH=build/python /usr/bin/python3 python/bench/bench.py [--mesh M] [--runs N] [--ratios 0.1,1]
 """
 
 import argparse
@@ -37,23 +37,29 @@ def commit():
         return "unknown"
 
 
-def python_run(mesh, ratio, extractions):
+def python_run(mesh, ratios, extractions):
+    """Encode seconds, then (median seconds, faces) per ratio."""
     start = time.perf_counter()
     pm = pmesh.encode(mesh)
-    encode = time.perf_counter() - start
-    times = []
-    for _ in range(extractions):
-        start = time.perf_counter()
-        level = pm.level(ratio=ratio)
-        times.append(time.perf_counter() - start)
-    return encode, statistics.median(times), len(level.faces)
+    results = [time.perf_counter() - start]
+    for ratio in ratios:
+        times = []
+        for _ in range(extractions):
+            start = time.perf_counter()
+            level = pm.level(ratio=ratio)
+            times.append(time.perf_counter() - start)
+        results.append((statistics.median(times), len(level.faces)))
+    return results
 
 
-def cpp_run(peer, path, ratio, extractions):
-    out = subprocess.run([peer, path, str(ratio), str(extractions)], capture_output=True, text=True, check=True).stdout
-    values = dict(line.split(" ", 1) for line in out.splitlines())
-    level, faces = values["level"].split()
-    return float(values["encode"]), float(level), int(faces)
+def cpp_run(peer, path, ratios, extractions):
+    out = subprocess.run([peer, path, str(extractions), *map(str, ratios)], capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    results = [float(out[0].split()[1])]
+    for line in out[1:]:
+        _, _, seconds, faces = line.split()
+        results.append((float(seconds), int(faces)))
+    return results
 
 
 def main():
@@ -61,7 +67,7 @@ def main():
     parser.add_argument("--mesh", default=str(SOURCE.parent / "shared" / "meshes" / "nefertiti.obj"))
     parser.add_argument("--peer", default=str(SOURCE / "build" / "python" / "pm_bench_python_peer"))
     parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--ratio", type=float, default=0.1)
+    parser.add_argument("--ratios", default="0.1,1", help="levels to extract, as ratios of the full faces")
     args = parser.parse_args()
     extractions = 21
     # The arrays as a numpy user has them (new arrays, not the library's views of a mesh it
@@ -71,15 +77,19 @@ def main():
     mesh = pmesh.Mesh(read.positions.copy(), read.faces.copy(),
                       **{name: getattr(read, name).copy() for name in attributes if getattr(read, name) is not None},
                       material_names=list(read.material_names), material_libraries=list(read.material_libraries))
+    ratios = [float(r) for r in args.ratios.split(",")]
     load_before = os.getloadavg()[0]
     cpp, python = [], []
     for _ in range(args.runs):
-        cpp.append(cpp_run(args.peer, args.mesh, args.ratio, extractions))
-        python.append(python_run(mesh, args.ratio, extractions))
-    assert {r[2] for r in cpp} == {r[2] for r in python}, (cpp, python)  # the same level
+        cpp.append(cpp_run(args.peer, args.mesh, ratios, extractions))
+        python.append(python_run(mesh, ratios, extractions))
     load_after = os.getloadavg()[0]
-    faces = len(mesh.faces)
-    rows = [(f"encode ({faces:,} faces)", 0), (f"level at ratio {args.ratio:g} ({cpp[0][2]:,} faces)", 1)]
+    rows = [(f"encode ({len(mesh.faces):,} faces)", [r[0] for r in cpp], [r[0] for r in python])]
+    for k, ratio in enumerate(ratios, 1):
+        faces = {r[k][1] for r in cpp + python}
+        assert len(faces) == 1, (cpp, python)  # the same level on both sides
+        rows.append((f"level at ratio {ratio:g} ({faces.pop():,} faces)", [r[k][0] for r in cpp],
+                     [r[k][0] for r in python]))
     print(f"- machine: {machine()}")
     print(f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit()}")
     print(f"- load average (1 min): {load_before:.2f} before, {load_after:.2f} after")
@@ -87,10 +97,9 @@ def main():
     print()
     print("| step | C++ (s) | Python (s) | Python / C++ | goal |")
     print("|---|---|---|---|---|")
-    for name, k in rows:
-        c = statistics.median(r[k] for r in cpp)
-        p = statistics.median(r[k] for r in python)
-        print(f"| {name} | {c:.4f} | {p:.4f} | {p / c:.3f} | {'holds' if p / c <= 1.1 else 'does not hold'} (1.1) |")
+    for name, cpp_times, python_times in rows:
+        c, p = statistics.median(cpp_times), statistics.median(python_times)
+        print(f"| {name} | {c:.4g} | {p:.4g} | {p / c:.3f} | {'holds' if p / c <= 1.1 else 'does not hold'} (1.1) |")
 
 
 if __name__ == "__main__":

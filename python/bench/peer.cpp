@@ -1,9 +1,9 @@
 // pm_bench_python_peer: the C++ side of python/bench/bench.py. The same calls pmesh makes,
 // timed the same way: pm::encode of a mesh read beforehand, and pm::extract_level of one
-// level (each run's median of `extractions`). One line per measurement on stdout:
-// "encode SECONDS", "level SECONDS".
+// level per ratio (each the median of `extractions`). One line per measurement on stdout:
+// "encode SECONDS", then "level RATIO SECONDS FACES" per ratio.
 //
-//   pm_bench_python_peer MESH RATIO EXTRACTIONS
+//   pm_bench_python_peer MESH EXTRACTIONS RATIO...
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,12 +25,11 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: pm_bench_python_peer MESH RATIO EXTRACTIONS\n");
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: pm_bench_python_peer MESH EXTRACTIONS RATIO...\n");
     return 2;
   }
-  const double ratio = std::atof(argv[2]);
-  const int extractions = std::max(1, std::atoi(argv[3]));
+  const int extractions = std::max(1, std::atoi(argv[2]));
   pm::Mesh mesh;
   if (pm::Status s = pm::read_mesh(argv[1], mesh); !s) {
     std::fprintf(stderr, "pm_bench_python_peer: %s: %s\n", argv[1], s.message().c_str());
@@ -44,16 +43,19 @@ int main(int argc, char** argv) {
   }
   std::printf("encode %.6f\n", seconds_since(start));
   const std::size_t full = pm::faces_at_level(progressive, progressive.splits.size());
-  const std::size_t level = pm::level_for_faces(progressive, std::size_t(std::llround(ratio * double(full))));
-  std::vector<double> times;
-  std::size_t faces = 0;
-  for (int i = 0; i < extractions; ++i) {
-    const auto extract_start = std::chrono::steady_clock::now();
-    const pm::Mesh lod = pm::extract_level(progressive, level);
-    times.push_back(seconds_since(extract_start));
-    faces = lod.face_count();
+  for (int r = 3; r < argc; ++r) {
+    const double ratio = std::atof(argv[r]);
+    const std::size_t level = pm::level_for_faces(progressive, std::size_t(std::llround(ratio * double(full))));
+    std::vector<double> times;
+    std::size_t faces = 0;
+    for (int i = 0; i < extractions; ++i) {
+      const auto extract_start = std::chrono::steady_clock::now();
+      const pm::Mesh lod = pm::extract_level(progressive, level);
+      times.push_back(seconds_since(extract_start));
+      faces = lod.face_count();
+    }
+    std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+    std::printf("level %s %.6f %zu\n", argv[r], times[times.size() / 2], faces);
   }
-  std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
-  std::printf("level %.6f %zu\n", times[times.size() / 2], faces);
   return 0;
 }

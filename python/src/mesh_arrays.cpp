@@ -191,20 +191,19 @@ Mesh wrap_mesh(pm::Mesh&& library) {
   py::capsule owner(new std::shared_ptr<const pm::Mesh>(held),
                     [](void* p) { delete static_cast<std::shared_ptr<const pm::Mesh>*>(p); });
   Mesh mesh;
-  const auto optional = [&](auto array, bool present) -> py::object {
-    return present ? py::object(std::move(array)) : py::none();
-  };
   mesh.positions = view(m.positions.data(), m.vertex_count(), 3, owner, true);
   mesh.faces = view(m.triangles.data(), m.face_count(), 3, owner, true);
-  mesh.uvs = optional(view(m.uvs.data(), m.uv_count(), 2, owner, true), m.has_uvs());
-  mesh.uv_indices = optional(view(m.uv_indices.data(), m.face_count(), 3, owner, true), m.has_uvs());
-  mesh.normals = optional(view(m.normals.data(), m.normal_count(), 3, owner, true), m.has_normals());
-  mesh.normal_indices =
-      optional(view(m.normal_indices.data(), m.face_count(), 3, owner, true), m.has_normals());
-  mesh.colors = optional(view(m.colors.data(), m.vertex_count(), m.color_components, owner, true),
-                         m.has_colors());
-  mesh.face_materials =
-      optional(view(m.face_materials.data(), m.face_count(), 0, owner, true), m.has_materials());
+  // Absent attributes stay None (no array made for them).
+  if (m.has_uvs()) {
+    mesh.uvs = view(m.uvs.data(), m.uv_count(), 2, owner, true);
+    mesh.uv_indices = view(m.uv_indices.data(), m.face_count(), 3, owner, true);
+  }
+  if (m.has_normals()) {
+    mesh.normals = view(m.normals.data(), m.normal_count(), 3, owner, true);
+    mesh.normal_indices = view(m.normal_indices.data(), m.face_count(), 3, owner, true);
+  }
+  if (m.has_colors()) mesh.colors = view(m.colors.data(), m.vertex_count(), m.color_components, owner, true);
+  if (m.has_materials()) mesh.face_materials = view(m.face_materials.data(), m.face_count(), 0, owner, true);
   for (const std::string& name : m.material_names) mesh.material_names.append(name);
   for (const std::string& name : m.material_libraries) mesh.material_libraries.append(name);
   mesh.source = std::move(held);

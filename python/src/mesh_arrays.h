@@ -28,7 +28,9 @@ namespace py = pybind11;
 //   face_materials (m,) uint32 into material_names; material_libraries (OBJ mtllib).
 // A corner or face without the attribute holds NO_ATTRIBUTE (0xFFFFFFFF).
 struct Mesh {
-  py::object positions, faces, uvs, uv_indices, normals, normal_indices, colors, face_materials;
+  py::object positions = py::none(), faces = py::none(), uvs = py::none(), uv_indices = py::none(),
+             normals = py::none(), normal_indices = py::none(), colors = py::none(),
+             face_materials = py::none();
   py::list material_names, material_libraries;
 
   // When the arrays are views of a mesh the library produced (read, level, ...): that mesh,
