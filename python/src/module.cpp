@@ -9,6 +9,7 @@
 #include <pybind11/stl/filesystem.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +27,7 @@
 #include "errors.h"
 #include "mesh_arrays.h"
 #include "pm/encoder.h"
+#include "pm/gltf.h"
 #include "pm/lod.h"
 #include "pm/lod_runtime.h"
 #include "pm/measured_level.h"
@@ -79,11 +81,23 @@ pm::Status write_file_atomically(const std::string& path, const std::string& byt
   return pm::Status::ok();
 }
 
-pm::MeshFormat format_for(const std::string& path, const std::optional<std::string>& format) {
-  const pm::MeshFormat f = format ? pm::mesh_format_from_path("." + *format) : pm::mesh_format_from_path(path);
-  if (f == pm::MeshFormat::kUnknown)
+// A file's format: pm::MeshFormat's, or glTF (pm/gltf.h: binary .glb, text .gltf).
+struct FileFormat {
+  pm::MeshFormat mesh = pm::MeshFormat::kUnknown;
+  bool gltf = false, glb = false;
+};
+
+FileFormat format_for(const std::string& path, const std::optional<std::string>& format) {
+  std::string extension = format ? *format : std::filesystem::path(path).extension().string();
+  if (!extension.empty() && extension[0] == '.') extension.erase(0, 1);
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  FileFormat f;
+  f.gltf = extension == "gltf" || extension == "glb";
+  f.glb = extension == "glb";
+  f.mesh = pm::mesh_format_from_path("." + extension);
+  if (!f.gltf && f.mesh == pm::MeshFormat::kUnknown)
     throw Error(pm::error_code_name(pm::ErrorCode::kUnsupportedFormat),
-                path + ": unknown mesh format (use .obj .ply .off .stl or format=)");
+                path + ": unknown mesh format (use .obj .ply .off .stl .glb .gltf or format=)");
   return f;
 }
 
@@ -91,32 +105,74 @@ pm::MeshFormat format_for(const std::string& path, const std::optional<std::stri
 
 Mesh read(const std::filesystem::path& file, const std::optional<std::string>& format) {
   const std::string path = file.string();
-  const pm::MeshFormat f = format_for(path, format);
+  const FileFormat f = format_for(path, format);
   pm::Mesh mesh;
   pm::Status status;
   {
     py::gil_scoped_release release;
     std::string bytes;
     status = read_file(path, bytes);
-    if (status) status = pm::read_mesh_from_memory(bytes, f, mesh);
+    if (status && f.gltf) {
+      pm::GltfReadOptions options;
+      options.base_directory = file.parent_path().empty() ? "." : file.parent_path().string();
+      status = pm::read_gltf(bytes, options, mesh);
+    } else if (status) {
+      status = pm::read_mesh_from_memory(bytes, f.mesh, mesh);
+    }
   }
   throw_if_failed(status, path);
   return wrap_mesh(std::move(mesh));
 }
 
-void write(const std::filesystem::path& file, const Mesh& mesh, const std::optional<std::string>& format) {
-  const std::string path = file.string();
-  const pm::MeshFormat f = format_for(path, format);
-  pm::Mesh storage;
-  const pm::Mesh& m = library_mesh(mesh, "mesh", storage);
+// glTF levels, coarse to fine, with their error bounds, as one file (pm::write_gltf).
+void write_gltf_levels(const std::string& path, const std::vector<const pm::Mesh*>& meshes,
+                       const std::vector<double>& errors, bool binary, bool quantize) {
+  std::vector<pm::GltfLevel> levels;
+  for (std::size_t i = 0; i < meshes.size(); ++i) levels.push_back({meshes[i], errors[i]});
+  pm::GltfWriteOptions options;
+  options.binary = binary;
+  options.quantize = quantize;
   pm::Status status;
   {
     py::gil_scoped_release release;
     std::string bytes;
-    status = pm::write_mesh_to_memory(m, f, bytes);
+    status = pm::write_gltf(levels, options, bytes);
     if (status) status = write_file_atomically(path, bytes);
   }
   throw_if_failed(status, path);
+}
+
+void write(const std::filesystem::path& file, const Mesh& mesh, const std::optional<std::string>& format) {
+  const std::string path = file.string();
+  const FileFormat f = format_for(path, format);
+  pm::Mesh storage;
+  const pm::Mesh& m = library_mesh(mesh, "mesh", storage);
+  if (f.gltf) return write_gltf_levels(path, {&m}, {0.0}, f.glb, false);
+  pm::Status status;
+  {
+    py::gil_scoped_release release;
+    std::string bytes;
+    status = pm::write_mesh_to_memory(m, f.mesh, bytes);
+    if (status) status = write_file_atomically(path, bytes);
+  }
+  throw_if_failed(status, path);
+}
+
+// pmesh.write_gltf: a chain of levels in one glTF file, tied by MSFT_lod.
+void write_gltf_chain(const std::filesystem::path& file, const std::vector<Mesh>& meshes,
+                      std::optional<std::vector<double>> errors, bool quantize) {
+  const std::string path = file.string();
+  if (meshes.empty()) invalid_argument("write_gltf: no level");
+  if (errors && errors->size() != meshes.size())
+    invalid_argument("write_gltf: " + std::to_string(errors->size()) + " errors for " +
+                     std::to_string(meshes.size()) + " levels");
+  const FileFormat f = format_for(path, std::nullopt);
+  if (!f.gltf) invalid_argument(path + ": write_gltf writes .glb or .gltf");
+  std::vector<pm::Mesh> storage(meshes.size());
+  std::vector<const pm::Mesh*> levels;
+  for (std::size_t i = 0; i < meshes.size(); ++i)
+    levels.push_back(&library_mesh(meshes[i], ("level " + std::to_string(i)).c_str(), storage[i]));
+  write_gltf_levels(path, levels, errors.value_or(std::vector<double>(meshes.size(), 0.0)), f.glb, quantize);
 }
 
 Mesh grouped_by_material(const Mesh& mesh) {
@@ -514,15 +570,23 @@ release the GIL, so threads encode or extract in parallel.)";
 
   // ---- read / write ----
   m.def("read", &pmesh::read, py::arg("path"), py::arg("format") = py::none(),
-        R"(Reads a mesh file: OBJ, PLY, OFF or STL (by extension, or format='obj'|'ply'|'off'|'stl'),
+        R"(Reads a mesh file: OBJ, PLY, OFF, STL, glTF (.glb, .gltf: the default scene's triangles,
+transforms applied) by extension, or format='obj'|'ply'|'off'|'stl'|'glb'|'gltf',
 with every attribute the file holds (README.md, "Input and output formats"). Polygons are
 split into triangle fans. Returns a pmesh.Mesh. Raises pmesh.Error: io-error, parse-error
 (the message names the line or element), unsupported-format, empty-mesh.)");
   m.def("write", &pmesh::write, py::arg("path"), py::arg("mesh"), py::arg("format") = py::none(),
         R"(Writes a mesh with every attribute the format can hold: OBJ and OFF as text (float32
 values in their shortest form that reads back to the same bits), PLY binary little-endian, STL
-binary (geometry only); by extension or format=. The file appears complete or not at all (a
-temporary renamed). The bytes are those pmdec writes for the same mesh.)");
+binary (geometry only), glTF (.glb, .gltf: one node); by extension or format=. The file
+appears complete or not at all (a temporary renamed). The bytes are those pmdec writes for
+the same mesh.)");
+  m.def("write_gltf", &pmesh::write_gltf_chain, py::arg("path"), py::arg("levels"),
+        py::arg("errors") = py::none(), py::kw_only(), py::arg("quantize") = false,
+        R"(Writes levels (meshes, coarse to fine, e.g. ProgressiveMesh.levels(...)) as ONE glTF file
+(.glb or .gltf): one vertex buffer the levels share, one node per level tied by MSFT_lod,
+screen-coverage hints from `errors` (each level's error bound, model units, as error_at gives
+them). quantize: KHR_mesh_quantization. README.md, "glTF".)");
   m.def("group_faces_by_material", &pmesh::grouped_by_material, py::arg("mesh"),
         R"(A copy of the mesh with each material's faces contiguous (stable; materials in the order
 of their first face), as pmdec writes levels: one usemtl per material in an OBJ. Without

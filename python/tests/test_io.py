@@ -136,3 +136,34 @@ def test_a_failed_write_leaves_no_file(tmp_path):
         pmesh.write(tmp_path / "no" / "such" / "dir.obj", pmesh.read(sample("sphere.obj")))
     assert unwritable.value.code == "io-error"
     assert list(tmp_path.iterdir()) == []
+
+
+def face_rows(mesh):
+    """Each face's corner positions, texture coordinates and colours as one row, rows sorted:
+    the same faces in any order (glTF groups them by material)."""
+    parts = [mesh.positions[mesh.faces].reshape(len(mesh.faces), -1),
+             mesh.uvs[mesh.uv_indices].reshape(len(mesh.faces), -1),
+             mesh.colors[mesh.faces].reshape(len(mesh.faces), -1)]
+    rows = np.concatenate(parts, axis=1)
+    return rows[np.lexsort(rows.T[::-1])]
+
+
+@pytest.mark.parametrize("extension", ["glb", "gltf"])
+def test_gltf_gives_every_face_back(tmp_path, extension):
+    pm = pmesh.encode(pmesh.read(sample("textured.obj")))
+    level = pm.level(ratio=0.3)
+    pmesh.write(tmp_path / f"level.{extension}", level)
+    back = pmesh.read(tmp_path / f"level.{extension}")
+    np.testing.assert_array_equal(face_rows(back), face_rows(level))
+    assert sorted(back.material_names) == sorted(level.material_names)
+
+
+def test_a_gltf_chain_holds_the_levels_and_reads_as_the_finest(tmp_path):
+    pm = pmesh.encode(pmesh.read(sample("textured.obj")))
+    indices = [pm.level_for(ratio=r) for r in (0.05, 0.25, 1.0)]
+    pmesh.write_gltf(tmp_path / "chain.glb", pm.levels(indices), [pm.error_at(k) for k in indices])
+    assert b"MSFT_lod" in (tmp_path / "chain.glb").read_bytes()
+    np.testing.assert_array_equal(face_rows(pmesh.read(tmp_path / "chain.glb")), face_rows(pm.level(indices[-1])))
+    with pytest.raises(pmesh.Error) as error:
+        pmesh.write_gltf(tmp_path / "chain.glb", pm.levels(indices), [0.0])
+    assert error.value.code == "invalid-argument"
