@@ -274,6 +274,8 @@ run_parallel() {
   recipe=${recipe/--sshlogin $hosts/-j $slots}
   shards=$(grep -o -- '--shard [^ ]*' <<<"$recipe" | grep -o '/[0-9]*' | tr -d /)
   [[ -n $shards ]] || fail "the parallel recipe has no --shard I/N"
+  [[ "$(sed -n 's/.* ::: //p' <<<"$recipe")" == "$(seq -s ' ' "$shards")" ]] ||
+    fail "the parallel recipe's arguments are not 1 to $shards, one job per shard"
   make_corpus
   convert_locally
   # GNU parallel's exit code is its number of failed jobs: the shards with an invalid input.
@@ -403,6 +405,8 @@ run_slurm() {
   [[ $recipe == */data/assets* ]] || fail "the Slurm recipe no longer works in /data/assets"
   shards=$(grep -o -- '--shard [^ ]*' <<<"$recipe" | grep -o '/[0-9]*' | tr -d /)
   [[ -n $shards ]] || fail "the Slurm recipe has no --shard I/N"
+  [[ "$(sed -n 's/^#SBATCH --array=//p' <<<"$recipe")" == "1-$shards" ]] ||
+    fail "the Slurm recipe's --array is not 1-$shards, one task per shard"
   mkdir -p "$work/submit"
   echo "${recipe//\/data\/assets/$assets}" >"$work/submit/convert.sh"
   make_corpus
