@@ -816,7 +816,8 @@ invalid-argument, naming the array and row); the GIL is released while encoding.
       "decode",
       [](py::buffer data, uint64_t max_memory, bool allow_truncated) {
         py::buffer_info info = data.request();
-        if (info.itemsize != 1 && info.ndim != 1) pmesh::invalid_argument("decode: expected bytes");
+        if (info.itemsize != 1 || info.ndim != 1 || info.strides[0] != 1)
+          pmesh::invalid_argument("decode: expected bytes (a contiguous buffer of bytes)");
         const std::string_view bytes(static_cast<const char*>(info.ptr),
                                      std::size_t(info.size * info.itemsize));
         return pmesh::decode_stream(bytes, max_memory, allow_truncated, "decode");

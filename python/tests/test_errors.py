@@ -107,6 +107,8 @@ def test_corrupt_and_cut_streams_raise_their_codes(encoded):
     for length in (0, 10, 96, len(data) - 1):
         refused("truncated-stream", lambda: pmesh.decode(data[:length]))
     refused("corrupt-stream", lambda: pmesh.decode(data + b"\0"))
+    refused("invalid-argument", lambda: pmesh.decode(np.zeros(8, np.float32)), "bytes")
+    refused("invalid-argument", lambda: pmesh.decode(memoryview(data)[::2]), "bytes")
     refused("io-error", lambda: pmesh.load(sample("no-such.pm")), "no-such.pm")
 
 
