@@ -1,5 +1,5 @@
-// Internal to the mesh readers: the OBJ parser's entry point (mesh_io.cpp dispatches to it)
-// and the number scanning shared by the OBJ, OFF and PLY (ASCII) parsers.
+// Internal to the mesh readers: their entry points (mesh_io.cpp dispatches to them) and the
+// number scanning shared by the OBJ, OFF and PLY (ASCII) parsers.
 #pragma once
 
 #include <cfloat>
@@ -21,6 +21,13 @@ namespace pm::detail {
 // overwritten, not appended to); on failure leaves them in an unspecified state, so callers
 // parse into a scratch mesh.
 Status read_obj(std::string_view bytes, Mesh& mesh, ReadReport& report);
+
+// The OFF, PLY and STL readers (off_reader.cpp, ply_reader.cpp, stl_reader.cpp), with the
+// same contract.
+Status read_off(std::string_view bytes, Mesh& mesh, ReadReport& report);
+Status read_ply(std::string_view bytes, Mesh& mesh, ReadReport& report);
+Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
+                          ReadReport& report);
 
 // ---------------------------------------------------------------------------------------
 // Scanning a line of text: [p, end) never includes the line's '\n'.

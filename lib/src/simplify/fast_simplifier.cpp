@@ -7,1061 +7,255 @@
 #include "simplify/fast_simplifier.h"
 
 #include <algorithm>
-#include <atomic>
-#include <cmath>
-#include <functional>
-#include <set>
-#include <system_error>
-#include <thread>
+#include <vector>
 
-#include "simplify/collapse_legality.h"
-#include "simplify/geometry.h"
 #include "core/in_turn.h"
-#include "simplify/indexed_heap.h"
-#include "simplify/local_quadric.h"
-#include "simplify/vertex_classification.h"
+#include "simplify/fast_loop.h"
 
 namespace pm {
-namespace {
+namespace fast_loop {
 
-constexpr uint32_t kNone = 0xffffffffu;
-constexpr int kMaxValence = 64;  // as the default loop: a vertex of larger valence stays
-
-inline uint32_t next_of(uint32_t h) {
-  return h % 3 == 2 ? h - 2 : h + 1;
-}
-inline uint32_t prev_of(uint32_t h) {
-  return h % 3 == 0 ? h + 2 : h - 1;
-}
-
-// A neighbour w of v and a half-edge of a face on the edge v-w: v -> w, or w -> v for the
-// last neighbour of a boundary vertex (that edge's only face holds it that way round).
-struct Neighbour {
-  uint32_t vertex;
-  uint32_t edge;
-};
-
-class FastSimplifier {
-  // A heap and the collapses it made since the last merge(): one per region in a round
-  // (run_rounds()), one for the whole mesh otherwise.
-  struct Worker {
-    // Its region: the vertices whose rank is in [lo, hi). The rank is the local id itself,
-    // or, when `rank` is set, rank[v] (and `at` its inverse): run_rounds()'s second order.
-    uint32_t lo = 0, hi = 0;
-    const uint32_t* rank = nullptr;
-    const uint32_t* at = nullptr;
-    IndexedHeap heap{0};              // of ranks - lo
-    std::vector<Collapse> collapses;  // bound: the collapse's own cost, until merge()
-    std::vector<uint32_t> moved_faces;
-    uint32_t rank_of(uint32_t v) const { return rank ? rank[v] : v; }
-    uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
-    bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }
-    uint32_t cheapest() const { return vertex_at(heap.top() + lo); }
-    uint32_t next_cheapest() const { return vertex_at(heap.runner_up() + lo); }
-    bool queued(uint32_t v) const { return holds(v) && heap.contains(rank_of(v) - lo); }
-    float key(uint32_t v) const { return heap.key(rank_of(v) - lo); }
-    void queue(uint32_t v, float key) { heap.set(rank_of(v) - lo, key); }
-    void drop(uint32_t v) {
-      if (holds(v)) heap.erase(rank_of(v) - lo);
+void FastSimplifier::run() {
+  const std::size_t n_vertices = vertex_.size();
+  initialize_quadrics();
+  run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
+    for (auto v = static_cast<uint32_t>(lo); v < hi; ++v)
+      vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
+  });
+  best_.assign(n_vertices, Best{kNone, kNone, 0});
+  faces_alive_ = half_.size() / 3;
+  vertices_alive_ = n_vertices;
+  out_.collapses.reserve(n_vertices);
+  // A collapse moves v's faces but two: 3.2 to 3.5 of them on average on the shared
+  // meshes (4.8 on a flat-tessellated sample). Room for four per vertex up front, rather
+  // than doubling near the end, where memory peaks.
+  out_.moved_faces.reserve(4 * n_vertices);
+  if (partitioned_) run_rounds();
+  // One heap for the rest (or all) of the sequence. As the default loop: a final sweep
+  // re-evaluates every vertex, so the loop ends only when no legal collapse remains.
+  std::vector<Worker> one(1);
+  Worker& w = one[0];
+  w.hi = static_cast<uint32_t>(n_vertices);
+  w.heap = IndexedHeap(n_vertices);
+  set_budgets(w, 1);
+  for (;;) {
+    w.heap.clear();
+    for (uint32_t v = 0; v < n_vertices; ++v) evaluate(w, v);
+    // The least key first, ties to the smaller (local) id.
+    while (!w.heap.empty() && !w.full) {
+      fetch(w.next_cheapest());
+      apply(w, w.cheapest());
     }
-    std::size_t removed_faces = 0, removed_vertices = 0;
-    std::size_t face_budget = 0, vertex_budget = 0;  // set_budgets()
-    bool full = false;                               // a collapse would have gone past a budget
-  };
-
- public:
-  // `repaired`: its welds and carried faces, or null for an input without either.
-  FastSimplifier(const ManifoldMesh* repaired, const EncodeOptions& options,
-                 FastSimplification& out)
-      : options_(options),
-        out_(out),
-        welds_(repaired ? weld_groups(*repaired) : WeldGroups{}),
-        carried_edges_(repaired ? carried_edges(*repaired)
-                                : std::set<std::pair<uint32_t, uint32_t>>{}),
-        cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
-        cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)),
-        features_(cos_feature_angle_ > -1.0),
-        threads_(thread_count(options.threads)) {}
-
-  void run() {
-    const std::size_t n_vertices = vertex_.size();
-    initialize_quadrics();
-    run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
-      for (auto v = static_cast<uint32_t>(lo); v < hi; ++v)
-        vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
-    });
-    best_.assign(n_vertices, Best{kNone, kNone, 0});
-    faces_alive_ = half_.size() / 3;
-    vertices_alive_ = n_vertices;
-    out_.collapses.reserve(n_vertices);
-    // A collapse moves v's faces but two: 3.2 to 3.5 of them on average on the shared
-    // meshes (4.8 on a flat-tessellated sample). Room for four per vertex up front, rather
-    // than doubling near the end, where memory peaks.
-    out_.moved_faces.reserve(4 * n_vertices);
-    if (partitioned_) run_rounds();
-    // One heap for the rest (or all) of the sequence. As the default loop: a final sweep
-    // re-evaluates every vertex, so the loop ends only when no legal collapse remains.
-    std::vector<Worker> one(1);
-    Worker& w = one[0];
-    w.hi = static_cast<uint32_t>(n_vertices);
-    w.heap = IndexedHeap(n_vertices);
+    const bool more = !w.collapses.empty();
+    merge(one);
     set_budgets(w, 1);
-    for (;;) {
-      w.heap.clear();
-      for (uint32_t v = 0; v < n_vertices; ++v) evaluate(w, v);
-      // The least key first, ties to the smaller (local) id.
-      while (!w.heap.empty() && !w.full) {
+    if (w.full || !more) break;
+  }
+  one.clear();
+  std::vector<Best>().swap(best_);
+  out_.points.resize(3 * vertex_.size());
+  for (std::size_t i = 0; i < vertex_of_.size(); ++i)
+    for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
+  std::vector<float>().swap(xyz_);
+  dead_vertex_.resize(vertex_.size());
+  for (std::size_t i = 0; i < vertex_.size(); ++i) dead_vertex_[i] = vertex_[i].dead;
+  std::vector<VertexRecord>().swap(vertex_);
+  to_given_ids();
+  write_base();
+}
+
+void FastSimplifier::run_rounds() {
+  constexpr std::size_t kRegions = 8;      // enough for two threads to end a round together
+  constexpr std::size_t kMostWaiting = 8;  // the rounds end when 1/8 of the vertices wait
+  const std::size_t n = vertex_.size();
+  const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
+  const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
+  const std::size_t size = (n + kRegions - 1) / kRegions;
+  band_.assign(n, 0);
+  std::vector<Worker> regions;
+  std::vector<float> keys;
+  for (int round = 0;
+       vertices_alive_ > min_vertices + tail && faces_alive_ > options_.min_faces + 2 * tail;
+       ++round) {
+    const bool second = round % 2 == 1;
+    const uint32_t* rank = second ? rank_b_.data() : nullptr;
+    const uint32_t* at = second ? order_b_.data() : nullptr;
+    regions.clear();
+    for (std::size_t lo = 0; lo < n; lo += size) {
+      regions.emplace_back();
+      regions.back().lo = static_cast<uint32_t>(lo);
+      regions.back().hi = static_cast<uint32_t>(std::min(n, lo + size));
+      regions.back().rank = rank;
+      regions.back().at = at;
+    }
+    in_rounds_ = true;
+    // The band: the vertices of every face across regions (an edge between two regions
+    // is in such a face, and all three of its vertices then have a neighbour elsewhere).
+    std::fill(band_.begin(), band_.end(), 0);
+    const auto region_of = [&](uint32_t v) { return (rank ? rank[v] : v) / size; };
+    for (std::size_t f = 0; f < face_dead_.size(); ++f) {
+      if (face_dead_[f]) continue;
+      const uint32_t a = half_[3 * f].vertex, b = half_[3 * f + 1].vertex,
+                     c = half_[3 * f + 2].vertex;
+      const std::size_t region = region_of(a);
+      if (region_of(b) != region || region_of(c) != region) band_[a] = band_[b] = band_[c] = 1;
+    }
+    // When the cuts hold a good part of what is left, the waiting vertices would hoard
+    // the coarse levels' vertices (the rest simplified past them): one heap from here.
+    std::size_t waiting = 0;
+    for (std::size_t v = 0; v < n; ++v) waiting += band_[v] && !vertex_[v].dead;
+    if (waiting > vertices_alive_ / kMostWaiting) break;
+    in_turn(regions, [&](Worker& w) {
+      w.heap = IndexedHeap(w.hi - w.lo);
+      // A vertex queued before keeps its candidate: every collapse since that changed its
+      // options had it evaluated again (apply()), or else dropped it (best_ says so).
+      for (uint32_t r = w.lo; r < w.hi; ++r) {
+        const uint32_t v = w.vertex_at(r);
+        if (vertex_[v].dead) continue;
+        const Best& best = best_[v];
+        if (best.target != kNone && owns(w, v) && owns(w, best.target))
+          w.queue(v, best.key);
+        else
+          evaluate(w, v);
+      }
+    });
+    keys.clear();
+    for (const Worker& w : regions) w.heap.append_keys(keys);
+    if (keys.empty()) break;
+    std::nth_element(keys.begin(), keys.begin() + keys.size() / 2, keys.end());
+    const float last_key = keys[keys.size() / 2];
+    // Each region may take its share of what is left above the limits and the tail.
+    in_turn(regions, [&](Worker& w) {
+      set_budgets(w, regions.size());
+      w.vertex_budget = std::min(w.vertex_budget, (vertices_alive_ - tail) / regions.size());
+      while (!w.heap.empty() && !w.full && w.key(w.cheapest()) <= last_key) {
         fetch(w.next_cheapest());
         apply(w, w.cheapest());
       }
-      const bool more = !w.collapses.empty();
-      merge(one);
-      set_budgets(w, 1);
-      if (w.full || !more) break;
-    }
-    one.clear();
-    std::vector<Best>().swap(best_);
-    out_.points.resize(3 * vertex_.size());
-    for (std::size_t i = 0; i < vertex_of_.size(); ++i)
-      for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
-    std::vector<float>().swap(xyz_);
-    dead_vertex_.resize(vertex_.size());
-    for (std::size_t i = 0; i < vertex_.size(); ++i) dead_vertex_[i] = vertex_[i].dead;
-    std::vector<VertexRecord>().swap(vertex_);
-    to_given_ids();
-    write_base();
-  }
-
-  // Rounds of collapses in regions of the mesh at once, two threads taking the regions in
-  // turn (fast_partition_vertices in encoder.h). A collapse v -> u rewrites only faces
-  // around v and u, and reads only their rings: while both and all their neighbours lie in
-  // one region, regions share nothing that changes, so each runs its own greedy loop, and
-  // their sequences interleave in any order into a valid one (the vertex splits of Hoppe
-  // 1996, §3, on disjoint neighbourhoods commute: Pajarola and Rossignac 2000, "Compressed
-  // progressive meshes", refine in batches of such independent splits). Merged by cost, the
-  // sequence stays close to the one-heap greedy order. The regions are kRegions runs of a
-  // Morton order: the local ids' in even rounds, in odd ones that of the positions shifted
-  // by an odd fraction of the box (order_b_), whose cuts lie elsewhere, so that a vertex
-  // next to a region's edge (band_), which waits, is inside one the next round (in the
-  // first order alone, vertices along its big cells' walls, whose neighbours are far in
-  // it, waited every round: 70% of those left by the end on a 200K-vertex mesh, and the
-  // coarse levels lost a factor 5 in RMS distance). Each round ends at the median queued
-  // cost; the last thirty-second of the vertices collapse in one heap. The result depends
-  // on the mesh alone, never on the cores or their timing.
-  void run_rounds() {
-    constexpr std::size_t kRegions = 8;  // enough for two threads to end a round together
-    constexpr std::size_t kMostWaiting = 8;  // the rounds end when 1/8 of the vertices wait
-    const std::size_t n = vertex_.size();
-    const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
-    const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
-    const std::size_t size = (n + kRegions - 1) / kRegions;
-    band_.assign(n, 0);
-    std::vector<Worker> regions;
-    std::vector<float> keys;
-    for (int round = 0;
-         vertices_alive_ > min_vertices + tail && faces_alive_ > options_.min_faces + 2 * tail;
-         ++round) {
-      const bool second = round % 2 == 1;
-      const uint32_t* rank = second ? rank_b_.data() : nullptr;
-      const uint32_t* at = second ? order_b_.data() : nullptr;
-      regions.clear();
-      for (std::size_t lo = 0; lo < n; lo += size) {
-        regions.emplace_back();
-        regions.back().lo = static_cast<uint32_t>(lo);
-        regions.back().hi = static_cast<uint32_t>(std::min(n, lo + size));
-        regions.back().rank = rank;
-        regions.back().at = at;
-      }
-      in_rounds_ = true;
-      // The band: the vertices of every face across regions (an edge between two regions
-      // is in such a face, and all three of its vertices then have a neighbour elsewhere).
-      std::fill(band_.begin(), band_.end(), 0);
-      const auto region_of = [&](uint32_t v) { return (rank ? rank[v] : v) / size; };
-      for (std::size_t f = 0; f < face_dead_.size(); ++f) {
-        if (face_dead_[f]) continue;
-        const uint32_t a = half_[3 * f].vertex, b = half_[3 * f + 1].vertex,
-                       c = half_[3 * f + 2].vertex;
-        const std::size_t region = region_of(a);
-        if (region_of(b) != region || region_of(c) != region) band_[a] = band_[b] = band_[c] = 1;
-      }
-      // When the cuts hold a good part of what is left, the waiting vertices would hoard
-      // the coarse levels' vertices (the rest simplified past them): one heap from here.
-      std::size_t waiting = 0;
-      for (std::size_t v = 0; v < n; ++v) waiting += band_[v] && !vertex_[v].dead;
-      if (waiting > vertices_alive_ / kMostWaiting) break;
-      in_turn(regions, [&](Worker& w) {
-        w.heap = IndexedHeap(w.hi - w.lo);
-        // A vertex queued before keeps its candidate: every collapse since that changed its
-        // options had it evaluated again (apply()), or else dropped it (best_ says so).
-        for (uint32_t r = w.lo; r < w.hi; ++r) {
-          const uint32_t v = w.vertex_at(r);
-          if (vertex_[v].dead) continue;
-          const Best& best = best_[v];
-          if (best.target != kNone && owns(w, v) && owns(w, best.target))
-            w.queue(v, best.key);
-          else
-            evaluate(w, v);
-        }
-      });
-      keys.clear();
-      for (const Worker& w : regions) w.heap.append_keys(keys);
-      if (keys.empty()) break;
-      std::nth_element(keys.begin(), keys.begin() + keys.size() / 2, keys.end());
-      const float last_key = keys[keys.size() / 2];
-      // Each region may take its share of what is left above the limits and the tail.
-      in_turn(regions, [&](Worker& w) {
-        set_budgets(w, regions.size());
-        w.vertex_budget = std::min(w.vertex_budget, (vertices_alive_ - tail) / regions.size());
-        while (!w.heap.empty() && !w.full && w.key(w.cheapest()) <= last_key) {
-          fetch(w.next_cheapest());
-          apply(w, w.cheapest());
-        }
-        w.heap = IndexedHeap(0);
-      });
-      std::size_t made = 0;
-      for (const Worker& w : regions) made += w.collapses.size();
-      merge(regions);
-      if (options_.progress) report_progress(out_.collapses.size());
-      if (made == 0) break;
-    }
-    in_rounds_ = false;
-    std::vector<uint8_t>().swap(band_);
-    std::vector<uint32_t>().swap(order_b_);
-    std::vector<uint32_t>().swap(rank_b_);
-  }
-
-  void report_progress(std::size_t collapses) const {
-    options_.progress(std::min(1.0, double(collapses) / double(vertex_.size())));
-  }
-
-  // The collapses w may make before the mesh would go below the caller's limits
-  // (EncodeOptions::min_faces, min_vertices), shared among `workers`.
-  void set_budgets(Worker& w, std::size_t workers) const {
-    const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
-    w.face_budget =
-        faces_alive_ > options_.min_faces ? (faces_alive_ - options_.min_faces) / workers : 0;
-    w.vertex_budget =
-        vertices_alive_ > min_vertices ? (vertices_alive_ - min_vertices) / workers : 0;
-    w.full = false;
-  }
-
-  // f on each worker, by this thread and others (in_turn.h).
-  template <typename F>
-  void in_turn(std::vector<Worker>& workers, F&& f) {
-    run_in_turn(workers.size(), threads_, [&](std::size_t i, bool) { f(workers[i]); });
-  }
-
-  // Whether worker w may collapse v, or collapse onto it: always with one heap; in a round,
-  // when v and its neighbours are in w's region.
-  bool owns(const Worker& w, uint32_t v) const { return !in_rounds_ || (w.holds(v) && !band_[v]); }
-
-  // Appends the workers' collapses to the sequence: by cost (each record's own key, kept in
-  // its bound until here), ties to the earlier worker, each worker's in its order.
-  void merge(std::vector<Worker>& workers) {
-    std::vector<std::size_t> next(workers.size(), 0);
-    for (;;) {
-      Worker* from = nullptr;
-      std::size_t* at = nullptr;
-      for (std::size_t i = 0; i < workers.size(); ++i) {
-        if (next[i] == workers[i].collapses.size()) continue;
-        if (!from || workers[i].collapses[next[i]].bound < from->collapses[*at].bound) {
-          from = &workers[i];
-          at = &next[i];
-        }
-      }
-      if (!from) break;
-      Collapse c = from->collapses[(*at)++];
-      const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
-      out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
-                              from->moved_faces.begin() + c.moved_begin + c.moved_count);
-      c.moved_begin = begin;
-      c.new_faces_begin = new_faces_recorded_;
-      new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
-      // The record's error: the largest quadric distance so far, so non-increasing from
-      // the base to full detail (a root-mean-square estimate, not a measured bound).
-      bound_ = std::max(bound_, c.bound);
-      c.bound = bound_;
-      out_.collapses.push_back(c);
-    }
-    for (Worker& w : workers) {
-      faces_alive_ -= w.removed_faces;
-      vertices_alive_ -= w.removed_vertices;
-      w.removed_faces = w.removed_vertices = 0;
-      w.collapses.clear();
-      w.moved_faces.clear();
-    }
-  }
-
-  // The vertices (three coordinates each in `points`) along a Morton (Z-order) curve of
-  // their positions in the box [low, high] on a 1024^3 grid (Morton 1966): order[rank] is a
-  // vertex, rank[vertex] its place. `shift` (a fraction of the box) moves the positions
-  // first, wrapping round, so that the curve's cells fall elsewhere; ties go to the smaller
-  // vertex. With `id`, vertex v of `points` is called id[v] (in the order, the ranks and the
-  // ties). `keys`, `order` and `rank` hold n each: nothing is allocated here, so that this
-  // may run on a thread of its own.
-  static void morton_order(const float* points, std::size_t n, const float* low, const float* high,
-                           double shift, const uint32_t* id, std::vector<uint64_t>& keys,
-                           std::vector<uint32_t>& order, std::vector<uint32_t>& rank) {
-    for (std::size_t v = 0; v < n; ++v) {
-      uint64_t code = 0;
-      for (int c = 0; c < 3; ++c) {
-        const float extent = high[c] - low[c];
-        double t = extent > 0 ? (points[3 * v + c] - low[c]) / double(extent) + shift : 0.0;
-        if (shift > 0 && t >= 1.0) t -= 1.0;
-        const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
-        for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
-      }
-      keys[v] = code << 32 | (id ? id[v] : v);
-    }
-    std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 0; i < n; ++i) {
-      order[i] = static_cast<uint32_t>(keys[i]);
-      rank[order[i]] = static_cast<uint32_t>(i);
-    }
-  }
-
-  // The flat connectivity of triangles `tri` (n_faces, ids below n_vertices) on `points`
-  // (three per vertex), pinned vertices never removed (null: none). False, with nothing
-  // built, unless they make a manifold without repair: no face with a repeated vertex, no
-  // vertex without faces unless `faceless_allowed`, every edge in one face or in two of
-  // opposite orientation, and every vertex's faces one fan (build_manifold_mesh makes any
-  // mesh so; its vertices used by carried faces alone have no faces, and stay as they are).
-  //
-  // The copy is renumbered for locality: vertices along a Morton (Z-order) curve of their
-  // positions (Morton 1966), faces by their first vertex in that order. A collapse touches
-  // one small neighbourhood, but consecutive collapses are anywhere on the mesh; with
-  // neighbours close in memory, each collapse misses the cache a few times instead of at
-  // every step around its vertices (in the input's order the loop took 1.3 times as long
-  // on a Loop-subdivided mesh, whose new vertices are numbered far from their neighbours).
-  // Records and the base mesh are written in the given ids.
- public:
-  bool build(const uint32_t* tri, std::size_t n_faces, const float* points, std::size_t n_vertices,
-             const std::vector<uint8_t>* pinned, bool faceless_allowed) {
-    // Morton order of the vertices.
-    float low[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF},
-          high[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
-    for (std::size_t i = 0; i < 3 * n_vertices; ++i) {
-      low[i % 3] = std::min(low[i % 3], points[i]);
-      high[i % 3] = std::max(high[i % 3], points[i]);
-    }
-    std::vector<uint64_t> keys(n_vertices);
-    vertex_of_.resize(n_vertices);
-    local_vertex_.resize(n_vertices);
-    morton_order(points, n_vertices, low, high, 0.0, nullptr, keys, vertex_of_, local_vertex_);
-    // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
-    // which look anywhere on the mesh, to be idle.
-    const std::size_t partition = options_.fast_partition_vertices;
-    partitioned_ =
-        welds_.empty() && carried_edges_.empty() && partition != 0 && n_vertices >= partition;
-    // run_rounds()'s second order, on another thread while the connectivity is built here:
-    // the Morton codes of the positions moved by 0.37 of the box's extent along each axis,
-    // wrapping round (a region may then be in two pieces, which does not matter), so that
-    // its cells' walls fall between the first order's; in local ids, ties to the smaller.
-    std::thread second_order;
-    const auto join = [&] {
-      if (second_order.joinable()) second_order.join();
-    };
-    struct JoinOnExit {  // also when an allocation below throws
-      std::thread& thread;
-      ~JoinOnExit() {
-        if (thread.joinable()) thread.join();
-      }
-    } join_on_exit{second_order};
-    const auto give_up = [&] {
-      join();
-      return fail();
-    };
-    if (partitioned_) {
-      order_b_.resize(n_vertices);
-      rank_b_.resize(n_vertices);
-      const auto order = [this, points, n_vertices, low, high, &keys] {
-        morton_order(points, n_vertices, low, high, 0.37, local_vertex_.data(), keys, order_b_,
-                     rank_b_);
-      };
-      if (threads_ < 2) {
-        order();
-      } else {
-        try {
-          second_order = std::thread(order);
-        } catch (const std::system_error&) {  // no thread to be had: here, then
-          order();
-        }
-      }
-    }
-
-    // Faces by their first local vertex (a counting sort); a face with a repeated vertex,
-    // or a vertex without faces, needs the repair.
-    // The lookups by vertex id are scattered: the ones a few faces ahead are fetched first,
-    // so that their cache misses overlap.
-    constexpr std::size_t kFetchAhead = 16;
-    std::vector<uint32_t> begin(n_vertices + 1, 0);  // per local vertex: its faces' slots
-    face_of_.resize(n_faces);  // first each face's first local vertex, then the sorted faces
-    for (std::size_t f = 0; f < n_faces; ++f) {
-      if (f + kFetchAhead < n_faces) {
-        for (int k = 0; k < 3; ++k)
-          __builtin_prefetch(local_vertex_.data() + tri[3 * (f + kFetchAhead) + k]);
-      }
-      const uint32_t* t = tri + 3 * f;
-      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return give_up();
-      face_of_[f] = std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]});
-      ++begin[face_of_[f] + 1];
-    }
-    for (std::size_t v = 0; v < n_vertices; ++v) begin[v + 1] += begin[v];
-    {
-      std::vector<uint32_t> first_vertex(n_faces);
-      first_vertex.swap(face_of_);
-      for (std::size_t f = 0; f < n_faces; ++f)
-        face_of_[begin[first_vertex[f]]++] = static_cast<uint32_t>(f);
-    }
-    half_.assign(3 * n_faces, HalfEdge{kNone, kNone});
-    for (std::size_t i = 0; i < n_faces; ++i) {
-      if (i + 2 * kFetchAhead < n_faces)
-        __builtin_prefetch(tri + 3 * std::size_t{face_of_[i + 2 * kFetchAhead]});
-      if (i + kFetchAhead < n_faces) {
-        const uint32_t* ahead = tri + 3 * std::size_t{face_of_[i + kFetchAhead]};
-        for (int k = 0; k < 3; ++k) __builtin_prefetch(local_vertex_.data() + ahead[k]);
-      }
-      for (int k = 0; k < 3; ++k)
-        half_[3 * i + k].vertex = local_vertex_[tri[3 * std::size_t{face_of_[i]} + k]];
-    }
-
-    // The half-edges leaving each vertex (compressed rows), then each half-edge's twin:
-    // the one way back, if any; two the same way, or two back, is an edge the repair cuts.
-    std::fill(begin.begin(), begin.end(), 0);
-    for (uint32_t h = 0; h < half_.size(); ++h) ++begin[half_[h].vertex + 1];
-    for (std::size_t v = 0; v < n_vertices; ++v) {
-      if (begin[v + 1] == 0 && !faceless_allowed) return give_up();  // a vertex no face uses
-      begin[v + 1] += begin[v];
-    }
-    std::vector<uint32_t> leaving(half_.size());
-    {
-      std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
-      for (uint32_t h = 0; h < half_.size(); ++h) leaving[fill[half_[h].vertex]++] = h;
-    }
-    // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
-    std::atomic<bool> cut{false};
-    run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
-      for (auto h = static_cast<uint32_t>(lo); h < hi; ++h) {
-        const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
-        for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
-          if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return cut.store(true);
-        for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
-          const uint32_t back = leaving[i];
-          if (half_[next_of(back)].vertex != a) continue;
-          if (half_[h].twin != kNone) return cut.store(true);
-          half_[h].twin = back;
-        }
-      }
+      w.heap = IndexedHeap(0);
     });
-    if (cut) return give_up();
-    std::vector<uint32_t>().swap(leaving);
-    // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
-    // around the vertex (ring()) starts. Two such, or a walk that misses some of the
-    // vertex's faces, is a vertex where fans meet.
-    vertex_.assign(n_vertices, VertexRecord{});
-    for (uint32_t h = 0; h < half_.size(); ++h) {
-      const uint32_t v = half_[h].vertex;
-      if (half_[h].twin == kNone) {
-        if (vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone)
-          return give_up();
-        vertex_[v].outgoing = h;
-      } else if (vertex_[v].outgoing == kNone) {
-        vertex_[v].outgoing = h;
+    std::size_t made = 0;
+    for (const Worker& w : regions) made += w.collapses.size();
+    merge(regions);
+    if (options_.progress) report_progress(out_.collapses.size());
+    if (made == 0) break;
+  }
+  in_rounds_ = false;
+  std::vector<uint8_t>().swap(band_);
+  std::vector<uint32_t>().swap(order_b_);
+  std::vector<uint32_t>().swap(rank_b_);
+}
+
+void FastSimplifier::merge(std::vector<Worker>& workers) {
+  std::vector<std::size_t> next(workers.size(), 0);
+  for (;;) {
+    Worker* from = nullptr;
+    std::size_t* at = nullptr;
+    for (std::size_t i = 0; i < workers.size(); ++i) {
+      if (next[i] == workers[i].collapses.size()) continue;
+      if (!from || workers[i].collapses[next[i]].bound < from->collapses[*at].bound) {
+        from = &workers[i];
+        at = &next[i];
       }
     }
-    run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
-      for (auto v = static_cast<uint32_t>(lo); v < hi; ++v) {
-        if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
-        uint32_t faces = 0, h = vertex_[v].outgoing;
-        do {
-          ++faces;
-          h = half_[prev_of(h)].twin;
-        } while (h != kNone && h != vertex_[v].outgoing && faces <= begin[v + 1] - begin[v]);
-        if (faces != begin[v + 1] - begin[v]) return cut.store(true);
-      }
-    });
-    if (cut) return give_up();
+    if (!from) break;
+    Collapse c = from->collapses[(*at)++];
+    const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
+    out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
+                            from->moved_faces.begin() + c.moved_begin + c.moved_count);
+    c.moved_begin = begin;
+    c.new_faces_begin = new_faces_recorded_;
+    new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
+    // The record's error: the largest quadric distance so far, so non-increasing from
+    // the base to full detail (a root-mean-square estimate, not a measured bound).
+    bound_ = std::max(bound_, c.bound);
+    c.bound = bound_;
+    out_.collapses.push_back(c);
+  }
+  for (Worker& w : workers) {
+    faces_alive_ -= w.removed_faces;
+    vertices_alive_ -= w.removed_vertices;
+    w.removed_faces = w.removed_vertices = 0;
+    w.collapses.clear();
+    w.moved_faces.clear();
+  }
+}
 
-    xyz_.resize(3 * n_vertices);
-    for (std::size_t i = 0; i < n_vertices; ++i) {
-      if (i + kFetchAhead < n_vertices)
-        __builtin_prefetch(points + 3 * std::size_t{vertex_of_[i + kFetchAhead]});
-      for (int c = 0; c < 3; ++c) xyz_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
-      if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
+void FastSimplifier::initialize_quadrics() {
+  constexpr double kConstraintWeight = 4.0;
+  const std::size_t n_faces = half_.size() / 3;
+  for (uint32_t f = 0; f < n_faces; ++f) {
+    const Vec3 a = point(half_[3 * f].vertex), b = point(half_[3 * f + 1].vertex),
+               c = point(half_[3 * f + 2].vertex);
+    const Vec3 n = area_vector(a, b, c);
+    const double twice_area = n.norm();
+    if (twice_area == 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t x = half_[3 * f + k].vertex;
+      vertex_[x].quadric.add_plane(n / twice_area, a, 0.5 * twice_area, point(x));
     }
-    face_dead_.assign(n_faces, 0);
-    join();
-    // Only the weld check looks a vertex up by its given id from here on.
-    if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
-    return true;
   }
-
- private:
-  bool fail() {
-    for (auto* table : {&vertex_of_, &local_vertex_, &face_of_})
-      std::vector<uint32_t>().swap(*table);
-    std::vector<HalfEdge>().swap(half_);
-    std::vector<VertexRecord>().swap(vertex_);
-    return false;
-  }
-
-  Vec3 point(uint32_t v) const {
-    const float* p = &xyz_[3 * std::size_t{v}];
-    return Vec3(p[0], p[1], p[2]);
-  }
-
-  // Unit normal of face f, or zero when degenerate (as FaceGeometry's).
-  Vec3 face_normal(uint32_t f) const {
-    const Vec3 n = area_vector(point(half_[3 * f].vertex), point(half_[3 * f + 1].vertex),
-                               point(half_[3 * f + 2].vertex));
+  for (uint32_t h = 0; h < half_.size(); ++h) {
+    if (!is_special(h)) continue;
+    const Vec3 a = point(half_[h].vertex), b = point(half_[next_of(h)].vertex);
+    Vec3 n = (b - a) % face_normal(h / 3);
     const double length = n.norm();
-    return length > 0 ? n / length : Vec3(0, 0, 0);
+    if (length == 0) continue;
+    n /= length;
+    const double w = kConstraintWeight * (b - a).sqrnorm();
+    for (const uint32_t x : {half_[h].vertex, half_[next_of(h)].vertex})
+      vertex_[x].quadric.add_plane(n, a, w, point(x));
   }
+}
 
-  // Schroeder, Zarge and Lorensen 1992, §3.1: an edge is a feature when its faces' normals
-  // differ by more than the feature angle (a degenerate face's edges are features).
-  bool is_feature(uint32_t h) const {
-    if (!features_ || half_[h].twin == kNone) return false;
-    return (face_normal(h / 3) | face_normal(half_[h].twin / 3)) < cos_feature_angle_;
-  }
-  bool is_special(uint32_t h) const { return half_[h].twin == kNone || is_feature(h); }
-
-  // v's neighbours in order, at most `cap`: the count, or -1 when there are more.
-  // *boundary tells whether v is on a boundary.
-  int ring(uint32_t v, Neighbour* out, int cap, bool* boundary) const {
-    *boundary = false;
-    const uint32_t first = vertex_[v].outgoing;
-    if (first == kNone) return 0;
-    int n = 0;
-    uint32_t h = first;
-    do {
-      if (n == cap) return -1;
-      out[n++] = {half_[next_of(h)].vertex, h};
-      const uint32_t incoming = prev_of(h);
-      const uint32_t t = half_[incoming].twin;
-      if (t == kNone) {  // the boundary edge that ends at v: its far end is the last one
-        if (n == cap) return -1;
-        out[n++] = {half_[incoming].vertex, incoming};
-        *boundary = true;
-        break;
+void FastSimplifier::to_given_ids() {
+  constexpr std::size_t kFetchAhead = 16;  // records: their lookups' misses overlap
+  auto& collapses = out_.collapses;
+  for (std::size_t k = 0; k < collapses.size(); ++k) {
+    if (k + kFetchAhead < collapses.size()) {
+      const Collapse& ahead = collapses[k + kFetchAhead];
+      for (const uint32_t x : {ahead.v, ahead.u, ahead.vl, ahead.vr}) {
+        if (x != kNoVertex) __builtin_prefetch(vertex_of_.data() + x);
       }
-      h = t;
-    } while (h != first);
-    return n;
-  }
-
-  bool is_boundary_vertex(uint32_t v) const {
-    return vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone;
-  }
-
-  bool adjacent(uint32_t a, uint32_t b) const {
-    const uint32_t first = vertex_[a].outgoing;
-    if (first == kNone) return false;
-    uint32_t h = first;
-    do {
-      if (half_[next_of(h)].vertex == b) return true;
-      const uint32_t incoming = prev_of(h);
-      if (half_[incoming].twin == kNone) return half_[incoming].vertex == b;
-      h = half_[incoming].twin;
-    } while (h != first);
-    return false;
-  }
-
-  // Schroeder, Zarge and Lorensen 1992, §3.1, with Schroeder 1997's corner rule: the same
-  // answers as classify_vertex (vertex_classification.h).
-  VertexKind kind_of(uint32_t v) const {
-    if (vertex_[v].pinned) return VertexKind::kComplex;
-    Neighbour ring_of_v[kMaxValence];
-    bool boundary;
-    const int n = ring(v, ring_of_v, kMaxValence, &boundary);
-    if (n <= 0) return VertexKind::kComplex;
-    int boundary_edges = 0, feature_edges = 0;
-    for (int i = 0; i < n; ++i) {
-      if (half_[ring_of_v[i].edge].twin == kNone)
-        ++boundary_edges;
-      else
-        feature_edges += is_feature(ring_of_v[i].edge);
-    }
-    return kind_from_edges(boundary_edges, feature_edges);
-  }
-
-  // The two sides of the collapse v -> u through `edge` (a half-edge of a face on v-u):
-  // h = v -> u in fl, t = u -> v in fr, kNone where there is no such face.
-  struct Sides {
-    uint32_t h, t;
-  };
-  Sides sides(uint32_t v, uint32_t edge) const {
-    return half_[edge].vertex == v ? Sides{edge, half_[edge].twin} : Sides{half_[edge].twin, edge};
-  }
-
-  // The link condition (Dey, Edelsbrunner, Guha and Nekhayev 1999, §2) and Hoppe et al.
-  // 1993's boundary rule, as collapse_keeps_topology states them (collapse_legality.h).
-  bool keeps_topology(uint32_t u, const Sides& s, const Neighbour* ring_v, int n_v,
-                      bool boundary_v) const {
-    auto apex_ok = [&](uint32_t h) {
-      return h == kNone || half_[next_of(h)].twin != kNone || half_[prev_of(h)].twin != kNone;
-    };
-    if (!apex_ok(s.h) || !apex_ok(s.t)) return false;
-    const uint32_t vl = s.h == kNone ? kNone : half_[prev_of(s.h)].vertex;
-    const uint32_t vr = s.t == kNone ? kNone : half_[prev_of(s.t)].vertex;
-    if (vl == vr) return false;
-    // u's neighbours, each looked up among v's: no common neighbour but vl and vr.
-    int valence_u = 0;
-    bool boundary_u = false;
-    const uint32_t first = vertex_[u].outgoing;
-    uint32_t h = first;
-    auto common = [&](uint32_t w) {
-      ++valence_u;
-      if (w == vl || w == vr) return false;
-      for (int i = 0; i < n_v; ++i)
-        if (ring_v[i].vertex == w) return true;
-      return false;
-    };
-    do {
-      if (common(half_[next_of(h)].vertex)) return false;
-      const uint32_t incoming = prev_of(h);
-      if (half_[incoming].twin == kNone) {
-        if (common(half_[incoming].vertex)) return false;
-        boundary_u = true;
-        break;
-      }
-      h = half_[incoming].twin;
-    } while (h != first);
-    const bool interior_edge = s.h != kNone && s.t != kNone;
-    if (boundary_v && boundary_u && interior_edge) return false;
-    // A closed tetrahedron passes the link condition; flattening it would leave two
-    // triangles on the same three vertices.
-    return !(n_v == 3 && valence_u == 3 && !boundary_v && !boundary_u);
-  }
-
-  // As collapse_keeps_geometry (collapse_legality.h): no surviving face of v's fan turns
-  // by more than the flip limit or becomes degenerate.
-  bool keeps_geometry(uint32_t v, uint32_t u, const Sides& s, const Neighbour* ring_v,
-                      int n_v) const {
-    const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
-    const Vec3 pu = point(u);
-    for (int i = 0; i < n_v; ++i) {
-      const uint32_t e = ring_v[i].edge;
-      if (half_[e].vertex != v) continue;  // the boundary's last entry: its face came already
-      const uint32_t f = e / 3;
-      if (f == fl || f == fr) continue;
-      Vec3 before[3], after[3];
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t w = half_[3 * f + k].vertex;
-        before[k] = point(w);
-        after[k] = w == v ? pu : before[k];
-      }
-      if (!face_keeps_geometry(before, after, cos_max_flip_)) return false;
-    }
-    return true;
-  }
-
-  // As collapse_keeps_welds (collapse_legality.h), on the flat connectivity. Weld groups
-  // hold the given (repaired) ids.
-  bool keeps_welds(uint32_t u, const Neighbour* ring_v, int n_v) const {
-    if (welds_.empty()) return true;
-    auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
-      const int g = welds_.group[x];
-      if (g < 0) {
-        single = x;
-        return {&single, 1};
-      }
-      return {welds_.members[g].data(), welds_.members[g].size()};
-    };
-    const uint32_t u_id = vertex_of_[u];
-    const int group_u = welds_.group[u_id];
-    for (int i = 0; i < n_v; ++i) {
-      const uint32_t w = ring_v[i].vertex;
-      if (w == u) continue;
-      const uint32_t w_id = vertex_of_[w];
-      const int group_w = welds_.group[w_id];
-      if (group_u < 0 && group_w < 0) continue;
-      if (group_u >= 0 && group_u == group_w) return false;
-      uint32_t single_u, single_w;
-      const auto [us, nu] = members_of(u_id, single_u);
-      const auto [ws, nw] = members_of(w_id, single_w);
-      for (std::size_t a = 0; a < nu; ++a)
-        for (std::size_t b = 0; b < nw; ++b) {
-          if (us[a] == u_id && ws[b] == w_id) continue;
-          if (adjacent(local_vertex_[us[a]], local_vertex_[ws[b]])) return false;
-        }
-    }
-    return true;
-  }
-
-  // As the default loop's keeps_carried_edges_apart: a carried face's vertex pair may not
-  // become an edge of the surface.
-  bool keeps_carried_edges_apart(uint32_t u, const Neighbour* ring_v, int n_v) const {
-    if (carried_edges_.empty()) return true;
-    for (int i = 0; i < n_v; ++i) {
-      const uint32_t w = ring_v[i].vertex;
-      if (w == u) continue;
-      const uint32_t a = vertex_of_[u], b = vertex_of_[w];
-      if (carried_edges_.count({std::min(a, b), std::max(a, b)}) && !adjacent(u, w)) return false;
-    }
-    return true;
-  }
-
-  bool legal(uint32_t v, uint32_t u, uint32_t edge, const Neighbour* ring_v, int n_v,
-             bool boundary_v) const {
-    const Sides s = sides(v, edge);
-    return keeps_topology(u, s, ring_v, n_v, boundary_v) && keeps_welds(u, ring_v, n_v) &&
-           keeps_geometry(v, u, s, ring_v, n_v) && keeps_carried_edges_apart(u, ring_v, n_v);
-  }
-
-  // Queues v's cheapest collapse in best_[v] and heap_, or takes v out of the heap when it
-  // has none. Legality, the dearer test, waits until v comes to the top (apply()) unless
-  // `check_legal`: a cheapest option that is legal then is the cheapest legal one, so the
-  // order stays exactly greedy; one that is not sends v back through here with check_legal,
-  // which asks legality in order of cost until an option passes.
-  void evaluate(Worker& worker, uint32_t v, bool check_legal = false) {
-    if (find_best(worker, v, check_legal)) return;
-    worker.drop(v);
-    if (worker.holds(v)) best_[v].target = kNone;
-  }
-  // In a round, v waits (false) when the cut is next to it or to its cheapest target.
-  bool find_best(Worker& worker, uint32_t v, bool check_legal) {
-    if (!owns(worker, v) || vertex_[v].dead || vertex_[v].pinned) return false;
-    Neighbour ring_v[kMaxValence];
-    bool boundary_v;
-    const int n = ring(v, ring_v, kMaxValence, &boundary_v);
-    if (n <= 0) return false;
-    struct Option {
-      bool special;
-      double cost, length;
-      int index;
-    };
-    Option options[kMaxValence];
-    int boundary_edges = 0, feature_edges = 0;
-    for (int i = 0; i < n; ++i) {
-      const uint32_t e = ring_v[i].edge;
-      const bool boundary = half_[e].twin == kNone, feature = !boundary && is_feature(e);
-      boundary_edges += boundary;
-      feature_edges += feature;
-      options[i] = {boundary || feature, 0.0, 0.0, i};
-    }
-    const VertexKind kind = vertex_[v].input_corner
-                                ? VertexKind::kCorner
-                                : kind_from_edges(boundary_edges, feature_edges);
-    CollapseEdges edges = kCollapseEdges[static_cast<int>(kind)];
-    if (kind == VertexKind::kCorner && options_.keep_corners) edges = CollapseEdges::kNone;
-    if (edges == CollapseEdges::kNone) return false;
-    int count = n;
-    if (edges == CollapseEdges::kSpecialOnly)
-      count = static_cast<int>(
-          std::remove_if(options, options + n, [](const Option& o) { return !o.special; }) -
-          options);
-    // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses
-    // (u stays where it is), v's planes at u as a mean over their area.
-    const LocalQuadric& q = vertex_[v].quadric;
-    const Vec3 pv = point(v);
-    for (int i = 0; i < count; ++i) {
-      const Vec3 pu = point(ring_v[options[i].index].vertex);
-      options[i].cost = q.weight > 0 ? q.error_at(pu - pv) / q.weight : 0.0;
-      options[i].length = (pu - pv).sqrnorm();
-    }
-    count = static_cast<int>(std::remove_if(options, options + count,
-                                            [](const Option& o) {
-                                              return !(o.cost < HUGE_VAL);  // NaN or infinite
-                                            }) -
-                             options);
-    // Special edges first (a corner's), then the cheapest, ties to the shortest edge.
-    auto before = [](const Option& a, const Option& b) {
-      if (a.special != b.special) return a.special;
-      if (a.cost != b.cost) return a.cost < b.cost;
-      return a.length != b.length ? a.length < b.length : a.index < b.index;
-    };
-    auto queue = [&](const Option& o) {
-      if (!owns(worker, ring_v[o.index].vertex)) return false;
-      best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
-      vertex_[v].simple = kind == VertexKind::kSimple;
-      worker.queue(v, static_cast<float>(o.cost));
-      return true;
-    };
-    if (count == 0) return false;
-    if (!check_legal) return queue(*std::min_element(options, options + count, before));
-    std::sort(options, options + count, before);
-    for (int i = 0; i < count; ++i) {
-      const Neighbour& to = ring_v[options[i].index];
-      if (!owns(worker, to.vertex)) return false;
-      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v)) return queue(options[i]);
-    }
-    return false;
-  }
-
-  // The vertex likely to be collapsed next (the heap's runner-up) is anywhere in the
-  // region: its records, asked for one collapse ahead, are there when its turn comes.
-  void fetch(uint32_t v) const {
-    __builtin_prefetch(&vertex_[v]);
-    __builtin_prefetch(&best_[v]);
-    __builtin_prefetch(&xyz_[3 * std::size_t{v}]);
-  }
-
-  // Applies v's queued collapse if it is still legal, or finds v's best again.
-  void apply(Worker& worker, uint32_t v) {
-    const uint32_t edge = best_[v].edge;
-    // The candidate's edge may have gone, or changed, since it was queued.
-    if (face_dead_[edge / 3] || (half_[edge].vertex != v && half_[next_of(edge)].vertex != v)) {
-      evaluate(worker, v, true);
-      return;
-    }
-    const uint32_t u = half_[edge].vertex == v ? half_[next_of(edge)].vertex : half_[edge].vertex;
-    Neighbour ring_v[kMaxValence];
-    bool boundary_v;
-    const int n = ring(v, ring_v, kMaxValence, &boundary_v);
-    // The neighbours' records are read after the collapse (their re-evaluation): asked for
-    // now, they arrive while legality is decided.
-    for (int i = 0; i < n; ++i) __builtin_prefetch(&vertex_[ring_v[i].vertex]);
-    if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v)) {
-      evaluate(worker, v, true);
-      return;
-    }
-    const Sides s = sides(v, edge);
-    const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
-    if (worker.removed_faces + removed_faces > worker.face_budget ||
-        worker.removed_vertices >= worker.vertex_budget) {
-      worker.full = true;
-      return;
-    }
-    const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
-    // The record, in local ids until the loop ends (to_given_ids()).
-    const uint32_t vl = s.h == kNone ? kNone : half_[prev_of(s.h)].vertex;
-    const uint32_t vr = s.t == kNone ? kNone : half_[prev_of(s.t)].vertex;
-    Collapse c;
-    c.v = v;
-    c.u = u;
-    c.fl = fl == kNone ? -1 : static_cast<int>(fl);
-    c.fr = fr == kNone ? -1 : static_cast<int>(fr);
-    c.vl = vl == kNone ? kNoVertex : vl;
-    c.vr = vr == kNone ? kNoVertex : vr;
-    c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
-    for (int i = 0; i < n; ++i) {
-      const uint32_t e = ring_v[i].edge;
-      if (half_[e].vertex != v) continue;
-      const uint32_t f = e / 3;
-      if (f == fl || f == fr) continue;
-      worker.moved_faces.push_back(f);
-      for (int k = 0; k < 3; ++k)
-        if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
-    }
-    c.moved_count = static_cast<uint32_t>(worker.moved_faces.size()) - c.moved_begin;
-    c.bound = std::sqrt(worker.key(v));  // its own; merge() makes it the running maximum
-    worker.collapses.push_back(c);
-
-    // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
-    // at their boundary half-edge again (start_at_boundary), the others' anywhere.
-    const bool boundary_vl = vl != kNone && half_[vertex_[vl].outgoing].twin == kNone;
-    const bool boundary_vr = vr != kNone && half_[vertex_[vr].outgoing].twin == kNone;
-    const bool boundary_u = boundary_v || half_[vertex_[u].outgoing].twin == kNone;
-    // The faces at v-u go: their outer edges' twins become each other's.
-    auto remove_face = [&](uint32_t h) {
-      const uint32_t a = half_[next_of(h)].twin, b = half_[prev_of(h)].twin;
-      if (a != kNone) half_[a].twin = b;
-      if (b != kNone) half_[b].twin = a;
-      face_dead_[h / 3] = 1;
-      // The apex and u may have had their outgoing half-edge in this face.
-      const uint32_t apex = half_[prev_of(h)].vertex;
-      vertex_[apex].outgoing = a != kNone ? a : next_of(b);
-    };
-    if (s.h != kNone) remove_face(s.h);
-    if (s.t != kNone) remove_face(s.t);
-    // u: any outgoing half-edge of a face still alive.
-    {
-      uint32_t out = kNone;
-      if (s.h != kNone) {
-        const uint32_t b = half_[next_of(s.h)].twin;  // twin of the edge u-vl, now vl's side
-        out = b != kNone ? next_of(b) : kNone;
-      }
-      if (out == kNone && s.h != kNone) {
-        const uint32_t b = half_[prev_of(s.h)].twin;
-        if (b != kNone) out = b;  // v -> vl, now u -> vl
-      }
-      if (out == kNone && s.t != kNone) {
-        const uint32_t d = half_[prev_of(s.t)].twin;  // u -> vr
-        if (d != kNone)
-          out = d;
-        else if (half_[next_of(s.t)].twin != kNone)
-          out = next_of(half_[next_of(s.t)].twin);
-      }
-      vertex_[u].outgoing = out;
-    }
-    if (boundary_u) start_at_boundary(u);
-    if (boundary_vl) start_at_boundary(vl);
-    if (boundary_vr) start_at_boundary(vr);
-    vertex_[v].outgoing = kNone;
-    vertex_[v].dead = 1;
-    worker.removed_faces += removed_faces;
-    ++worker.removed_vertices;
-    // Garland and Heckbert 1997, §4: Q = Q1 + Q2.
-    vertex_[u].quadric.add(vertex_[v].quadric, point(u) - point(v));
-    worker.drop(v);
-
-    // Re-evaluated, as in the default loop: u, and v's other neighbours, whose one-rings
-    // changed; u's other neighbours keep their best collapse unless it became illegal,
-    // which apply() finds when it is popped.
-    evaluate(worker, u);
-    const Vec3 pu = point(u);
-    for (int i = 0; i < n; ++i) {
-      const uint32_t w = ring_v[i].vertex;
-      if (w == u) continue;
-      // A simple vertex of v's ring other than vl and vr stays simple (no feature edges
-      // here: only the angle could make one) and only traded its option w -> v for w -> u;
-      // the others cost what they did. Unless it was queued towards v, or w -> u is no
-      // dearer, its queued candidate is still its best.
-      if (!features_ && vertex_[w].simple && worker.queued(w) && best_[w].target != v && w != vl &&
-          w != vr) {
-        const LocalQuadric& qw = vertex_[w].quadric;
-        const double cost = qw.weight > 0 ? qw.error_at(pu - point(w)) / qw.weight : 0.0;
-        if (static_cast<float>(cost) > worker.key(w)) continue;
-      }
-      evaluate(worker, w);
-    }
-    // With one heap; rounds report after each merge, on the caller's thread.
-    if (options_.progress && !in_rounds_ && worker.collapses.size() % 4096 == 0)
-      report_progress(out_.collapses.size() + worker.collapses.size());
-  }
-
-  // A boundary vertex's walk starts at its outgoing half-edge with no twin.
-  void start_at_boundary(uint32_t x) {
-    const uint32_t first = vertex_[x].outgoing;
-    if (first == kNone) return;
-    uint32_t h = first;
-    while (half_[h].twin != kNone) {
-      h = next_of(half_[h].twin);
-      if (h == first) return;  // interior
-    }
-    vertex_[x].outgoing = h;
-  }
-
-  // Per-vertex quadrics of the input, as the default loop's (simplifier.cpp): each face's
-  // plane weighted by its area (§6.1), and along each boundary and feature edge a plane
-  // through the edge perpendicular to its face (§6.2).
-  void initialize_quadrics() {
-    constexpr double kConstraintWeight = 4.0;
-    const std::size_t n_faces = half_.size() / 3;
-    for (uint32_t f = 0; f < n_faces; ++f) {
-      const Vec3 a = point(half_[3 * f].vertex), b = point(half_[3 * f + 1].vertex),
-                 c = point(half_[3 * f + 2].vertex);
-      const Vec3 n = area_vector(a, b, c);
-      const double twice_area = n.norm();
-      if (twice_area == 0) continue;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t x = half_[3 * f + k].vertex;
-        vertex_[x].quadric.add_plane(n / twice_area, a, 0.5 * twice_area, point(x));
+      for (const int f : {ahead.fl, ahead.fr}) {
+        if (f >= 0) __builtin_prefetch(face_of_.data() + f);
       }
     }
-    for (uint32_t h = 0; h < half_.size(); ++h) {
-      if (!is_special(h)) continue;
-      const Vec3 a = point(half_[h].vertex), b = point(half_[next_of(h)].vertex);
-      Vec3 n = (b - a) % face_normal(h / 3);
-      const double length = n.norm();
-      if (length == 0) continue;
-      n /= length;
-      const double w = kConstraintWeight * (b - a).sqrnorm();
-      for (const uint32_t x : {half_[h].vertex, half_[next_of(h)].vertex})
-        vertex_[x].quadric.add_plane(n, a, w, point(x));
-    }
+    Collapse& c = collapses[k];
+    c.v = vertex_of_[c.v];
+    c.u = vertex_of_[c.u];
+    if (c.vl != kNoVertex) c.vl = vertex_of_[c.vl];
+    if (c.vr != kNoVertex) c.vr = vertex_of_[c.vr];
+    if (c.fl >= 0) c.fl = static_cast<int>(face_of_[c.fl]);
+    if (c.fr >= 0) c.fr = static_cast<int>(face_of_[c.fr]);
   }
-
-  // The records in the given ids: in one pass at the end, where each lookup is independent
-  // of the next, instead of a dependent cache miss in every collapse.
-  void to_given_ids() {
-    constexpr std::size_t kFetchAhead = 16;  // records: their lookups' misses overlap
-    auto& collapses = out_.collapses;
-    for (std::size_t k = 0; k < collapses.size(); ++k) {
-      if (k + kFetchAhead < collapses.size()) {
-        const Collapse& ahead = collapses[k + kFetchAhead];
-        for (const uint32_t x : {ahead.v, ahead.u, ahead.vl, ahead.vr}) {
-          if (x != kNoVertex) __builtin_prefetch(vertex_of_.data() + x);
-        }
-        for (const int f : {ahead.fl, ahead.fr}) {
-          if (f >= 0) __builtin_prefetch(face_of_.data() + f);
-        }
-      }
-      Collapse& c = collapses[k];
-      c.v = vertex_of_[c.v];
-      c.u = vertex_of_[c.u];
-      if (c.vl != kNoVertex) c.vl = vertex_of_[c.vl];
-      if (c.vr != kNoVertex) c.vr = vertex_of_[c.vr];
-      if (c.fl >= 0) c.fl = static_cast<int>(face_of_[c.fl]);
-      if (c.fr >= 0) c.fr = static_cast<int>(face_of_[c.fr]);
-    }
-    auto& moved = out_.moved_faces;
-    for (std::size_t k = 0; k < moved.size(); ++k) {
-      if (k + kFetchAhead < moved.size())
-        __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
-      moved[k] = face_of_[moved[k]];
-    }
+  auto& moved = out_.moved_faces;
+  for (std::size_t k = 0; k < moved.size(); ++k) {
+    if (k + kFetchAhead < moved.size())
+      __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
+    moved[k] = face_of_[moved[k]];
   }
+}
 
-  // What is left, in the given ids, increasing.
-  void write_base() {
-    BaseMesh& base = out_.base;
-    for (uint32_t v = 0; v < vertex_of_.size(); ++v)
-      if (!dead_vertex_[v]) base.vertices.push_back(vertex_of_[v]);
-    std::sort(base.vertices.begin(), base.vertices.end());
-    std::vector<uint32_t> alive;
-    for (uint32_t f = 0; f < face_dead_.size(); ++f)
-      if (!face_dead_[f]) alive.push_back(f);
-    std::sort(alive.begin(), alive.end(),
-              [&](uint32_t a, uint32_t b) { return face_of_[a] < face_of_[b]; });
-    for (uint32_t f : alive) {
-      base.faces.push_back(face_of_[f]);
-      for (int k = 0; k < 3; ++k) base.corners.push_back(vertex_of_[half_[3 * f + k].vertex]);
-    }
+void FastSimplifier::write_base() {
+  BaseMesh& base = out_.base;
+  for (uint32_t v = 0; v < vertex_of_.size(); ++v)
+    if (!dead_vertex_[v]) base.vertices.push_back(vertex_of_[v]);
+  std::sort(base.vertices.begin(), base.vertices.end());
+  std::vector<uint32_t> alive;
+  for (uint32_t f = 0; f < face_dead_.size(); ++f)
+    if (!face_dead_[f]) alive.push_back(f);
+  std::sort(alive.begin(), alive.end(),
+            [&](uint32_t a, uint32_t b) { return face_of_[a] < face_of_[b]; });
+  for (uint32_t f : alive) {
+    base.faces.push_back(face_of_[f]);
+    for (int k = 0; k < 3; ++k) base.corners.push_back(vertex_of_[half_[3 * f + k].vertex]);
   }
+}
 
-  const EncodeOptions& options_;
-  FastSimplification& out_;
-  const WeldGroups welds_;
-  const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;
-  const double cos_feature_angle_, cos_max_flip_;
-  const bool features_;             // some edge can be a feature (the angle is below 180 degrees)
-  const unsigned threads_;          // run_in_turn's (EncodeOptions::threads)
-  std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
-  std::vector<uint32_t> face_of_;                   // local face id -> the given one
-  // Positions, three per local vertex, apart from the rest: a collapse reads the positions
-  // of a few dozen neighbours and nothing else of them, and 12 bytes a vertex stay in the
-  // cache where the 64-byte records miss (find_best() spent a third of its time waiting
-  // for neighbours' records). They never change: a half-edge collapse keeps u in place.
-  std::vector<float> xyz_;
-  // What the loop reads of the vertex it evaluates or collapses, in one cache line.
-  struct alignas(64) VertexRecord {
-    LocalQuadric quadric;       // its origin: the vertex's position
-    uint32_t outgoing = kNone;  // a half-edge leaving it; on a boundary, the one with no twin
-    uint8_t dead = 0;
-    uint8_t pinned = 0;        // never removed
-    uint8_t input_corner = 0;  // classified a corner on the input
-    uint8_t simple = 0;        // of kind kSimple when last evaluated (apply()'s shortcut)
-  };
-  static_assert(sizeof(VertexRecord) == 64);
-  // Half-edge h = 3f + k of face f: the vertex it leaves and its twin (kNone on a boundary).
-  struct HalfEdge {
-    uint32_t vertex, twin;
-  };
-  std::vector<VertexRecord> vertex_;
-  std::vector<HalfEdge> half_;
-  std::vector<uint8_t> face_dead_;
-  std::vector<uint8_t> dead_vertex_;  // vertex_[v].dead, kept once vertex_ goes (run())
-  // Per vertex: its cheapest collapse, queued in a worker's heap while the vertex is there;
-  // target kNone when it has none (or has not been evaluated since it last waited).
-  struct Best {
-    uint32_t target;  // u
-    uint32_t edge;    // a half-edge of a face on v-u (Neighbour::edge)
-    float key;        // its cost, the heap's key
-  };
-  std::vector<Best> best_;
-  bool partitioned_ = false;   // rounds first (run_rounds())
-  bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap
-  std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())
-  // run_rounds()'s second order: the vertex at each rank, and each vertex's rank.
-  std::vector<uint32_t> order_b_, rank_b_;
-  uint32_t new_faces_recorded_ = 0;
-  std::size_t faces_alive_ = 0, vertices_alive_ = 0;
-  float bound_ = 0;
-};
+}  // namespace fast_loop
 
-}  // namespace
+using fast_loop::FastSimplifier;
 
 Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options,
                      FastSimplification& out) {

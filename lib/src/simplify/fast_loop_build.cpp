@@ -1,0 +1,190 @@
+// The fast loop's connectivity (fast_loop.h): the directed edges of Campagna, Kobbelt and
+// Seidel 1998 built from flat triangles, renumbered along a Morton curve (Morton 1966).
+#include "simplify/fast_loop.h"
+
+namespace pm::fast_loop {
+
+void FastSimplifier::morton_order(const float* points, std::size_t n, const float* low,
+                                  const float* high, double shift, const uint32_t* id,
+                                  std::vector<uint64_t>& keys, std::vector<uint32_t>& order,
+                                  std::vector<uint32_t>& rank) {
+  for (std::size_t v = 0; v < n; ++v) {
+    uint64_t code = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float extent = high[c] - low[c];
+      double t = extent > 0 ? (points[3 * v + c] - low[c]) / double(extent) + shift : 0.0;
+      if (shift > 0 && t >= 1.0) t -= 1.0;
+      const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
+      for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
+    }
+    keys[v] = code << 32 | (id ? id[v] : v);
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 0; i < n; ++i) {
+    order[i] = static_cast<uint32_t>(keys[i]);
+    rank[order[i]] = static_cast<uint32_t>(i);
+  }
+}
+
+bool FastSimplifier::build(const uint32_t* tri, std::size_t n_faces, const float* points,
+                           std::size_t n_vertices, const std::vector<uint8_t>* pinned,
+                           bool faceless_allowed) {
+  // Morton order of the vertices.
+  float low[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, high[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+  for (std::size_t i = 0; i < 3 * n_vertices; ++i) {
+    low[i % 3] = std::min(low[i % 3], points[i]);
+    high[i % 3] = std::max(high[i % 3], points[i]);
+  }
+  std::vector<uint64_t> keys(n_vertices);
+  vertex_of_.resize(n_vertices);
+  local_vertex_.resize(n_vertices);
+  morton_order(points, n_vertices, low, high, 0.0, nullptr, keys, vertex_of_, local_vertex_);
+  // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
+  // which look anywhere on the mesh, to be idle.
+  const std::size_t partition = options_.fast_partition_vertices;
+  partitioned_ =
+      welds_.empty() && carried_edges_.empty() && partition != 0 && n_vertices >= partition;
+  // run_rounds()'s second order, on another thread while the connectivity is built here:
+  // the Morton codes of the positions moved by 0.37 of the box's extent along each axis,
+  // wrapping round (a region may then be in two pieces, which does not matter), so that
+  // its cells' walls fall between the first order's; in local ids, ties to the smaller.
+  std::thread second_order;
+  const auto join = [&] {
+    if (second_order.joinable()) second_order.join();
+  };
+  struct JoinOnExit {  // also when an allocation below throws
+    std::thread& thread;
+    ~JoinOnExit() {
+      if (thread.joinable()) thread.join();
+    }
+  } join_on_exit{second_order};
+  const auto give_up = [&] {
+    join();
+    return fail();
+  };
+  if (partitioned_) {
+    order_b_.resize(n_vertices);
+    rank_b_.resize(n_vertices);
+    const auto order = [this, points, n_vertices, low, high, &keys] {
+      morton_order(points, n_vertices, low, high, 0.37, local_vertex_.data(), keys, order_b_,
+                   rank_b_);
+    };
+    if (threads_ < 2) {
+      order();
+    } else {
+      try {
+        second_order = std::thread(order);
+      } catch (const std::system_error&) {  // no thread to be had: here, then
+        order();
+      }
+    }
+  }
+
+  // Faces by their first local vertex (a counting sort); a face with a repeated vertex,
+  // or a vertex without faces, needs the repair.
+  // The lookups by vertex id are scattered: the ones a few faces ahead are fetched first,
+  // so that their cache misses overlap.
+  constexpr std::size_t kFetchAhead = 16;
+  std::vector<uint32_t> begin(n_vertices + 1, 0);  // per local vertex: its faces' slots
+  face_of_.resize(n_faces);  // first each face's first local vertex, then the sorted faces
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    if (f + kFetchAhead < n_faces) {
+      for (int k = 0; k < 3; ++k)
+        __builtin_prefetch(local_vertex_.data() + tri[3 * (f + kFetchAhead) + k]);
+    }
+    const uint32_t* t = tri + 3 * f;
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return give_up();
+    face_of_[f] = std::min({local_vertex_[t[0]], local_vertex_[t[1]], local_vertex_[t[2]]});
+    ++begin[face_of_[f] + 1];
+  }
+  for (std::size_t v = 0; v < n_vertices; ++v) begin[v + 1] += begin[v];
+  {
+    std::vector<uint32_t> first_vertex(n_faces);
+    first_vertex.swap(face_of_);
+    for (std::size_t f = 0; f < n_faces; ++f)
+      face_of_[begin[first_vertex[f]]++] = static_cast<uint32_t>(f);
+  }
+  half_.assign(3 * n_faces, HalfEdge{kNone, kNone});
+  for (std::size_t i = 0; i < n_faces; ++i) {
+    if (i + 2 * kFetchAhead < n_faces)
+      __builtin_prefetch(tri + 3 * std::size_t{face_of_[i + 2 * kFetchAhead]});
+    if (i + kFetchAhead < n_faces) {
+      const uint32_t* ahead = tri + 3 * std::size_t{face_of_[i + kFetchAhead]};
+      for (int k = 0; k < 3; ++k) __builtin_prefetch(local_vertex_.data() + ahead[k]);
+    }
+    for (int k = 0; k < 3; ++k)
+      half_[3 * i + k].vertex = local_vertex_[tri[3 * std::size_t{face_of_[i]} + k]];
+  }
+
+  // The half-edges leaving each vertex (compressed rows), then each half-edge's twin:
+  // the one way back, if any; two the same way, or two back, is an edge the repair cuts.
+  std::fill(begin.begin(), begin.end(), 0);
+  for (uint32_t h = 0; h < half_.size(); ++h) ++begin[half_[h].vertex + 1];
+  for (std::size_t v = 0; v < n_vertices; ++v) {
+    if (begin[v + 1] == 0 && !faceless_allowed) return give_up();  // a vertex no face uses
+    begin[v + 1] += begin[v];
+  }
+  std::vector<uint32_t> leaving(half_.size());
+  {
+    std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+    for (uint32_t h = 0; h < half_.size(); ++h) leaving[fill[half_[h].vertex]++] = h;
+  }
+  // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
+  std::atomic<bool> cut{false};
+  run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
+    for (auto h = static_cast<uint32_t>(lo); h < hi; ++h) {
+      const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
+      for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
+        if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return cut.store(true);
+      for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
+        const uint32_t back = leaving[i];
+        if (half_[next_of(back)].vertex != a) continue;
+        if (half_[h].twin != kNone) return cut.store(true);
+        half_[h].twin = back;
+      }
+    }
+  });
+  if (cut) return give_up();
+  std::vector<uint32_t>().swap(leaving);
+  // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
+  // around the vertex (ring()) starts. Two such, or a walk that misses some of the
+  // vertex's faces, is a vertex where fans meet.
+  vertex_.assign(n_vertices, VertexRecord{});
+  for (uint32_t h = 0; h < half_.size(); ++h) {
+    const uint32_t v = half_[h].vertex;
+    if (half_[h].twin == kNone) {
+      if (vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone)
+        return give_up();
+      vertex_[v].outgoing = h;
+    } else if (vertex_[v].outgoing == kNone) {
+      vertex_[v].outgoing = h;
+    }
+  }
+  run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
+    for (auto v = static_cast<uint32_t>(lo); v < hi; ++v) {
+      if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
+      uint32_t faces = 0, h = vertex_[v].outgoing;
+      do {
+        ++faces;
+        h = half_[prev_of(h)].twin;
+      } while (h != kNone && h != vertex_[v].outgoing && faces <= begin[v + 1] - begin[v]);
+      if (faces != begin[v + 1] - begin[v]) return cut.store(true);
+    }
+  });
+  if (cut) return give_up();
+
+  xyz_.resize(3 * n_vertices);
+  for (std::size_t i = 0; i < n_vertices; ++i) {
+    if (i + kFetchAhead < n_vertices)
+      __builtin_prefetch(points + 3 * std::size_t{vertex_of_[i + kFetchAhead]});
+    for (int c = 0; c < 3; ++c) xyz_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
+    if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
+  }
+  face_dead_.assign(n_faces, 0);
+  join();
+  // Only the weld check looks a vertex up by its given id from here on.
+  if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
+  return true;
+}
+
+}  // namespace pm::fast_loop
