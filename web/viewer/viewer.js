@@ -192,15 +192,25 @@ async function load(name, stream, total) {
   ui.follow.checked = true;
   try {
     const reader = stream.getReader();
+    // Chunks go to the worker as they arrive, without waiting for its replies: a push never
+    // waits behind a geomorph of a million faces, and the worker decodes the chunks that
+    // came in while it was making one before the next (request() keeps one in flight).
+    let pushed = Promise.resolve();
+    let failure = null;
     for (;;) {
       const { done, value } = await reader.read();
       if (done) break;
       if (viewer.firstByteTime === null) viewer.firstByteTime = performance.now();
       viewer.bytesReceived += value.byteLength;
-      const before = decoderState?.decodedFaces ?? -1;
-      decoderState = await decoder.push(value);
-      if (decoderState.hasBase && decoderState.decodedFaces !== before && ui.follow.checked) request({ follow: true });
+      pushed = decoder.push(value).then((state) => {
+        const before = decoderState?.decodedFaces ?? -1;
+        decoderState = state;
+        if (state.hasBase && state.decodedFaces !== before && ui.follow.checked) request({ follow: true });
+      }, (error) => { failure ??= error; });
+      if (failure) throw failure;
     }
+    await pushed;
+    if (failure) throw failure;
     decoderState = await decoder.finish();
     if (ui.follow.checked) await request({ follow: true });
     viewer.done = true;
