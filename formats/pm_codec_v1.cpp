@@ -31,25 +31,12 @@
 #include "byte_io.h"
 #include "corner_codes.h"
 #include "pm_layout.h"
+#include "v1/sections.h"
 
 namespace pm {
 namespace detail {
 
-std::string tag_name(uint32_t tag) {
-  static const char kHex[] = "0123456789abcdef";
-  std::string name;
-  for (int i = 0; i < 4; ++i) {
-    const auto c = static_cast<unsigned char>(tag >> (8 * i));
-    if (std::isalnum(c)) {
-      name.push_back(static_cast<char>(c));
-    } else {
-      name += "\\x";
-      name.push_back(kHex[c >> 4]);
-      name.push_back(kHex[c & 15]);
-    }
-  }
-  return name;
-}
+using namespace v1;  // NOLINT: the sections are this file's vocabulary
 
 void append_header(const Header& header, std::string& out) {
   const std::size_t start = out.size();
@@ -81,28 +68,6 @@ void append_header(const Header& header, std::string& out) {
 
 namespace {
 
-// The sections this reader knows, in the order a stream must hold them (§4.3).
-enum KnownSection {
-  kBase,
-  kSplits,
-  kWelds,
-  kCarried,
-  kLoose,
-  kColors,  // 1.1: the attribute sections
-  kUvs,
-  kNormals,
-  kMaterials,
-  kKnownSectionCount
-};
-constexpr int kFirstAttributeSection = kColors;
-constexpr std::array<uint32_t, kKnownSectionCount> kKnownTags = {
-    kTagBase,   kTagSplits, kTagWelds,   kTagCarried,  kTagLoose,
-    kTagColors, kTagUvs,    kTagNormals, kTagMaterials};
-
-bool is_attribute_section(int section) {
-  return section >= kFirstAttributeSection;
-}
-
 // The known section with this tag in a stream of this version, or -1. In a 1.0 stream the
 // 1.1 tags are not known: there they can only be private sections (§4.1).
 int known_section(const Header& h, uint32_t tag) {
@@ -114,17 +79,6 @@ int known_section(const Header& h, uint32_t tag) {
 
 int known_section_count(const Header& h) {
   return h.minor < kMinorWithAttributes ? kFirstAttributeSection : kKnownSectionCount;
-}
-
-// V, T and the number of corner codes of UVS0 and NRML (§1).
-uint64_t all_vertices(const Header& h) {
-  return uint64_t{h.base_vertex_count} + h.split_count + h.loose_vertex_count;
-}
-uint64_t all_faces(const Header& h) {
-  return uint64_t{h.base_face_count} + h.split_face_count + h.carried_face_count;
-}
-uint64_t corner_codes(const Header& h) {
-  return 3 * all_faces(h) + h.moved_face_count;
 }
 
 // A section is present exactly when it has entries (§4.3: empty sections are omitted).
@@ -406,46 +360,12 @@ Status parse_header(std::string_view bytes, Header& header) {
 
 namespace {
 
-struct FreeCompressContext {
-  void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
-};
 struct FreeDecompressContext {
   void operator()(ZSTD_DCtx* context) const { ZSTD_freeDCtx(context); }
 };
-using CompressContext = std::unique_ptr<ZSTD_CCtx, FreeCompressContext>;
 using DecompressContext = std::unique_ptr<ZSTD_DCtx, FreeDecompressContext>;
 
 }  // namespace
-
-Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
-                      uint64_t declared_raw_size, int zstd_level, std::string& out) {
-  CompressContext context(ZSTD_createCCtx());
-  if (!context) return Status(ErrorCode::kInternal, "zstd: cannot create a compression context");
-  ZSTD_CCtx* cctx = context.get();
-  for (const auto& [parameter, value] :
-       {std::pair{ZSTD_c_compressionLevel, zstd_level}, std::pair{ZSTD_c_checksumFlag, 1},
-        std::pair{ZSTD_c_contentSizeFlag, 1}}) {
-    const size_t result = ZSTD_CCtx_setParameter(cctx, parameter, value);
-    if (ZSTD_isError(result)) {
-      return Status(ErrorCode::kInvalidArgument, std::string("zstd: ") + ZSTD_getErrorName(result));
-    }
-  }
-  std::string frame(ZSTD_compressBound(raw.size()), '\0');
-  const size_t frame_size =
-      ZSTD_compress2(cctx, frame.data(), frame.size(), raw.data(), raw.size());
-  if (ZSTD_isError(frame_size)) {
-    return Status(ErrorCode::kInternal,
-                  "section " + tag_name(tag) + ": zstd: " + ZSTD_getErrorName(frame_size));
-  }
-  frame.resize(frame_size);
-  ByteWriter writer(out);
-  writer.put_u32(tag);
-  writer.put_u32(flags);
-  writer.put_u64(frame.size());
-  writer.put_u64(declared_raw_size);
-  writer.put_bytes(frame);
-  return Status::ok();
-}
 
 uint64_t decode_memory(const Header& h, uint64_t largest_raw_size) {
   const uint64_t vertices = all_vertices(h), faces = all_faces(h);
@@ -481,408 +401,6 @@ uint64_t decode_memory(const Header& h, uint64_t largest_raw_size) {
 }
 
 namespace {
-
-// ---------------------------------------------------------------------------------------
-// Section payloads (§5). Encoders and decoders in matching pairs. The decoders write into
-// arrays read_pm has sized from the (checked) header counts, so nothing they do allocates
-// more than the memory bound of §7.1.
-
-void put_floats(ByteWriter& out, const std::vector<float>& values, std::size_t first,
-                std::size_t count) {
-  for (std::size_t i = first; i < first + count; ++i) out.put_f32(values[i]);
-}
-
-// Appends `count` floats. Positions come in three sections, into the capacity read_pm
-// reserved; the other arrays are reserved here, exactly.
-bool read_floats(ByteReader& in, std::size_t count, std::vector<float>& values) {
-  if (values.capacity() - values.size() < count) values.reserve(values.size() + count);
-  for (std::size_t i = 0; i < count; ++i) {
-    float value;
-    if (!in.read_f32(value)) return false;
-    values.push_back(value);
-  }
-  return true;
-}
-
-bool read_varints(ByteReader& in, std::size_t count, std::vector<uint32_t>& values) {
-  values.resize(count);
-  for (uint32_t& value : values) {
-    if (!in.read_varint(value)) return false;
-  }
-  return true;
-}
-
-// vl, vr: value + 1, with 0 for kNoVertex.
-uint32_t encode_optional_vertex(uint32_t vertex) {
-  return vertex == kNoVertex ? 0 : vertex + 1;
-}
-uint32_t decode_optional_vertex(uint32_t code) {
-  return code == 0 ? kNoVertex : code - 1;
-}
-
-// Face indices below `limit`, checked as they are read (the same rule and message as
-// validate()): the attribute sections walk the faces by vertex id (§5.10), so ids must be
-// in range before then.
-bool check_face_indices(ByteReader& in, const std::vector<uint32_t>& indices, uint32_t limit,
-                        const char* what, const char* of_what) {
-  for (std::size_t i = 0; i < indices.size(); ++i) {
-    if (indices[i] >= limit) {
-      return in.fail(ErrorCode::kCorruptStream,
-                     in.where() + ": " + what + " " + std::to_string(i / 3) + " uses vertex " +
-                         std::to_string(indices[i]) + " of " + std::to_string(limit) + of_what);
-    }
-  }
-  return true;
-}
-
-std::string encode_base(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  put_floats(out, pm.positions, 0, 3 * std::size_t{pm.base_vertex_count});
-  for (uint32_t index : pm.base_faces) out.put_varint(index);
-  return raw;
-}
-
-bool decode_base(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_floats(in, 3 * std::size_t{h.base_vertex_count}, pm.positions) &&
-         read_varints(in, 3 * std::size_t{h.base_face_count}, pm.base_faces) &&
-         check_face_indices(in, pm.base_faces, h.base_vertex_count, "base face", "");
-}
-
-// Struct of arrays: like fields side by side compress better than interleaved records.
-std::string encode_splits(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  const std::size_t base = pm.base_vertex_count;
-  // u < v always, and u is usually a recent vertex: v - 1 - u is small.
-  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
-    out.put_varint(static_cast<uint32_t>(base + i - 1 - pm.splits[i].u));
-  }
-  for (const VertexSplit& split : pm.splits) out.put_varint(encode_optional_vertex(split.vl));
-  for (const VertexSplit& split : pm.splits) out.put_varint(encode_optional_vertex(split.vr));
-  for (const VertexSplit& split : pm.splits) out.put_varint(split.moved_count);
-  for (uint32_t face : pm.moved_faces) out.put_varint(face);
-  put_floats(out, pm.positions, 3 * base, 3 * pm.splits.size());
-  for (const VertexSplit& split : pm.splits) out.put_f32(split.error);
-  return raw;
-}
-
-// vl or vr of split i, which creates vertex v: none, or below v (validate()'s rule).
-bool read_side_vertex(ByteReader& in, std::size_t i, uint64_t v, const char* name,
-                      uint32_t& vertex) {
-  uint32_t code;
-  if (!in.read_varint(code)) return false;
-  vertex = decode_optional_vertex(code);
-  if (vertex != kNoVertex && vertex >= v) {
-    return in.fail(ErrorCode::kCorruptStream, in.where() + ": split " + std::to_string(i) +
-                                                  " has " + name + " " + std::to_string(vertex) +
-                                                  " of " + std::to_string(v) + " vertices");
-  }
-  return true;
-}
-
-bool decode_splits(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  pm.splits.resize(h.split_count);
-  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
-    const uint64_t v = uint64_t{h.base_vertex_count} + i;
-    uint32_t offset;
-    if (!in.read_varint(offset)) return false;
-    if (offset >= v) {
-      return in.fail(ErrorCode::kCorruptStream, in.where() + ": split " + std::to_string(i) +
-                                                    " has u offset " + std::to_string(offset) +
-                                                    " but creates vertex " + std::to_string(v));
-    }
-    pm.splits[i].u = static_cast<uint32_t>(v - 1 - offset);
-  }
-  uint64_t split_faces = 0;
-  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
-    if (!read_side_vertex(in, i, uint64_t{h.base_vertex_count} + i, "vl", pm.splits[i].vl)) {
-      return false;
-    }
-    split_faces += pm.splits[i].vl != kNoVertex;
-  }
-  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
-    if (!read_side_vertex(in, i, uint64_t{h.base_vertex_count} + i, "vr", pm.splits[i].vr)) {
-      return false;
-    }
-    split_faces += pm.splits[i].vr != kNoVertex;
-  }
-  if (split_faces != h.split_face_count) {
-    return in.fail(ErrorCode::kCorruptStream,
-                   in.where() + ": the splits add " + std::to_string(split_faces) +
-                       " faces, the header says " + std::to_string(h.split_face_count));
-  }
-  uint64_t moved_total = 0;
-  for (VertexSplit& split : pm.splits) {
-    if (!in.read_varint(split.moved_count)) return false;
-    // Bounded by the header's moved face count (checked below), so never wraps.
-    split.moved_begin = static_cast<uint32_t>(std::min<uint64_t>(moved_total, UINT32_MAX));
-    moved_total += split.moved_count;
-  }
-  // Checked before the ids are read, so the allocation below is the header's count.
-  if (moved_total != h.moved_face_count) {
-    return in.fail(ErrorCode::kCorruptStream,
-                   in.where() + ": the splits move " + std::to_string(moved_total) +
-                       " faces, the header says " + std::to_string(h.moved_face_count));
-  }
-  if (!read_varints(in, h.moved_face_count, pm.moved_faces)) return false;
-  if (!read_floats(in, 3 * std::size_t{h.split_count}, pm.positions)) return false;
-  for (VertexSplit& split : pm.splits) {
-    if (!in.read_f32(split.error)) return false;
-  }
-  return true;
-}
-
-std::string encode_welds(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  for (const Weld& weld : pm.welds) {
-    out.put_varint(weld.copy);
-    out.put_varint(weld.canonical);
-  }
-  return raw;
-}
-
-bool decode_welds(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  pm.welds.resize(h.weld_count);
-  for (Weld& weld : pm.welds) {
-    if (!in.read_varint(weld.copy) || !in.read_varint(weld.canonical)) return false;
-  }
-  return true;
-}
-
-std::string encode_carried(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  for (uint32_t index : pm.carried_faces) out.put_varint(index);
-  return raw;
-}
-
-bool decode_carried(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_varints(in, 3 * std::size_t{h.carried_face_count}, pm.carried_faces) &&
-         check_face_indices(in, pm.carried_faces, h.base_vertex_count, "carried face",
-                            " base vertices");
-}
-
-std::string encode_loose(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  put_floats(out, pm.positions, 3 * (pm.base_vertex_count + pm.splits.size()),
-             3 * std::size_t{pm.loose_vertex_count});
-  return raw;
-}
-
-bool decode_loose(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_floats(in, 3 * std::size_t{h.loose_vertex_count}, pm.positions);
-}
-
-// --- Attributes (1.1) ------------------------------------------------------------------
-
-std::string encode_colors(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  put_floats(out, pm.colors, 0, pm.colors.size());
-  return raw;
-}
-
-bool decode_colors(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  return read_floats(in, std::size_t{h.color_components} * all_vertices(h), pm.colors);
-}
-
-// The corner order of §5.10: every attribute corner once, as extract_level() meets them.
-// Calls visit(vertex, slot), where slot < 3 * face count is an index into the per-face
-// array (3 * face + corner, faces in creation order) and 3 * face count + k is moved corner
-// k. Stops at the first visit that returns false. The vertex ids come from decoded (or
-// valid) geometry: base and carried face indices < B, split vertices < B + S.
-template <typename Visit>
-bool for_each_corner(const ProgressiveMesh& pm, std::size_t face_count, Visit&& visit) {
-  std::size_t slot = 0;
-  for (uint32_t vertex : pm.base_faces) {
-    if (!visit(vertex, slot++)) return false;
-  }
-  const std::size_t first_moved = 3 * face_count;
-  for (std::size_t i = 0; i < pm.splits.size(); ++i) {
-    const VertexSplit& split = pm.splits[i];
-    const uint32_t v = pm.base_vertex_count + static_cast<uint32_t>(i);
-    for (uint32_t k = split.moved_begin; k < split.moved_begin + split.moved_count; ++k) {
-      if (!visit(v, first_moved + k)) return false;
-    }
-    if (split.vl != kNoVertex) {
-      for (uint32_t vertex : {v, split.u, split.vl}) {
-        if (!visit(vertex, slot++)) return false;
-      }
-    }
-    if (split.vr != kNoVertex) {
-      for (uint32_t vertex : {split.u, v, split.vr}) {
-        if (!visit(vertex, slot++)) return false;
-      }
-    }
-  }
-  for (uint32_t vertex : pm.carried_faces) {
-    if (!visit(vertex, slot++)) return false;
-  }
-  return true;
-}
-
-void put_corner_ids(ByteWriter& out, const ProgressiveMesh& pm,
-                    const std::vector<uint32_t>& face_ids, const std::vector<uint32_t>& moved_ids) {
-  if (face_ids.empty()) return;
-  CornerPredictor predictor(pm.base_vertex_count + pm.splits.size());
-  for_each_corner(pm, face_ids.size() / 3, [&](uint32_t vertex, std::size_t slot) {
-    const uint32_t id = slot < face_ids.size() ? face_ids[slot] : moved_ids[slot - face_ids.size()];
-    out.put_varint(predictor.encode(vertex, id));
-    return true;
-  });
-}
-
-// Reads the corner codes into face_ids (3 per face) and moved_ids (1 per moved face), each
-// id below `count`; every code must be the one the writer would have chosen.
-bool read_corner_ids(ByteReader& in, const Header& h, const ProgressiveMesh& pm, uint32_t count,
-                     std::vector<uint32_t>& face_ids, std::vector<uint32_t>& moved_ids) {
-  const std::size_t face_slots = 3 * static_cast<std::size_t>(all_faces(h));
-  face_ids.resize(face_slots);
-  moved_ids.resize(h.moved_face_count);
-  CornerPredictor predictor(std::size_t{h.base_vertex_count} + h.split_count);
-  std::size_t corner = 0;  // in corner order, for messages
-  return for_each_corner(pm, face_slots / 3, [&](uint32_t vertex, std::size_t slot) {
-    uint32_t code;
-    if (!in.read_varint(code)) return false;
-    uint32_t id;
-    std::string problem;
-    if (!predictor.decode(code, vertex, count, id, problem)) {
-      return in.fail(ErrorCode::kCorruptStream,
-                     in.where() + ": corner " + std::to_string(corner) + " " + problem);
-    }
-    (slot < face_slots ? face_ids[slot] : moved_ids[slot - face_slots]) = id;
-    ++corner;
-    return true;
-  });
-}
-
-std::string encode_uvs(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  put_floats(out, pm.uvs, 0, pm.uvs.size());
-  put_corner_ids(out, pm, pm.face_uvs, pm.moved_uvs);
-  return raw;
-}
-
-bool decode_uvs(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  if (!read_floats(in, 2 * std::size_t{h.uv_count}, pm.uvs)) return false;
-  return (h.attributes & kAttributeUvIds) == 0 ||
-         read_corner_ids(in, h, pm, h.uv_count, pm.face_uvs, pm.moved_uvs);
-}
-
-std::string encode_normals(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  put_floats(out, pm.normals, 0, pm.normals.size());
-  put_corner_ids(out, pm, pm.face_normals, pm.moved_normals);
-  return raw;
-}
-
-bool decode_normals(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  if (!read_floats(in, 3 * std::size_t{h.normal_count}, pm.normals)) return false;
-  return (h.attributes & kAttributeNormalIds) == 0 ||
-         read_corner_ids(in, h, pm, h.normal_count, pm.face_normals, pm.moved_normals);
-}
-
-}  // namespace
-
-void put_string(ByteWriter& out, const std::string& text) {
-  out.put_varint(static_cast<uint32_t>(text.size()));
-  out.put_bytes(text);
-}
-
-namespace {
-
-std::string encode_materials(const ProgressiveMesh& pm) {
-  std::string raw;
-  ByteWriter out(raw);
-  for (const std::string& library : pm.material_libraries) put_string(out, library);
-  for (const std::string& name : pm.material_names) put_string(out, name);
-  for (uint32_t id : pm.face_materials) out.put_varint(id == kNoAttribute ? 0 : id + 1);
-  return raw;
-}
-
-// Why a material string cannot be stored, or empty (§5.9).
-}  // namespace
-
-std::string string_problem(std::string_view text) {
-  if (text.size() > kMaxStringBytes) {
-    return std::to_string(text.size()) + " bytes (at most " + std::to_string(kMaxStringBytes) + ")";
-  }
-  if (text.find('\0') != std::string_view::npos) return "a NUL character";
-  return "";
-}
-
-namespace {
-
-// `count` strings; `budget` is what is left of the header's string bytes.
-}  // namespace
-
-bool read_strings(ByteReader& in, uint32_t count, const char* what, uint64_t& budget,
-                  std::vector<std::string>& strings) {
-  strings.reserve(count);
-  for (uint32_t i = 0; i < count; ++i) {
-    uint32_t length;
-    std::string_view text;
-    if (!in.read_varint(length)) return false;
-    if (length > budget) {
-      return in.fail(ErrorCode::kCorruptStream, in.where() + ": " + what + " " + std::to_string(i) +
-                                                    " has " + std::to_string(length) +
-                                                    " bytes, more than the header's string bytes");
-    }
-    if (!in.read_bytes(length, text)) return false;
-    if (const std::string problem = string_problem(text); !problem.empty()) {
-      return in.fail(ErrorCode::kCorruptStream,
-                     in.where() + ": " + what + " " + std::to_string(i) + ": " + problem);
-    }
-    budget -= length;
-    strings.emplace_back(text);
-  }
-  return true;
-}
-
-namespace {
-
-bool decode_materials(ByteReader& in, const Header& h, ProgressiveMesh& pm) {
-  uint64_t budget = h.material_string_bytes;
-  if (!read_strings(in, h.material_library_count, "material library", budget,
-                    pm.material_libraries) ||
-      !read_strings(in, h.material_count, "material name", budget, pm.material_names)) {
-    return false;
-  }
-  if (budget != 0) {
-    return in.fail(ErrorCode::kCorruptStream, in.where() + ": the strings hold " +
-                                                  std::to_string(h.material_string_bytes - budget) +
-                                                  " bytes, the header says " +
-                                                  std::to_string(h.material_string_bytes));
-  }
-  if ((h.attributes & kAttributeMaterialIds) == 0) return true;
-  if (!read_varints(in, static_cast<std::size_t>(all_faces(h)), pm.face_materials)) return false;
-  for (std::size_t f = 0; f < pm.face_materials.size(); ++f) {
-    uint32_t& id = pm.face_materials[f];
-    if (id > h.material_count) {
-      return in.fail(ErrorCode::kCorruptStream, in.where() + ": face " + std::to_string(f) +
-                                                    " has material " + std::to_string(id - 1) +
-                                                    " of " + std::to_string(h.material_count));
-    }
-    id = id == 0 ? kNoAttribute : id - 1;
-  }
-  return true;
-}
-
-using SectionEncoder = std::string (*)(const ProgressiveMesh&);
-using SectionDecoder = bool (*)(ByteReader&, const Header&, ProgressiveMesh&);
-constexpr std::array<SectionEncoder, kKnownSectionCount> kEncoders = {
-    encode_base,   encode_splits, encode_welds,   encode_carried,  encode_loose,
-    encode_colors, encode_uvs,    encode_normals, encode_materials};
-constexpr std::array<SectionDecoder, kKnownSectionCount> kDecoders = {
-    decode_base,   decode_splits, decode_welds,   decode_carried,  decode_loose,
-    decode_colors, decode_uvs,    decode_normals, decode_materials};
-
-// ---------------------------------------------------------------------------------------
 
 Header header_for(const ProgressiveMesh& pm) {
   Header h;
@@ -949,84 +467,7 @@ Status check_writable(const ProgressiveMesh& pm) {
   return Status::ok();
 }
 
-// One zstd frame, exactly `frame.size()` bytes, with a content checksum and a content
-// size equal to the section's raw size (§4.2), decompressed into `raw`.
 }  // namespace
-
-Status decompress_frame(const std::string& where, std::string_view frame, uint64_t raw_size,
-                        ZSTD_DCtx* dctx, std::string& raw) {
-  uint32_t magic = 0;
-  if (frame.size() >= 4) ByteReader(frame, where, ErrorCode::kCorruptStream).read_u32(magic);
-  if (frame.size() < 5 || magic != ZSTD_MAGICNUMBER) {
-    return Status(ErrorCode::kCorruptStream, where + ": payload is not a zstd frame");
-  }
-  // Frame_Header_Descriptor (RFC 8878 §3.1.1.1.1): bits 0-1 dictionary id size,
-  // bit 2 content checksum.
-  const auto descriptor = static_cast<uint8_t>(frame[4]);
-  if ((descriptor & 0x04) == 0) {
-    return Status(ErrorCode::kCorruptStream, where + ": zstd frame has no content checksum");
-  }
-  if ((descriptor & 0x03) != 0) {
-    return Status(ErrorCode::kCorruptStream, where + ": zstd frame needs a dictionary");
-  }
-  const size_t frame_size = ZSTD_findFrameCompressedSize(frame.data(), frame.size());
-  if (ZSTD_isError(frame_size)) {
-    return Status(ErrorCode::kCorruptStream,
-                  where + ": malformed zstd frame (" + ZSTD_getErrorName(frame_size) + ")");
-  }
-  if (frame_size != frame.size()) {
-    return Status(
-        ErrorCode::kCorruptStream,
-        where + ": " + std::to_string(frame.size() - frame_size) + " bytes follow the zstd frame");
-  }
-  // RFC 8878 §3.1.1.1.4: Frame_Content_Size, which must be present and agree with the
-  // section header, so that the buffer below is exactly what the frame decodes to.
-  const unsigned long long content_size = ZSTD_getFrameContentSize(frame.data(), frame.size());
-  if (content_size == ZSTD_CONTENTSIZE_UNKNOWN || content_size == ZSTD_CONTENTSIZE_ERROR) {
-    return Status(ErrorCode::kCorruptStream, where + ": zstd frame does not state its size");
-  }
-  if (content_size != raw_size) {
-    return Status(ErrorCode::kCorruptStream,
-                  where + ": zstd frame holds " + std::to_string(content_size) +
-                      " bytes, the section declares " + std::to_string(raw_size));
-  }
-  // The buffer keeps its capacity from section to section: read_pm reserved the largest.
-  raw.resize(static_cast<std::size_t>(raw_size));
-  // A single-pass decode into a buffer of raw_size bytes: zstd stops with an error rather
-  // than write past it (dstSize_tooSmall), so no frame decodes beyond its declared size.
-  const size_t result =
-      ZSTD_decompressDCtx(dctx, raw.data(), raw.size(), frame.data(), frame.size());
-  if (ZSTD_isError(result)) {
-    if (ZSTD_getErrorCode(result) == ZSTD_error_checksum_wrong) {
-      return Status(ErrorCode::kChecksumMismatch, where + ": content checksum mismatch");
-    }
-    return Status(ErrorCode::kCorruptStream, where + ": zstd: " + ZSTD_getErrorName(result));
-  }
-  if (result != raw_size) {
-    return Status(ErrorCode::kCorruptStream, where + ": zstd frame decoded to " +
-                                                 std::to_string(result) + " bytes, expected " +
-                                                 std::to_string(raw_size));
-  }
-  return Status::ok();
-}
-
-bool is_valid_tag(uint32_t tag) {
-  for (int i = 0; i < 4; ++i) {
-    const auto c = static_cast<uint8_t>(tag >> (8 * i));
-    if (!((c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z'))) return false;
-  }
-  return true;
-}
-
-bool read_section_header(std::string_view bytes, SectionHeader& out) {
-  if (bytes.size() < kSectionHeaderSize) return false;
-  ByteReader fields(bytes.substr(0, kSectionHeaderSize), "section header", ErrorCode::kTruncatedStream);
-  fields.read_u32(out.tag);  // cannot fail: all 24 bytes are there
-  fields.read_u32(out.flags);
-  fields.read_u64(out.stored_size);
-  fields.read_u64(out.raw_size);
-  return true;
-}
 
 namespace {
 
@@ -1138,14 +579,6 @@ Status scan_sections(std::string_view bytes, const Header& h, SectionList& list,
 
 }  // namespace
 
-std::string byte_count_text(uint64_t bytes) {
-  std::string text = std::to_string(bytes) + " bytes";
-  if (bytes >= (uint64_t{1} << 20)) {
-    text += " (" + std::to_string((bytes + (uint64_t{1} << 19)) >> 20) + " MiB)";
-  }
-  return text;
-}
-
 namespace {
 
 // read_pm's steps 3 and 4, once the header and section headers are checked.
@@ -1195,28 +628,6 @@ Status decode_sections(const Header& h, const SectionList& sections, int section
 }
 
 }  // namespace
-
-
-Status check_material_strings_impl(const std::vector<std::string>& names,
-                              const std::vector<std::string>& libraries) {
-  for (const auto* strings : {&names, &libraries}) {
-    const char* what = strings == &names ? "material name " : "material library ";
-    if (strings->size() > kMaxMaterials) {
-      return Status(ErrorCode::kResourceLimit, std::to_string(strings->size()) + " " + what +
-                                                   "strings (at most " +
-                                                   std::to_string(kMaxMaterials) + ")");
-    }
-    for (std::size_t i = 0; i < strings->size(); ++i) {
-      const std::string problem = string_problem((*strings)[i]);
-      if (problem.empty()) continue;
-      // Too long is a limit (like a count); a NUL is a bad argument.
-      const bool too_long = (*strings)[i].size() > kMaxStringBytes;
-      return Status(too_long ? ErrorCode::kResourceLimit : ErrorCode::kInvalidArgument,
-                    what + std::to_string(i) + ": " + problem);
-    }
-  }
-  return Status::ok();
-}
 
 Status write_pm_v1(const ProgressiveMesh& pm, int zstd_level, std::string& bytes) {
   std::string message;

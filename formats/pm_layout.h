@@ -1,6 +1,7 @@
 // The .pm byte layout in one place: magic, header offsets, section tags, limits, and the
 // header and section encoders the writer uses (tests use them too, to build hostile
-// streams). formats/pm-format-1.md and pm-format.md (2.0) are normative; these constants follow it. Internal.
+// streams); pm_layout.cpp implements what both majors share. formats/pm-format-1.md and
+// pm-format.md (2.0) are normative; these constants follow it. Internal.
 #pragma once
 
 #include <cstddef>
