@@ -11,6 +11,9 @@
 // ReadOptions::max_memory, every zstd frame must declare the size its section header
 // declares (RFC 8878 §3.1.1.1.4, Frame_Content_Size) and cannot decode past it, and the
 // decoded record goes through validate().
+//
+// This file holds the header, the checks of the section headers and the entry points;
+// the section payloads are in v1/sections.cpp, what both majors share in pm_layout.cpp.
 #include "pm/pm_codec.h"
 
 #include <zstd.h>
