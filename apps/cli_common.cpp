@@ -290,6 +290,7 @@ MeshFormat sniff_mesh_format(std::string_view bytes) {
                                uint64_t{count[2]} << 16 | uint64_t{count[3]} << 24;
     if (84 + 50 * triangles == bytes.size()) return MeshFormat::kStl;
   }
+  if (bytes.substr(0, 4) == "glTF") return MeshFormat::kGlb;  // GLB magic (glTF 2.0, §4.4.1)
   if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
   // The first keyword: skip blanks and '#' comment lines (OBJ and OFF allow them).
   std::size_t i = 0;
@@ -306,6 +307,7 @@ MeshFormat sniff_mesh_format(std::string_view bytes) {
   while (end < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[end]))) ++end;
   const std::string_view keyword = bytes.substr(i, end - i);
   if (keyword == "ply") return MeshFormat::kPly;
+  if (!keyword.empty() && keyword[0] == '{') return MeshFormat::kGltf;  // a JSON object
   if (keyword == "solid") return MeshFormat::kStl;
   if (keyword.size() >= 3 && keyword.substr(keyword.size() - 3) == "OFF") return MeshFormat::kOff;
   for (const char* obj : {"v", "vt", "vn", "vp", "f", "l", "p", "o", "g", "s", "usemtl", "mtllib"})

@@ -2,6 +2,7 @@
 // report.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -9,6 +10,7 @@
 #include "batch_options.h"
 #include "cli_common.h"
 #include "pm/encoder.h"
+#include "pm/gltf.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
 
@@ -87,24 +89,36 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                               : pm::mesh_format_from_path("." + settings.input_format);
   if (format == pm::MeshFormat::kUnknown && input != "-")
     return failed(pm::Status(pm::ErrorCode::kUnsupportedFormat,
-                             "unknown mesh format (use .obj .ply .off .stl or --format)"));
+                             "unknown mesh format (use .obj .ply .off .stl .gltf .glb or --format)"));
   std::string bytes;
   if (pm::Status s = pm::cli::read_whole_input(input, bytes); !s) return failed(s);
   if (format == pm::MeshFormat::kUnknown) format = pm::cli::sniff_mesh_format(bytes);
   if (format == pm::MeshFormat::kUnknown)
     return failed(pm::Status(pm::ErrorCode::kUnsupportedFormat,
                              "cannot tell the mesh format of standard input: use --format "
-                             "obj|ply|off|stl"));
+                             "obj|ply|off|stl|gltf|glb"));
   pm::Mesh mesh;
   pm::ReadReport read_report;
-  if (pm::Status s = pm::read_mesh_from_memory(bytes, format, mesh, &read_report); !s)
+  if (format == pm::MeshFormat::kGltf || format == pm::MeshFormat::kGlb) {
+    // A .gltf's buffers may be files beside it (standard input has no directory).
+    pm::GltfReadOptions gltf;
+    if (input != "-") {
+      const std::string directory = std::filesystem::path(input).parent_path().string();
+      gltf.base_directory = directory.empty() ? "." : directory;
+    }
+    if (pm::Status s = pm::read_gltf(bytes, gltf, mesh, &read_report); !s) return failed(s);
+  } else if (pm::Status s = pm::read_mesh_from_memory(bytes, format, mesh, &read_report); !s) {
     return failed(s);
+  }
   std::string().swap(bytes);  // frees the buffer (assigning an empty string keeps it)
   if (!task.conflict) return failed(task.conflict);
   progress.set_faces(mesh.face_count());
   if (read_report.polygons_triangulated)
     progress.note(input + ": " + std::to_string(read_report.polygons_triangulated) +
                   " polygons split into triangles");
+  // What the file holds that a mesh cannot (glTF: skins, tangents, other scenes, ...).
+  for (const std::string& dropped : read_report.ignored_properties)
+    progress.note(input + ": not kept: " + dropped);
 
   pm::EncodeOptions options = settings.encode;
   // Large meshes take the fast loop unless asked otherwise (--fast-from).
@@ -160,19 +174,19 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
 int main(int argc, char** argv) {
   CLI::App app{
       "pmenc: encode triangle meshes as progressive meshes (.pm).\n"
-      "Reads OBJ, PLY, OFF or STL; writes the base mesh and the vertex splits that\n"
+      "Reads OBJ, PLY, OFF, STL or glTF; writes the base mesh and the vertex splits that\n"
       "restore the input exactly. Decode any level of detail with pmdec.\n"
       "Many inputs are converted at once (-j); a failure does not stop the others."};
   app.set_version_flag("--version", std::string("pmenc ") + PM_VERSION_STRING);
   pm::cli::BatchCommandLine command;
   Settings settings;
   command.add_options(
-      app, "Input meshes (.obj .ply .off .stl), directories (with -r), or - for standard input",
+      app, "Input meshes (.obj .ply .off .stl .gltf .glb), directories (with -r), or - for standard input",
       "Output .pm file, - for standard output, or a template: {stem} {ext} {name} {dir} "
       "(default: {dir}/{stem}.pm, the input's name with .pm)");
   app.add_option("--format", settings.input_format,
                  "Input format when it cannot be told from the name "
-                 "(obj, ply, off, stl); standard input is recognized by its content");
+                 "(obj, ply, off, stl, gltf, glb); standard input is recognized by its content");
   app.add_option("--metric", settings.encode.metric,
                  "Collapse cost: schroeder (distance to plane or feature line, Schroeder 1992) "
                  "or quadric (Garland and Heckbert 1997)")
@@ -264,7 +278,7 @@ int main(int argc, char** argv) {
   }
 
   pm::cli::PlanSettings plan;
-  plan.extensions = {"obj", "ply", "off", "stl"};
+  plan.extensions = {"obj", "ply", "off", "stl", "gltf", "glb"};
   plan.default_template = "{dir}/{stem}.pm";
   plan.variants = {{}};
   plan.stdin_default_output = "-";

@@ -1,5 +1,6 @@
 // Reading and writing meshes with their attributes (mesh.h): OBJ, PLY and OFF (own parsers),
-// STL (read through OpenMesh's STL reader; it has no attributes). What each format carries
+// STL (read through OpenMesh's STL reader; it has no attributes), glTF 2.0 (.gltf and .glb:
+// pm/gltf.h, which also writes chains of levels). What each format carries
 // and how it is written is in README.md, "Input and output formats".
 #pragma once
 
@@ -13,11 +14,12 @@
 
 namespace pm {
 
-enum class MeshFormat { kUnknown, kObj, kPly, kOff, kStl };
+enum class MeshFormat { kUnknown, kObj, kPly, kOff, kStl, kGltf, kGlb };
 
 // By the file name's extension, case-insensitive (".obj", ".PLY", ...).
 MeshFormat mesh_format_from_path(std::string_view path);
-const char* mesh_format_name(MeshFormat format);  // "obj", "ply", "off", "stl", "unknown"
+// "obj", "ply", "off", "stl", "gltf", "glb", "unknown"
+const char* mesh_format_name(MeshFormat format);
 
 // What a reader did to the data beyond copying it; the CLI reports it on stderr. Nothing a
 // reader cannot keep is dropped without being counted here.
@@ -41,12 +43,14 @@ struct ReadReport {
 // into triangles", "ignored ply property vertex.quality", ...
 std::vector<std::string> describe_read_report(const ReadReport& report);
 
-// Reads a whole file. Errors: kIoError (cannot open/read), kParseError (malformed:
-// the message names the line or element), kUnsupportedFormat (extension).
+// Reads a whole file (a .gltf's external buffers from its directory). Errors: kIoError
+// (cannot open/read), kParseError (malformed: the message names the line or element),
+// kUnsupportedFormat (extension; for glTF also what read_gltf refuses).
 // A mesh with neither vertices nor faces is kEmptyMesh.
 Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report = nullptr);
 
-// Parses a mesh held in memory (stdin, tests).
+// Parses a mesh held in memory (stdin, tests); a .gltf whose buffers are other files is
+// refused (bytes in memory have no directory).
 Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
                              ReadReport* report = nullptr);
 

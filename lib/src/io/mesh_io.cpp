@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "io/mesh_readers.h"
+#include "pm/gltf.h"
 #include "io/reader_support.h"
 
 namespace pm {
@@ -55,6 +56,8 @@ MeshFormat mesh_format_from_path(std::string_view path) {
   if (extension == "ply") return MeshFormat::kPly;
   if (extension == "off") return MeshFormat::kOff;
   if (extension == "stl") return MeshFormat::kStl;
+  if (extension == "gltf") return MeshFormat::kGltf;
+  if (extension == "glb") return MeshFormat::kGlb;
   return MeshFormat::kUnknown;
 }
 
@@ -68,6 +71,10 @@ const char* mesh_format_name(MeshFormat format) {
       return "off";
     case MeshFormat::kStl:
       return "stl";
+    case MeshFormat::kGltf:
+      return "gltf";
+    case MeshFormat::kGlb:
+      return "glb";
     case MeshFormat::kUnknown:
       break;
   }
@@ -94,8 +101,12 @@ Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& me
       if (bytes.empty()) return Status(ErrorCode::kEmptyMesh, "no vertices or faces");
       status = detail::read_with_openmesh(bytes, format, parsed, parsed_report);
       break;
+    case MeshFormat::kGltf:
+    case MeshFormat::kGlb:
+      status = read_gltf(bytes, GltfReadOptions(), parsed, &parsed_report);
+      break;
     case MeshFormat::kUnknown:
-      return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl)");
+      return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
   }
   if (!status) return status;
   mesh = std::move(parsed);
@@ -106,7 +117,7 @@ Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& me
 Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
   const MeshFormat format = mesh_format_from_path(path);
   if (format == MeshFormat::kUnknown) {
-    return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl)");
+    return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
   }
   auto describe_errno = [](const char* what, int error_number) {
     std::string reason = std::strerror(error_number);
@@ -137,6 +148,13 @@ Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
     capacity *= 2;
   }
   if (std::ferror(file.get())) return describe_errno("cannot read file", errno);
+  if (format == MeshFormat::kGltf || format == MeshFormat::kGlb) {
+    // A .gltf's buffers may be files beside it.
+    GltfReadOptions options;
+    const std::filesystem::path directory = std::filesystem::path(path).parent_path();
+    options.base_directory = directory.empty() ? "." : directory.string();
+    return read_gltf(std::string_view(bytes.get(), size), options, mesh, report);
+  }
   return read_mesh_from_memory(std::string_view(bytes.get(), size), format, mesh, report);
 }
 

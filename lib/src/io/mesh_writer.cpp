@@ -16,6 +16,7 @@
 //    combination, so the values survive but the copies are separate vertices. OFF has no
 //    materials: they are not written.
 //  * STL: no attributes; the facet normal is derived from the corners.
+//  * glTF (.glb binary, .gltf with its buffer inline): one level, gltf_writer.cpp.
 //
 // Everything is appended to one std::string reserved up front; floats are printed with
 // std::to_chars (shortest text that reads back to the same float32 bits, locale-independent),
@@ -34,6 +35,7 @@
 #include <utility>
 #include <vector>
 
+#include "pm/gltf.h"
 #include "pm/mesh_io.h"
 
 namespace pm {
@@ -677,7 +679,7 @@ Status write_stl(const Mesh& mesh, std::string& bytes) {
 
 Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& bytes) {
   if (format == MeshFormat::kUnknown) {
-    return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl)");
+    return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
   }
   if (Status status = validate(mesh); !status) return status;
   switch (format) {
@@ -689,6 +691,12 @@ Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& by
       return write_ply(mesh, bytes);
     case MeshFormat::kStl:
       return write_stl(mesh, bytes);
+    case MeshFormat::kGltf:
+    case MeshFormat::kGlb: {
+      GltfWriteOptions options;
+      options.binary = format == MeshFormat::kGlb;
+      return write_gltf({{&mesh, 0}}, options, bytes);
+    }
     case MeshFormat::kUnknown:
       break;
   }
