@@ -141,6 +141,15 @@ int main(int argc, char** argv) {
     settings.levels = {single};
   }
 
+  // glTF output: --lods writes one file; --quantize and --material-from need it.
+  const pm::MeshFormat named_format =
+      command.output.empty() ? output_format_for(".obj", settings.output_format)
+                             : output_format_for(command.output, settings.output_format);
+  if ((*line.quantize || *line.material_from) && !pm::cli::is_gltf(named_format))
+    return fail_usage(std::string(*line.quantize ? "--quantize" : "--material-from") +
+                      " is for glTF output: give -o FILE.glb or FILE.gltf, or --format glb");
+  settings.gltf_chain = *line.by_lods && pm::cli::is_gltf(named_format);
+
   pm::cli::PlanSettings plan;
   plan.extensions = {"pm"};
   plan.extra_names = {"lod", "frame"};
@@ -151,16 +160,23 @@ int main(int argc, char** argv) {
   for (const LevelRequest& level : settings.levels)
     plan.variants.push_back(
         {{"lod", *line.by_lods ? level.label : ""}, {"frame", *line.by_morph ? level.label : ""}});
+  if (settings.gltf_chain) {
+    plan.variants = {{{"lod", ""}, {"frame", ""}}};  // one file holds every level
+    plan.default_template = std::string("{dir}/{stem}.") + pm::mesh_format_name(named_format);
+  }
   pm::cli::OutputTemplate name_template;
   if (!command.output.empty() && command.output != "-" &&
       pm::cli::OutputTemplate::parse(command.output, plan.extra_names, name_template)) {
     if (name_template.has_placeholder("lod") && !*line.by_lods)
       return fail_usage("-o " + command.output + ": {lod} needs --lods");
+    if (name_template.has_placeholder("lod") && settings.gltf_chain)
+      return fail_usage("-o " + command.output + ": a glTF output holds every level of --lods: no {lod}");
     if (name_template.has_placeholder("frame") && !*line.by_frames)
       return fail_usage("-o " + command.output + ": {frame} needs --morph-frames");
     if (!name_template.has_placeholder("frame") && *line.by_frames && settings.levels.size() > 1)
       return fail_usage("-o " + command.output + ": name the frames apart with {frame}");
-    if (!name_template.has_placeholder("lod") && *line.by_lods && settings.levels.size() > 1)
+    if (!name_template.has_placeholder("lod") && *line.by_lods && settings.levels.size() > 1 &&
+        !settings.gltf_chain)
       return fail_usage("-o " + command.output + ": name the levels of --lods apart with {lod}");
   }
   std::vector<pm::cli::Task> tasks;
@@ -177,7 +193,7 @@ int main(int argc, char** argv) {
         return pm::cli::fail(
             kTool, output,
             pm::Status(pm::ErrorCode::kUnsupportedFormat,
-                       "unknown output format (use .obj .ply .off .stl or --format)"));
+                       "unknown output format (use .obj .ply .off .stl .gltf .glb or --format)"));
   if (command.dry_run) {
     pm::cli::print_plan(tasks, command.json, /*outputs_as_array=*/true, command.skip_existing);
     return pm::cli::kExitOk;
@@ -198,6 +214,8 @@ int main(int argc, char** argv) {
     run_options.json = false;
   }
   if (tasks.empty() && !command.quiet) std::cerr << kTool << ": no input files\n";
+  if (pm::Status s = pm::cli::load_material_source(settings.gltf); !s)
+    return pm::cli::fail(kTool, settings.gltf.material_source_path, s);
 
   pm::cli::install_cleanup_handlers();
   std::vector<std::string> outputs;

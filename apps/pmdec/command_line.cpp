@@ -11,10 +11,18 @@ void add_options(CLI::App& app, CommandLine& line, Settings& settings) {
   line.command.add_options(
       app, "Input .pm files, directories (with -r), or - for standard input",
       "Output mesh, - for OBJ on standard output, or a template: {stem} {ext} {name} {dir} "
-      "{lod}; the extension picks OBJ, PLY, OFF or STL (default with --out-dir: "
-      "{dir}/{stem}.obj, with --lods {dir}/{stem}_{lod}.obj)");
+      "{lod}; the extension picks OBJ, PLY, OFF, STL or glTF (.glb, .gltf: with --lods, every "
+      "level in the one file) (default with --out-dir: {dir}/{stem}.obj, with --lods "
+      "{dir}/{stem}_{lod}.obj)");
   app.add_option("--format", settings.output_format,
-                 "Output format, overriding the extension (obj, ply, off, stl)");
+                 "Output format, overriding the extension (obj, ply, off, stl, gltf, glb)");
+  line.quantize = app.add_flag("--quantize", settings.gltf.quantize,
+                               "glTF output: KHR_mesh_quantization (16-bit positions, 8-bit normals, "
+                               "16-bit texture coordinates in [0, 1]), a required extension");
+  line.material_from = app.add_option("--material-from", settings.gltf.material_source_path,
+                                      "glTF output: copy the material definitions (textures, images "
+                                      "by reference) of the same-named materials of this glTF file")
+                           ->type_name("IN.gltf");
   line.by_vertices =
       app.add_option("--vertices", line.vertices, "Level with at least this many vertices")
           ->check(pm::cli::whole_number());

@@ -71,6 +71,8 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   for (std::size_t i = 0; i < written.size(); ++i) {
     written[i].label = settings.levels[i].label;
     if (i < task.outputs.size()) written[i].output = task.outputs[i];
+    // A glTF chain: every level goes into the one file.
+    if (settings.gltf_chain && !task.outputs.empty()) written[i].output = task.outputs.front();
   }
   pm::cli::Outcome outcome;
   outcome.json = json_members(written, nullptr);
@@ -144,8 +146,20 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     });
   }
 
+  // The error bound of a level; the last level of a prefix has the index's (it is not full
+  // detail, whose bound is 0).
+  const auto level_error = [&](std::size_t level) {
+    if (indexed && level == progressive.splits.size() && level < info.split_count) {
+      uint64_t splits = 0;
+      for (const pm::PmInfo::Chunk& chunk : info.chunks)
+        if ((splits += chunk.splits) == level) return chunk.error_after;
+    }
+    return pm::error_at_level(progressive, level);
+  };
   std::string faces_list;
   pm::Mesh last;
+  // glTF outputs: a chain's levels are gathered and written with its last one.
+  std::vector<std::pair<std::size_t, pm::Mesh>> gltf_levels;
   for (std::size_t i = 0; i < settings.levels.size(); ++i) {
     const std::size_t level = levels[i];
     last = std::move(meshes[i]);
@@ -154,19 +168,36 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
       const std::string& output = written[i].output;
       const pm::MeshFormat format = output_format_for(output, settings.output_format);
       std::string encoded;
-      if (pm::Status s = pm::write_mesh_to_memory(last, format, encoded); !s) {
+      pm::Status s;
+      if (pm::cli::is_gltf(format)) {
+        // Coarse to fine (pm/gltf.h): the finest is the level loaders without MSFT_lod show.
+        gltf_levels.push_back({level, last});
+        if (!settings.gltf_chain || i + 1 == settings.levels.size()) {
+          std::stable_sort(gltf_levels.begin(), gltf_levels.end(),
+                           [](const auto& a, const auto& b) { return a.first < b.first; });
+          std::vector<pm::GltfLevel> chain;
+          for (const auto& [chain_level, mesh] : gltf_levels) chain.push_back({&mesh, level_error(chain_level)});
+          s = pm::cli::encode_gltf_output(chain, format, output, settings.gltf, encoded);
+          gltf_levels.clear();
+        }
+      } else {
+        s = pm::write_mesh_to_memory(last, format, encoded);
+      }
+      if (!s) {
         outcome.error_file = output;
         return failed(s);
       }
-      const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl;
-      pm::Status s =
-          settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
-      if (s) s = pm::cli::write_output_atomically(output, encoded, binary);
-      if (!s) {
-        failed(s);
-        outcome.exit_code = pm::cli::exit_code_for_write(s);
-        outcome.error_file = output;
-        return outcome;
+      const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl ||
+                          format == pm::MeshFormat::kGlb;
+      if (!encoded.empty()) {  // empty: a level of a chain, written with the last
+        s = settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
+        if (s) s = pm::cli::write_output_atomically(output, encoded, binary);
+        if (!s) {
+          failed(s);
+          outcome.exit_code = pm::cli::exit_code_for_write(s);
+          outcome.error_file = output;
+          return outcome;
+        }
       }
     }
     written[i].written = true;
@@ -187,16 +218,6 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
         comparison_text(distance, last, written.front().level,
                         pm::cli::seconds_since(compare_start), settings.json_comparison);
   }
-  // The error bound of a level; the last level of a prefix has the index's (it is not full
-  // detail, whose bound is 0).
-  const auto level_error = [&](std::size_t level) {
-    if (indexed && level == progressive.splits.size() && level < info.split_count) {
-      uint64_t splits = 0;
-      for (const pm::PmInfo::Chunk& chunk : info.chunks)
-        if ((splits += chunk.splits) == level) return chunk.error_after;
-    }
-    return pm::error_at_level(progressive, level);
-  };
   StreamCounts counts;
   counts.full_faces = full_faces;
   counts.splits = indexed ? info.split_count : progressive.splits.size();

@@ -13,6 +13,7 @@
 
 #include "batch.h"
 #include "batch_options.h"
+#include "gltf_output.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
 #include "pm/selective_refinement.h"
@@ -77,6 +78,8 @@ struct Settings {
   std::optional<MorphRequest> morph;  // the levels are then its frames
   ErrorBound error;
   std::string output_format;  // --format, or empty
+  pm::cli::GltfOutputOptions gltf;  // --quantize, --material-from (glTF output)
+  bool gltf_chain = false;          // --lods into one glTF file
   pm::ReadOptions read;
   bool skip_existing = false;
   bool create_directories = false;
@@ -105,7 +108,8 @@ struct CommandLine {
   CLI::Option *by_vertices = nullptr, *by_faces = nullptr, *by_ratio = nullptr, *by_error = nullptr,
               *by_lods = nullptr, *compare = nullptr, *max_memory = nullptr, *by_morph = nullptr,
               *by_frames = nullptr, *by_view = nullptr, *by_region = nullptr,
-              *by_viewpoint = nullptr, *exact_ring_flag = nullptr;
+              *by_viewpoint = nullptr, *exact_ring_flag = nullptr, *quantize = nullptr,
+              *material_from = nullptr;
 };
 
 // command_line.cpp: pmdec's options, in the order --help lists them; --format, --absolute

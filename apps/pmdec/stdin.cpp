@@ -29,7 +29,8 @@ int decode_progressively(const Settings& settings, uint64_t every, const std::st
     if (s && settings.create_directories) s = pm::cli::make_parent_directories(path);
     if (s) {
       s = pm::cli::write_output_atomically(
-          path, encoded, format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl);
+          path, encoded,
+          format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl || format == pm::MeshFormat::kGlb);
     }
     if (!s) return pm::cli::fail(kTool, path, s);
     if (!quiet)
