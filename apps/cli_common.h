@@ -68,7 +68,8 @@ void install_cleanup_handlers();
 bool parse_size(std::string_view text, uint64_t& bytes);
 
 // The format of mesh data by its content, for standard input: "ply" header, an OFF header
-// keyword, binary STL by its size or ASCII STL by "solid", OBJ by its first keyword.
+// keyword, binary STL by its size or ASCII STL by "solid", OBJ by its first keyword, GLB by
+// its magic "glTF", a .gltf by its opening '{'.
 MeshFormat sniff_mesh_format(std::string_view bytes);
 
 // text as a JSON string literal, quotes included; bytes that are not UTF-8 become U+FFFD.
