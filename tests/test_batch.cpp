@@ -936,7 +936,7 @@ TEST(Batch, PipesFromPmencThroughPmdec) {
   EXPECT_EQ(unknown.exit_code, 6);
   EXPECT_EQ(unknown.err,
             "pmenc: (stdin): cannot tell the mesh format of standard input: use --format "
-            "obj|ply|off|stl\n");
+            "obj|ply|off|stl|gltf|glb\n");
 }
 
 // ---------------------------------------------------------------------------------------
