@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "io/mesh_readers.h"
-#include "pm/gltf.h"
 #include "io/reader_support.h"
+#include "pm/gltf.h"
 
 namespace pm {
 
