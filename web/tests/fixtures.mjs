@@ -18,6 +18,8 @@ for (const [name, value] of Object.entries({ PM_WEB_DIST: dist, PMDEC: pmdec, PM
   PM_MAKE_SAMPLES: makeSamples, PM_SOURCE_DIR: sourceDir, PM_WEB_WORK: work })) {
   if (!value) throw new Error(`${name} is not set (the tests run from CTest: web/tests/tests.cmake)`);
 }
+// A fresh build has no work folder yet, and pmdec does not make the folders it writes into.
+mkdirSync(work, { recursive: true });
 
 export const { loadPmModule, CoreDecoder, PmError } = await import(join(dist, 'pm-core.js'));
 export const { PmDecoder } = await import(join(dist, 'pm.js'));
