@@ -15,7 +15,9 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <set>
+#include <thread>
 
 namespace pm::cli {
 namespace {
@@ -46,9 +48,20 @@ mode_t output_mode() {
   return g_output_mode;
 }
 
-void remove_temporaries_and_exit(int signal_number) {
+// Held while a temporary is created and published, and while it is renamed and retired, so
+// that the signal thread, which takes it before removing the temporaries, never sees a file
+// that exists but is not yet published (or is published but already renamed into place).
+std::mutex g_temporaries_mutex;
+
+void remove_live_temporaries() {
   for (TemporarySlot& slot : g_temporaries)
     if (slot.state.load(std::memory_order_acquire) == kSlotLive) unlink(slot.path);
+}
+
+// SIGPIPE only (it is sent to the thread that wrote, so it cannot be waited for): runs on
+// that thread, async-signal-safe.
+void remove_temporaries_and_exit(int signal_number) {
+  remove_live_temporaries();
   _exit(128 + signal_number);
 }
 
@@ -187,14 +200,20 @@ Status write_output_atomically(const std::string& path, std::string_view bytes, 
     return Status::ok();
   }
   std::string temp = path + kTemporaryInfix + std::string(kTemporaryRandomChars, 'X');
-  const int fd = mkostemp(temp.data(), O_CLOEXEC);
+  int fd = -1;
+  int slot = -1;
+  {
+    // Published before the first byte is written, so an interrupt removes the file.
+    std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+    fd = mkostemp(temp.data(), O_CLOEXEC);
+    if (fd >= 0) slot = publish_temporary(temp);
+  }
   if (fd < 0) return io_error("cannot create output");
-  // Published before the first byte is written, so an interrupt removes the file.
-  const int slot = publish_temporary(temp);
   const bool written = write_all(fd, bytes) && fsync(fd) == 0;
   Status status = written ? Status::ok() : io_error("cannot write output");
   fchmod(fd, output_mode());
   if (::close(fd) != 0 && status) status = io_error("cannot write output");
+  std::lock_guard<std::mutex> lock(g_temporaries_mutex);
   if (status && std::rename(temp.c_str(), path.c_str()) != 0)
     status = io_error("cannot rename output");
   if (!status) unlink(temp.c_str());
@@ -246,12 +265,28 @@ Status make_parent_directories(const std::string& path) {
 
 void install_cleanup_handlers() {
   output_mode();
+  // SIGINT, SIGTERM and SIGHUP are blocked in this thread and so in every thread started after
+  // it; one thread waits for them, takes the temporaries' lock (a writer between creating and
+  // publishing a file, or between renaming and retiring it, finishes that step first), removes
+  // what is being written and exits. A handler could run on any thread at any instruction.
+  sigset_t waited;
+  sigemptyset(&waited);
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&waited, s);
+  pthread_sigmask(SIG_BLOCK, &waited, nullptr);
+  std::thread([waited] {
+    int signal_number = 0;
+    while (sigwait(&waited, &signal_number) != 0) {
+    }
+    g_temporaries_mutex.lock();
+    remove_live_temporaries();
+    _exit(128 + signal_number);
+  }).detach();
   struct sigaction action {};
   action.sa_handler = remove_temporaries_and_exit;
   sigemptyset(&action.sa_mask);
   // SIGPIPE too: a reader that goes away (pmenc --json | head -1) ends the run, and the
   // temporaries with it.
-  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaction(s, &action, nullptr);
+  sigaction(SIGPIPE, &action, nullptr);
 }
 
 bool parse_size(std::string_view text, uint64_t& bytes) {

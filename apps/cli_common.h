@@ -60,8 +60,9 @@ void remove_stale_temporaries(const std::vector<std::string>& outputs);
 // Creates the directories above path (mkdir -p of its parent).
 Status make_parent_directories(const std::string& path);
 
-// Installs SIGINT/SIGTERM/SIGHUP/SIGPIPE handlers that remove the temporary files being written,
-// and reads the umask once. Call before starting threads.
+// On SIGINT/SIGTERM/SIGHUP/SIGPIPE, removes the temporary files being written and exits
+// 128 + the signal's number; reads the umask once. Call before starting any thread (the three
+// waited-for signals are blocked in the calling thread, and threads inherit that).
 void install_cleanup_handlers();
 
 // "1000000", "512k", "512M", "2G", "1T" (powers of 1024; an optional trailing "B" or "iB").

@@ -498,15 +498,28 @@ TEST(Batch, CaughtSignalsLeaveNoTemporaryAndNoPartialFile) {
   int round = 0;
   for (int signal_number : {SIGTERM, SIGINT, SIGHUP}) {
     const std::string out = "out" + std::to_string(round++);
-    const int delay_ms = std::uniform_int_distribution<int>(100, 1500)(random);
-    SCOPED_TRACE("signal " + std::to_string(signal_number) + " after " + std::to_string(delay_ms) +
-                 " ms");
+    const int delay_ms = std::uniform_int_distribution<int>(0, 1200)(random);
+    SCOPED_TRACE("signal " + std::to_string(signal_number) + " " + std::to_string(delay_ms) +
+                 " ms after the output folder appeared");
     const pid_t pid = spawn_quietly(
         in_dir(dir.path(), PMENC_PATH, {"-r", "in", "--out-dir", out, "-j", "2", "-q"}));
     ASSERT_GT(pid, 0);
+    // The signal is sent once pmenc writes (it makes the output folder then), not after a fixed
+    // time: a loaded or instrumented machine may not have reached main() after 100 ms, and a
+    // signal before pmenc installs its handling kills it with nothing to clean up.
+    int status = 0;
+    bool exited = false;
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!fs::exists(dir.file(out)) && std::chrono::steady_clock::now() < give_up) {
+      if (waitpid(pid, &status, WNOHANG) == pid) {
+        exited = true;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    ASSERT_FALSE(exited) << "pmenc ended before writing anything";
     std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     kill(pid, signal_number);
-    int status = 0;
     waitpid(pid, &status, 0);
     // Killed by the signal, the handler exits 128 + its number (or the run had finished).
     ASSERT_TRUE(WIFEXITED(status));
