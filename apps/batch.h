@@ -117,6 +117,14 @@ struct Outcome {
   std::string json;         // the tool's JSON members, "\"key\":value,..." (no braces)
   std::string stdout_text;  // printed on stdout once the file is done
   uint64_t faces = 0;       // work done, for the faces-per-second figure
+
+  // A copy of this outcome (its JSON members kept) that failed with `why`; its exit code
+  // follows from why's code when the run finishes it (exit_code_for).
+  Outcome failed_with(const Status& why) const {
+    Outcome failed = *this;
+    failed.status = why;
+    return failed;
+  }
 };
 
 // Handed to a Job: what it is doing, for the progress bar, and notes for stderr.

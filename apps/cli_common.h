@@ -1,5 +1,6 @@
-// What pmenc and pmdec share: exit codes, error lines, whole-file input, atomic output,
-// sizes, JSON strings. The library knows nothing of this; it returns Status values that land here.
+// What pmenc and pmdec share: exit codes, error lines, whole-file input, sizes, JSON
+// strings (and, in atomic_output.h, outputs that are whole or absent). The library knows
+// nothing of this; it returns Status values that land here.
 #pragma once
 
 #include <chrono>
@@ -10,6 +11,7 @@
 
 #include "pm/mesh_io.h"
 #include "pm/status.h"
+#include "atomic_output.h"
 
 namespace pm::cli {
 
@@ -41,29 +43,6 @@ int fail(std::string_view tool, std::string_view file, const Status& status);
 // Reads a whole file, or standard input for "-". With max_bytes > 0, an input longer than
 // that is kResourceLimit (checked before reading a regular file, while reading a pipe).
 Status read_whole_input(const std::string& path, std::string& bytes, uint64_t max_bytes = 0);
-
-// Writes bytes to path through a temporary file in the same directory (path + ".tmp." and
-// six random characters), renamed into place once complete, so a failure or a signal never
-// leaves a partial file. Safe to call from several threads at once. "-" writes to standard
-// output; binary data is refused when standard output is a terminal.
-Status write_output_atomically(const std::string& path, std::string_view bytes, bool binary);
-
-// Whether file_name is a temporary of write_output_atomically for output_name (both plain
-// names in the same directory).
-bool is_temporary_for(std::string_view file_name, std::string_view output_name);
-
-// Removes the temporaries that an earlier run killed with SIGKILL left next to these outputs
-// (signals that can be caught remove their own). Only these outputs' temporaries: another
-// process may be writing other files of the same directory.
-void remove_stale_temporaries(const std::vector<std::string>& outputs);
-
-// Creates the directories above path (mkdir -p of its parent).
-Status make_parent_directories(const std::string& path);
-
-// On SIGINT/SIGTERM/SIGHUP/SIGPIPE, removes the temporary files being written and exits
-// 128 + the signal's number; reads the umask once. Call before starting any thread (the three
-// waited-for signals are blocked in the calling thread, and threads inherit that).
-void install_cleanup_handlers();
 
 // "1000000", "512k", "512M", "2G", "1T" (powers of 1024; an optional trailing "B" or "iB").
 bool parse_size(std::string_view text, uint64_t& bytes);

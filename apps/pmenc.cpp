@@ -72,11 +72,7 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   const std::string& output = task.outputs.front();
   pm::cli::Outcome outcome;
   outcome.json = json_members(output, nullptr, 0);
-  auto failed = [&outcome](const pm::Status& status) {
-    outcome.status = status;
-    outcome.exit_code = pm::cli::exit_code_for(status.code());
-    return outcome;
-  };
+  auto failed = [&outcome](const pm::Status& status) { return outcome.failed_with(status); };
   if (!task.input.problem) return failed(task.input.problem);
   if (settings.skip_existing && pm::cli::all_outputs_exist(task)) {
     outcome.skipped = true;
@@ -153,7 +149,7 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
       settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
   if (written) written = pm::cli::write_output_atomically(output, encoded, /*binary=*/true);
   if (!written) {
-    failed(written);
+    outcome.status = written;
     outcome.exit_code = pm::cli::exit_code_for_write(written);
     outcome.error_file = output;
     return outcome;

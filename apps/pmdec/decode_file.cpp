@@ -76,11 +76,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   }
   pm::cli::Outcome outcome;
   outcome.json = json_members(written, nullptr);
-  auto failed = [&outcome](const pm::Status& status) {
-    outcome.status = status;
-    outcome.exit_code = pm::cli::exit_code_for(status.code());
-    return outcome;
-  };
+  auto failed = [&outcome](const pm::Status& status) { return outcome.failed_with(status); };
   if (!task.input.problem) return failed(task.input.problem);
   if (settings.skip_existing && pm::cli::all_outputs_exist(task)) {
     outcome.skipped = true;
@@ -193,7 +189,7 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
         s = settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
         if (s) s = pm::cli::write_output_atomically(output, encoded, binary);
         if (!s) {
-          failed(s);
+          outcome.status = s;
           outcome.exit_code = pm::cli::exit_code_for_write(s);
           outcome.error_file = output;
           return outcome;

@@ -1,0 +1,37 @@
+// Outputs that are whole or absent: each file is written to a temporary beside it and renamed
+// into place, and a caught signal removes the temporaries being written before the process
+// exits (SIGKILL's leftovers are removed by the next run). Shared by pmenc and pmdec.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pm/status.h"
+
+namespace pm::cli {
+
+// Writes bytes to path through a temporary file in the same directory (path + ".tmp." and
+// six random characters), renamed into place once complete, so a failure or a signal never
+// leaves a partial file. Safe to call from several threads at once. "-" writes to standard
+// output; binary data is refused when standard output is a terminal.
+Status write_output_atomically(const std::string& path, std::string_view bytes, bool binary);
+
+// Whether file_name is a temporary of write_output_atomically for output_name (both plain
+// names in the same directory).
+bool is_temporary_for(std::string_view file_name, std::string_view output_name);
+
+// Removes the temporaries that an earlier run killed with SIGKILL left next to these outputs
+// (signals that can be caught remove their own). Only these outputs' temporaries: another
+// process may be writing other files of the same directory.
+void remove_stale_temporaries(const std::vector<std::string>& outputs);
+
+// Creates the directories above path (mkdir -p of its parent).
+Status make_parent_directories(const std::string& path);
+
+// On SIGINT/SIGTERM/SIGHUP/SIGPIPE, removes the temporary files being written and exits
+// 128 + the signal's number; reads the umask once. Call before starting any thread (the three
+// waited-for signals are blocked in the calling thread, and threads inherit that).
+void install_cleanup_handlers();
+
+}  // namespace pm::cli
