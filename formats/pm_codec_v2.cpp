@@ -324,7 +324,10 @@ Status PmStreamReader::State::process(std::string_view bytes, std::size_t& used)
     if (next == expected.size()) {
       stage = kDone;
       base_done = true;
-    } else if (tag == kTagChunk && pm.splits.size() >= options.max_splits) {
+    } else if (tag == kTagChunk && pm.splits.size() >= options.max_splits &&
+               expected[next] == kTagChunk) {
+      // Stopped before the next chunk. After the last one, the sections of full detail
+      // (the loose vertices, the input's order) are read: every split means full detail.
       stage = kDone;
       stopped = true;
     }

@@ -421,6 +421,58 @@ TEST(PmStream, MaxSplitsDecodesOnlyTheChunksNeeded) {
   }
 }
 
+// A reader asked for every split (pmdec --ratio 1, --faces N at or past the full count)
+// reads what follows the last chunk too: full detail keeps the vertices no face uses, as a
+// reader without a limit does. (It used to stop after the last chunk and drop them.)
+TEST(PmStream, MaxSplitsOfEverySplitKeepsTheLooseVertices) {
+  WriteOptions options;
+  options.chunk_splits = 1;  // two chunks, one split each
+  const std::string bytes = write(small_mesh(), options);
+  const ProgressiveMesh whole = read(bytes);
+  ASSERT_EQ(whole.loose_vertex_count, 2u);
+  const Mesh full = extract_level(whole, 2);
+  // 9 vertices, less the welded copy of 1; the loose ones (7, 8) last.
+  ASSERT_EQ(full.vertex_count(), 8u);
+  EXPECT_EQ(std::vector<float>(full.positions.end() - 6, full.positions.end()),
+            (std::vector<float>{3.0f, 3.0f, 3.0f, -3.0f, 1e-30f, 1e30f}));
+  for (uint64_t wanted : {2ull, 3ull}) {
+    ReadOptions read_options;
+    read_options.max_splits = wanted;
+    ReadResult result;
+    const ProgressiveMesh part = read(bytes, read_options, &result);
+    EXPECT_FALSE(result.partial) << wanted;
+    EXPECT_EQ(part.loose_vertex_count, 2u) << wanted;
+    const Mesh level = extract_level(part, level_for_faces(part, full.face_count()));
+    EXPECT_EQ(level.positions, full.positions) << wanted;
+    EXPECT_EQ(level.triangles, full.triangles) << wanted;
+  }
+  // One split short of the end: a level below full detail, without them, as before.
+  ReadOptions first_chunk;
+  first_chunk.max_splits = 1;
+  ReadResult result;
+  const ProgressiveMesh part = read(bytes, first_chunk, &result);
+  EXPECT_TRUE(result.partial);
+  EXPECT_EQ(part.splits.size(), 1u);
+  EXPECT_EQ(extract_level(part, 1).vertex_count(), 5u);  // 0-3 and 5 (4, a copy of 1, merged)
+}
+
+// Every face asked for is full detail, even past a last split that adds no face; fewer
+// faces give the first level that has them, as before.
+TEST(PmStream, LevelForEveryFaceIsFullDetail) {
+  ProgressiveMesh pm = small_mesh();
+  VertexSplit faceless;  // only the level functions read it: no face moves, none appended
+  faceless.u = 6;
+  faceless.vl = faceless.vr = kNoVertex;
+  faceless.moved_begin = 2;
+  pm.splits.push_back(faceless);
+  ASSERT_EQ(faces_at_level(pm, 3), 8u);  // 4 base + 1 carried, then 2 and 1 appended
+  EXPECT_EQ(level_for_faces(pm, 8), 3u);
+  EXPECT_EQ(level_for_faces(pm, 9), 3u);
+  EXPECT_EQ(level_for_faces(pm, 7), 1u);
+  EXPECT_EQ(level_for_faces(pm, 6), 1u);
+  EXPECT_EQ(level_for_faces(pm, 5), 0u);
+}
+
 TEST(PmStream, EveryByteFlipIsAnErrorOrHarmless) {
   const std::string bytes = write(attributed_mesh());
   const ProgressiveMesh original = read(bytes);
@@ -1383,9 +1435,19 @@ TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
       const std::size_t half = plain.splits.size() / 2;
       EXPECT_EQ(test::canonical_faces(extract_level(decoded, half)),
                 test::canonical_faces(extract_level(plain, half)));
+      // One split per chunk: the prefix ends at `half`. Every split is full detail, and
+      // reads the order.
+      WriteOptions one_per_chunk;
+      one_per_chunk.chunk_splits = 1;
+      const std::string chunked = write(pm, one_per_chunk);
       ReadOptions prefix;
       prefix.max_splits = half;
-      EXPECT_FALSE(read(write(pm), prefix).keeps_order() && half < pm.splits.size());
+      const ProgressiveMesh coarse = read(chunked, prefix);
+      EXPECT_EQ(coarse.splits.size(), half);
+      EXPECT_FALSE(coarse.keeps_order() && half < pm.splits.size());
+      prefix.max_splits = pm.splits.size();
+      const ProgressiveMesh every = read(chunked, prefix);
+      expect_same_arrays(extract_level(every, every.splits.size()), input);
     }
 }
 

@@ -13,8 +13,9 @@ SELECTIONS = [
     (["--faces", "1"], dict(faces=1)),  # below the base mesh: the base mesh
     (["--vertices", "300"], dict(vertices=300)),
     (["--ratio", "0.25"], dict(ratio=0.25)),
-    # Full detail, the input exactly, loose vertices included. (pmdec --ratio 1 stops reading
-    # at the last chunk, before the loose vertices: nonmanifold.obj's 2 would be missing.)
+    # Full detail, the input exactly, loose vertices included (nonmanifold.obj has 2),
+    # whether asked for by ratio 1 or by no level option.
+    (["--ratio", "1"], dict(ratio=1.0)),
     ([], dict(ratio=1.0)),
     (["--error", "0.02", "--absolute", "--estimate"], dict(error=0.02, estimate=True)),
 ]

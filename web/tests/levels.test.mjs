@@ -21,10 +21,10 @@ function decodeWhole(path) {
 function checkStream(path) {
   const decoder = decodeWhole(path);
   const full = decoder.level();
-  // Levels below the last split: pmdec reads only the splits a request needs, so a request by
-  // faces that reaches the last split gives full detail without the unreferenced ("loose")
-  // vertices and the input's order, which only a full-detail request (tested here) brings.
-  const requests = [1, Math.round(full.faces / 10), Math.round(full.faces / 3), Math.round(full.faces / 2)];
+  // Some face counts, and every face: full detail, the input exactly (its unreferenced
+  // vertices and order included) as without a request.
+  const requests = [1, Math.round(full.faces / 10), Math.round(full.faces / 3), Math.round(full.faces / 2),
+                    full.faces];
   const cases = [...new Set(requests)].map((faces) => [{ faces }, ['--faces', String(faces)]]);
   cases.push([undefined, []]);  // full detail
   for (const [request, args] of cases) {

@@ -89,7 +89,8 @@ struct ReadOptions {
   // Decode only the splits up to this level (2.x streams: the chunks that hold them; the
   // rest of the stream is neither decompressed nor checked beyond its section headers).
   // The mesh may hold more splits (the rest of the last chunk needed), never fewer; without
-  // all splits, it has no loose vertices and no stored order (they belong to full detail).
+  // all splits, it has no loose vertices and no stored order (they belong to full detail);
+  // with all of them (max_splits at or past the stream's count), it is the whole stream.
   uint64_t max_splits = UINT64_MAX;
 };
 

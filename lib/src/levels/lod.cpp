@@ -34,6 +34,13 @@ std::size_t level_for_faces(const ProgressiveMesh& pm, std::size_t n) {
   std::size_t faces = faces_at_level(pm, 0);
   std::size_t level = 0;
   while (level < pm.splits.size() && faces < n) faces += pm.splits[level++].new_face_count();
+  // Every face asked for: full detail (its loose vertices too), past last splits that add
+  // no face, if a stream has such.
+  if (faces == n) {
+    std::size_t rest = level;
+    while (rest < pm.splits.size() && pm.splits[rest].new_face_count() == 0) ++rest;
+    if (rest == pm.splits.size()) return rest;
+  }
   return level;
 }
 
