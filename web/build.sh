@@ -38,7 +38,8 @@ cmake --build "$build/cmake" -j"${PM_WEB_JOBS:-2}" --target pm_decoder
 # dist/ is what a static server serves: the module, its worker and types, the viewer.
 mkdir -p "$build/dist"
 cp "$build/cmake/dist/pm_decoder.mjs" "$build/cmake/dist/pm_decoder.wasm" "$build/dist/"
-cp "$root"/web/pm.js "$root"/web/pm-core.js "$root"/web/pm-worker.js "$root"/web/pm.d.ts "$build/dist/"
+cp "$root"/web/pm.js "$root"/web/pm-core.js "$root"/web/pm-worker.js "$root"/web/pm.d.ts \
+   "$root"/web/pm-core.d.ts "$build/dist/"
 # The viewer and three.js (npm, web/package-lock.json; .ci/deps runs npm ci, or here when missing).
 if [[ ! -f "$root/web/node_modules/three/build/three.module.js" ]]; then
   (cd "$root/web" && npm ci --no-audit --no-fund >&2)

@@ -1,6 +1,6 @@
 // The WebAssembly decoder, synchronous: pm::codec compiled by emscripten (web/src/pm_wasm.cpp)
 // behind a small class. pm-worker.js runs it off the page's thread (what pm.js offers); node
-// programs and tests may use it directly.
+// programs and tests may use it directly. Types: pm-core.d.ts.
 //
 // Arrays come out of the module's memory as fresh typed arrays (one copy, from the wasm heap
 // into buffers of their own), so that a worker can transfer them to the page without another.

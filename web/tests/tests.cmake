@@ -24,3 +24,10 @@ add_test(NAME Web.browser
          COMMAND ${PM_NODE} --test --test-reporter=spec ${PROJECT_SOURCE_DIR}/web/tests/browser.test.mjs)
 set_tests_properties(Web.browser PROPERTIES FIXTURES_REQUIRED pm_web RESOURCE_LOCK pm_web_work
                      ENVIRONMENT "${PM_WEB_ENV}" TIMEOUT 900 LABELS integration)
+
+# The TypeScript declarations (pm.d.ts, pm-core.d.ts) as a program that uses both entries
+# meets them: tsc --strict compiles tests/types.check.ts without emitting anything
+# (tests/tsconfig.types.json; tsc: Debian's node-typescript, from .ci/deps; about 5 s of CPU).
+add_test(NAME Web.types COMMAND tsc -p tests/tsconfig.types.json
+         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}/web)
+set_tests_properties(Web.types PROPERTIES TIMEOUT 300 LABELS integration)
