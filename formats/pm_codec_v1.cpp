@@ -624,8 +624,8 @@ Status decode_sections(const Header& h, const SectionList& sections, int section
                                                  " differs from split 0's " +
                                                  std::to_string(expected_max_error));
   }
-  std::string message;
-  if (!validate(out, &message)) return Status(ErrorCode::kCorruptStream, message);
+  if (Status valid = validate(out); !valid)
+    return Status(ErrorCode::kCorruptStream, valid.message());
   pm = std::move(out);
   return Status::ok();
 }
@@ -633,10 +633,9 @@ Status decode_sections(const Header& h, const SectionList& sections, int section
 }  // namespace
 
 Status write_pm_v1(const ProgressiveMesh& pm, int zstd_level, std::string& bytes) {
-  std::string message;
-  if (!validate(pm, &message)) {
+  if (Status valid = validate(pm); !valid) {
     return Status(ErrorCode::kInvalidArgument,
-                  "cannot write an invalid progressive mesh: " + message);
+                  "cannot write an invalid progressive mesh: " + valid.message());
   }
   if (Status status = check_writable(pm); !status) return status;
   if (zstd_level < 1 || zstd_level > ZSTD_maxCLevel()) {

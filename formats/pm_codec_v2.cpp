@@ -54,6 +54,7 @@
 
 #include "byte_io.h"
 #include "core/in_turn.h"
+#include "core/no_throw.h"
 #include "levels/validate_decoded.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
@@ -111,9 +112,9 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
 }
 
 Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
-  std::string message;
-  if (!validate(pm, &message)) {
-    return Status(ErrorCode::kInvalidArgument, "cannot write an invalid progressive mesh: " + message);
+  if (Status valid = validate(pm); !valid) {
+    return Status(ErrorCode::kInvalidArgument,
+                  "cannot write an invalid progressive mesh: " + valid.message());
   }
   if (Status status = check_writable_v2(pm, options); !status) return status;
   Writer w(pm, options);
@@ -356,6 +357,17 @@ PmStreamReader::PmStreamReader(const ReadOptions& options) : state_(new State) {
   state_->options = options;
 }
 PmStreamReader::~PmStreamReader() { delete state_; }
+PmStreamReader::PmStreamReader(PmStreamReader&& other) noexcept : state_(other.state_) {
+  other.state_ = nullptr;
+}
+PmStreamReader& PmStreamReader::operator=(PmStreamReader&& other) noexcept {
+  if (this != &other) {
+    delete state_;
+    state_ = other.state_;
+    other.state_ = nullptr;
+  }
+  return *this;
+}
 
 Status PmStreamReader::append(std::string_view bytes) {
   State& s = *state_;
@@ -385,6 +397,15 @@ Status PmStreamReader::append(std::string_view bytes) {
 
 Status PmStreamReader::finish(ReadResult* result) {
   State& s = *state_;
+  try {
+    return s.finish(result);
+  } catch (const std::bad_alloc&) {
+    return s.fail(Status(ErrorCode::kResourceLimit, "out of memory"));
+  }
+}
+
+Status PmStreamReader::State::finish(ReadResult* result) {
+  State& s = *this;
   if (!s.status) return s.status;
   ReadResult r;
   const bool version1 = s.stage == State::kVersion1;
@@ -424,11 +445,33 @@ Status PmStreamReader::finish(ReadResult* result) {
     r.chunks_decoded = static_cast<uint32_t>(s.chunks_decoded);
     r.chunk_count = s.h.chunk_count;
   }
-  std::string message;
   // A 2.x stream's splits were replayed as they were decoded: validate() less its own replay.
-  if (!(version1 ? validate(s.pm, &message) : detail::validate_decoded(s.pm, &message)))
-    return s.fail(corrupt(message));
+  std::string message;
+  bool valid = false;
+  if (version1) {
+    const Status checked = validate(s.pm);
+    valid = checked.is_ok();
+    message = checked.message();
+  } else {
+    valid = detail::validate_decoded(s.pm, &message);
+  }
+  if (!valid) return s.fail(corrupt(message));
   if (result != nullptr) *result = r;
+  s.finished = true;
+  return Status::ok();
+}
+
+Status PmStreamReader::take(ProgressiveMesh& out) {
+  State& s = *state_;
+  if (!s.status) return s.status;
+  if (!s.finished) {
+    return Status(ErrorCode::kInvalidArgument, "the stream is not finished: call finish() first");
+  }
+  out = std::move(s.pm);
+  s.pm = ProgressiveMesh();
+  s.trimmed = ProgressiveMesh();
+  s.taken = true;
+  s.status = Status(ErrorCode::kInvalidArgument, "the decoded mesh was taken");
   return Status::ok();
 }
 
@@ -438,6 +481,7 @@ bool PmStreamReader::complete() const {
 }
 const ProgressiveMesh& PmStreamReader::mesh() const {
   State& s = *state_;
+  if (s.taken) return s.pm;  // empty
   s.attach_carried();
   // 2.2 (§7): in the middle of a stream, entries that later splits introduce have no value
   // yet (0 in s.pm, which decoding goes on filling): the caller gets a copy without them,
@@ -465,20 +509,21 @@ uint64_t PmStreamReader::stream_face_count() const {
 
 Status check_material_strings(const std::vector<std::string>& names,
                               const std::vector<std::string>& libraries) {
-  return check_material_strings_impl(names, libraries);
+  return detail::no_throw([&] { return check_material_strings_impl(names, libraries); });
 }
 
 Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
-  return write_pm_v2(pm, options, bytes);
+  return detail::no_throw([&] { return write_pm_v2(pm, options, bytes); });
 }
 
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options,
                ReadResult* result) {
-  PmStreamReader reader(options);
-  if (Status status = reader.append(bytes); !status) return status;
-  if (Status status = reader.finish(result); !status) return status;
-  pm = std::move(reader.state_->pm);
-  return Status::ok();
+  return detail::no_throw([&] {
+    PmStreamReader reader(options);
+    if (Status status = reader.append(bytes); !status) return status;
+    if (Status status = reader.finish(result); !status) return status;
+    return reader.take(pm);
+  });
 }
 Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options) {
   return read_pm(bytes, pm, options, nullptr);
@@ -487,7 +532,9 @@ Status read_pm(std::string_view bytes, ProgressiveMesh& pm) {
   return read_pm(bytes, pm, ReadOptions{}, nullptr);
 }
 
-Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options) {
+namespace {
+
+Status measure_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options) {
   ProgressiveMesh pm;
   if (Status status = read_pm(bytes, pm, options, nullptr); !status) return status;
   if ((static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {
@@ -539,6 +586,12 @@ Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOption
   }
   sizes = std::move(r);
   return Status::ok();
+}
+
+}  // namespace
+
+Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options) {
+  return detail::no_throw([&] { return measure_sizes(bytes, sizes, options); });
 }
 
 }  // namespace pm

@@ -31,8 +31,7 @@ Mesh read_ok(const std::string& text, MeshFormat format = MeshFormat::kObj,
   Mesh mesh;
   Status status = read_mesh_from_memory(text, format, mesh, report);
   EXPECT_TRUE(status.is_ok()) << error_code_name(status.code()) << ": " << status.message();
-  std::string message;
-  EXPECT_TRUE(validate_attributes(mesh, &message)) << message;
+  EXPECT_TRUE(test::ok(validate_attributes(mesh)));
   return mesh;
 }
 
@@ -988,7 +987,7 @@ TEST(AttributeRobustness, DamagedFilesGiveAnErrorOrAValidMesh) {
       }
       ++accepted;
       std::string message;
-      ASSERT_TRUE(validate_attributes(result, &message)) << message;
+      ASSERT_TRUE(test::ok(validate_attributes(result)));
       std::string written;
       const Status write = write_mesh_to_memory(result, format, written);
       if (!write.is_ok()) {
@@ -1042,7 +1041,7 @@ TEST(GroupFacesByMaterial, GroupsInFirstUseOrderStablyWithTheirCorners) {
             (std::vector<uint32_t>{14, 13, 12, 5, 4, 3, 11, 10, 9, 2, 1, 0, 8, 7, 6}));
   EXPECT_EQ(mesh.face_materials, (std::vector<uint32_t>{1, 1, 0, 0, kNoAttribute}));
   EXPECT_EQ(mesh.positions, positions);
-  EXPECT_TRUE(validate_attributes(mesh, nullptr));
+  EXPECT_TRUE(test::ok(validate_attributes(mesh)));
 
   // Already grouped, one material, or none: unchanged.
   for (const std::vector<uint32_t>& materials :

@@ -33,8 +33,7 @@ ProgressiveMesh encode_ok(const Mesh& mesh, Metric metric, bool drop = false) {
   ProgressiveMesh pm;
   const Status status = encode(mesh, options, pm);
   EXPECT_TRUE(status.ok()) << status.message();
-  std::string problem;
-  EXPECT_TRUE(validate(pm, &problem)) << problem;
+  EXPECT_TRUE(test::ok(validate(pm)));
   return pm;
 }
 

@@ -70,7 +70,7 @@ TEST(Hostile, NonFiniteCoordinatesAreRefusedNamingTheVertex) {
     m.positions[4] = bad;
     ProgressiveMesh pm;
     const Status s = encode(m, EncodeOptions{}, pm);
-    EXPECT_EQ(s.code(), ErrorCode::kParseError);
+    EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
     EXPECT_NE(s.message().find("vertex 2"), std::string::npos) << s.message();
   }
 }
@@ -79,7 +79,7 @@ TEST(Hostile, IndexOutOfRangeIsRefusedNamingTheFace) {
   const Mesh m = mesh_of({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 3});
   ProgressiveMesh pm;
   const Status s = encode(m, EncodeOptions{}, pm);
-  EXPECT_EQ(s.code(), ErrorCode::kParseError);
+  EXPECT_EQ(s.code(), ErrorCode::kInvalidArgument);
   EXPECT_NE(s.message().find("face 2"), std::string::npos) << s.message();
 }
 

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
+#include <type_traits>
 #include <string>
 
 #include "pm/encoder.h"
@@ -141,6 +143,49 @@ TEST(Geomorph, EndsAreTheTwoLevelsExactlyAndEveryAlphaHasTheFineConnectivity) {
         ASSERT_TRUE(mid.positions[i] >= lo - 1e-6f && mid.positions[i] <= hi + 1e-6f) << i;
       }
     }
+  }
+}
+
+// A binding stores a RuntimeLod and its geomorphs side by side, and may move the first:
+// a geomorph shares the runtime's wedge arrays, so it outlives a move and the runtime itself
+// (under the sanitizers, a geomorph that pointed into the runtime would read freed memory).
+static_assert(std::is_nothrow_move_constructible_v<RuntimeLod>);
+static_assert(std::is_nothrow_move_constructible_v<RuntimeLod::Geomorph>);
+
+TEST(Geomorph, OutlivesAMoveAndTheDestructionOfItsRuntime) {
+  const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
+  auto lod = std::make_unique<RuntimeLod>(pm);
+  const RuntimeLod::Geomorph morph = lod->geomorph(pm.split_count() / 4, pm.split_count() / 2);
+  const std::size_t wedges = morph.wedge_count();
+  auto evaluate = [&](float alpha) {
+    std::vector<float> values(10 * wedges);
+    morph.evaluate(alpha, values.data(), values.data() + 3 * wedges, values.data() + 5 * wedges,
+                   values.data() + 8 * wedges);
+    return values;
+  };
+  const std::vector<float> before = evaluate(0.5f);
+  const Mesh start = morph.mesh(0.0f), end = morph.mesh(1.0f);
+
+  RuntimeLod moved(std::move(*lod));
+  moved.set_level(0);  // the geomorph does not follow the runtime's level either
+  EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, 0), moved.to_mesh()));
+  lod.reset();
+  EXPECT_EQ(evaluate(0.5f), before);
+  EXPECT_TRUE(test::same_attributed_faces(start, morph.mesh(0.0f)));
+  EXPECT_TRUE(test::same_attributed_faces(end, morph.mesh(1.0f)));
+  EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, pm.split_count() / 2), morph.mesh(1.0f)));
+}
+
+// to_mesh() keeps the material libraries, as extract_level() does.
+TEST(RuntimeLod, ToMeshKeepsTheMaterialLibraries) {
+  Mesh grid = test::seamed_grid(6);
+  grid.material_libraries = {"scene.mtl", "more.mtl"};
+  const ProgressiveMesh pm = encode_ok(grid);
+  RuntimeLod lod(pm);
+  for (std::size_t level : {std::size_t{0}, pm.split_count()}) {
+    lod.set_level(level);
+    EXPECT_EQ(lod.to_mesh().material_libraries, grid.material_libraries);
+    EXPECT_EQ(lod.material_libraries(), grid.material_libraries);
   }
 }
 

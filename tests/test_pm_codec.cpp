@@ -315,7 +315,7 @@ uint64_t raw_size_of(const std::string& bytes, const SectionSpan& span) {
 TEST(PmCodecRoundTrip, SmallMeshIsExact) {
   const ProgressiveMesh original = small_mesh();
   std::string message;
-  ASSERT_TRUE(validate(original, &message)) << message;
+  ASSERT_TRUE(test::ok(validate(original)));
   const std::string bytes = encode(original);
   ProgressiveMesh decoded;
   const Status status = read_pm(bytes, decoded);
@@ -358,7 +358,7 @@ TEST(PmCodecRoundTrip, LooseVerticesOnly) {
 TEST(PmCodecRoundTrip, GeneratedMeshWithMultiByteVarints) {
   const ProgressiveMesh original = generated_mesh(20000);
   std::string message;
-  ASSERT_TRUE(validate(original, &message)) << message;
+  ASSERT_TRUE(test::ok(validate(original)));
   for (int level : {1, 19}) {
     SCOPED_TRACE("level " + std::to_string(level));
     ProgressiveMesh decoded;
@@ -913,10 +913,9 @@ TEST(PmCodecAdversarial, EmptyAndTinyInputs) {
 // ---------------------------------------------------------------------------------------
 
 TEST(PmCodecAttributes, LiteralMeshesAreValid) {
-  std::string message;
-  EXPECT_TRUE(validate(attributed_mesh(), &message)) << message;
-  EXPECT_TRUE(validate(with_attributes(small_mesh()), &message)) << message;
-  EXPECT_TRUE(validate(with_attributes(generated_mesh(3000)), &message)) << message;
+  EXPECT_TRUE(test::ok(validate(attributed_mesh())));
+  EXPECT_TRUE(test::ok(validate(with_attributes(small_mesh()))));
+  EXPECT_TRUE(test::ok(validate(with_attributes(generated_mesh(3000)))));
 }
 
 TEST(PmCodecAttributes, RoundTripIsExact) {
@@ -1555,17 +1554,17 @@ template <typename Edit>
 void expect_invalid(Edit edit, const std::string& needle) {
   ProgressiveMesh pm = small_mesh();
   edit(pm);
-  std::string message;
-  EXPECT_FALSE(validate(pm, &message)) << "expected: " << needle;
+  const Status status = validate(pm);
+  EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument) << "expected: " << needle;
+  const std::string& message = status.message();
   EXPECT_NE(message.find(needle), std::string::npos) << message;
 }
 
 TEST(PmValidate, LiteralMeshesAreValid) {
-  std::string message;
-  EXPECT_TRUE(validate(small_mesh(), &message)) << message;
-  EXPECT_TRUE(validate(triangle_mesh(), &message)) << message;
-  EXPECT_TRUE(validate(ProgressiveMesh{}, &message)) << message;
-  EXPECT_TRUE(validate(small_mesh(), nullptr));
+  EXPECT_TRUE(test::ok(validate(small_mesh())));
+  EXPECT_TRUE(test::ok(validate(triangle_mesh())));
+  EXPECT_TRUE(test::ok(validate(ProgressiveMesh{})));
+  EXPECT_TRUE(test::ok(validate(small_mesh())));
 }
 
 TEST(PmValidate, PositionsNotMultipleOfThree) {
@@ -1665,8 +1664,7 @@ TEST(PmValidate, MovedFaceMustHoldU) {
   // while a split with u = 0 no longer can.
   ProgressiveMesh pm = small_mesh();
   pm.moved_faces[1] = 1;
-  std::string message;
-  EXPECT_TRUE(validate(pm, &message)) << message;
+  EXPECT_TRUE(test::ok(validate(pm)));
 }
 
 TEST(PmValidate, ErrorsMustBeFiniteAndNonNegative) {
@@ -1718,7 +1716,7 @@ TEST(PmValidate, CarriedFaceIndexOutOfRange) {
   // A repeated index is what carried faces are for.
   ProgressiveMesh pm = small_mesh();
   pm.carried_faces = {3, 3, 3};
-  EXPECT_TRUE(validate(pm, nullptr));
+  EXPECT_TRUE(test::ok(validate(pm)));
 }
 
 TEST(PmValidate, TooManyVerticesForIds) {
@@ -1727,8 +1725,7 @@ TEST(PmValidate, TooManyVerticesForIds) {
   ProgressiveMesh pm;
   pm.base_vertex_count = 0xFFFFFFFFu;
   pm.loose_vertex_count = 1;
-  std::string message;
-  EXPECT_FALSE(validate(pm, &message));
+  const std::string message = validate(pm).message();
   EXPECT_NE(message.find("expected 4294967296"), std::string::npos) << message;
 }
 

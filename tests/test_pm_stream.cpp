@@ -13,10 +13,12 @@
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
+#include <memory>
 #include <numeric>
 #include <set>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "../formats/byte_io.h"
@@ -316,8 +318,7 @@ TEST(PmStream, PiecesOfAnySizeDecodeAsTheWhole) {
         offset += piece;
         // Every state is a valid progressive mesh, refined further than the last.
         if (reader.has_base()) {
-          std::string message;
-          ASSERT_TRUE(validate(reader.mesh(), &message)) << message;
+          ASSERT_TRUE(test::ok(validate(reader.mesh())));
           EXPECT_GE(reader.decoded_face_count(), faces);
           EXPECT_GE(reader.mesh().splits.size(), splits);
           EXPECT_EQ(reader.decoded_face_count(), faces_at_level(reader.mesh(), reader.mesh().splits.size()));
@@ -642,8 +643,7 @@ TEST(PmStream, AttributeTablesInFirstUseOrderKeepEveryCornersValue) {
   }
   ProgressiveMesh ordered = pm;
   order_attribute_tables(ordered);
-  std::string problem;
-  ASSERT_TRUE(validate(ordered, &problem)) << problem;
+  ASSERT_TRUE(test::ok(validate(ordered)));
   EXPECT_NE(ordered.face_uvs, pm.face_uvs);  // the literal's ids are not in that order
   for (const std::size_t level : {std::size_t{0}, pm.splits.size() / 2, pm.splits.size()}) {
     SCOPED_TRACE("level " + std::to_string(level));
@@ -798,6 +798,42 @@ TEST(PmStream, APrefixOf22HasOnlyTheEntriesItsSplitsIntroduced) {
   }
 }
 
+// A streaming decoder in a binding lives in a heap object: the reader moves with its state,
+// and take() hands the finished mesh over without a copy, once.
+static_assert(std::is_nothrow_move_constructible_v<PmStreamReader>);
+static_assert(std::is_nothrow_move_assignable_v<PmStreamReader>);
+static_assert(!std::is_copy_constructible_v<PmStreamReader>);
+
+TEST(PmStream, AReaderMovedMidStreamFinishesAndHandsItsMeshOver) {
+  const ProgressiveMesh pm = with_attributes(generated_mesh(900));
+  WriteOptions options;
+  options.chunk_splits = 64;
+  const std::string bytes = write(pm, options);
+  const ProgressiveMesh whole = read(bytes);
+  PmStreamReader first;
+  ASSERT_TRUE(first.append(std::string_view(bytes).substr(0, bytes.size() / 2)).is_ok());
+  ASSERT_TRUE(first.has_base());
+  const std::size_t splits_before = first.mesh().splits.size();
+  ProgressiveMesh early;
+  EXPECT_EQ(first.take(early).code(), ErrorCode::kInvalidArgument);  // not finished
+  EXPECT_EQ(early.vertex_count(), 0u);
+
+  PmStreamReader second(std::move(first));
+  EXPECT_EQ(second.mesh().splits.size(), splits_before);
+  auto held = std::make_unique<PmStreamReader>();
+  *held = std::move(second);
+  ASSERT_TRUE(held->append(std::string_view(bytes).substr(bytes.size() / 2)).is_ok());
+  ASSERT_TRUE(held->finish().is_ok());
+  ProgressiveMesh taken;
+  ASSERT_TRUE(held->take(taken).is_ok());
+  expect_identical(taken, whole);
+  // The reader holds nothing after that.
+  EXPECT_EQ(held->mesh().vertex_count(), 0u);
+  ProgressiveMesh again;
+  EXPECT_EQ(held->take(again).code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(held->append("x").code(), ErrorCode::kInvalidArgument);
+}
+
 // The same in the middle of a stream (pmdec --stdin --every N): mesh() after some chunks
 // is what finish() makes of that prefix, with no entry whose value has not arrived, and
 // decoding goes on to the whole stream afterwards.
@@ -819,8 +855,7 @@ TEST(PmStream, AMeshInTheMiddleOfA22StreamHasOnlyTheEntriesThatArrived) {
     ASSERT_EQ(prefix.splits.size(), middle.splits.size());
     EXPECT_LT(middle.uv_count(), whole.uv_count());
     expect_identical(middle, prefix);
-    std::string message;
-    EXPECT_TRUE(validate(middle, &message)) << message;
+    EXPECT_TRUE(test::ok(validate(middle)));
     ++checked;
   }
   EXPECT_GE(checked, 3u);
@@ -1150,8 +1185,7 @@ TEST(PmStream, Version23StoresDecimalTablesAsSignificantDecimals) {
   ReadOptions prefix;
   prefix.max_splits = pm.splits.size() / 2;
   const ProgressiveMesh half = read(chunked, prefix);
-  std::string why;
-  EXPECT_TRUE(validate(half, &why)) << why;
+  EXPECT_TRUE(test::ok(validate(half)));
   EXPECT_LT(half.splits.size(), pm.splits.size());
   // A quantized table is not also significant; a record of 0 or 10 digits, a first exponent
   // beyond 40, a value no decimal has: each a clean kCorruptStream.
@@ -1586,8 +1620,7 @@ TEST(PmStream, LayeredSplitsKeepEveryWindowsMesh) {
       options.layer_window = share;
       options.layer_chunk_splits = 256;
       ASSERT_TRUE(encode(input, options, layered).is_ok());
-      std::string message;
-      ASSERT_TRUE(validate(layered, &message)) << message;
+      ASSERT_TRUE(test::ok(validate(layered)));
       ASSERT_EQ(layered.splits.size(), plain.splits.size());
       expect_same_arrays(extract_level(layered, layered.splits.size()), input);
       const auto S = static_cast<uint32_t>(plain.splits.size());
@@ -1685,16 +1718,15 @@ TEST(PmStream, AnOrderThatIsNoBijectionIsInvalid) {
   ProgressiveMesh pm = small_mesh();  // 9 vertices, 1 weld; 8 faces
   pm.input_vertices = {0, 1, 2, 3, 5, 6, 7, 8};
   pm.input_faces = {21, 19, 17, 12, 9, 6, 3, 2};  // 3 * face + rotation
-  std::string message;
-  EXPECT_TRUE(validate(pm, &message)) << message;
+  EXPECT_TRUE(test::ok(validate(pm)));
   expect_round_trip(pm);
   pm.input_vertices[2] = 4;  // the welded copy
-  EXPECT_FALSE(validate(pm, &message));
+  EXPECT_FALSE(validate(pm).is_ok());
   pm.input_vertices[2] = 1;  // twice
-  EXPECT_FALSE(validate(pm, &message));
+  EXPECT_FALSE(validate(pm).is_ok());
   pm.input_vertices[2] = 2;
   pm.input_faces.pop_back();
-  EXPECT_FALSE(validate(pm, &message));
+  EXPECT_FALSE(validate(pm).is_ok());
 }
 
 // ---------------------------------------------------------------------------------------

@@ -289,6 +289,12 @@ std::vector<FacePositions> canonical_faces(const pm::Mesh& mesh) {
   return faces;
 }
 
+::testing::AssertionResult ok(const pm::Status& status) {
+  if (status.is_ok()) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << pm::error_code_name(status.code()) << ": "
+                                       << status.message();
+}
+
 ::testing::AssertionResult same_faces(const pm::Mesh& expected, const pm::Mesh& actual) {
   const std::vector<FacePositions> want = canonical_faces(expected);
   const std::vector<FacePositions> got = canonical_faces(actual);

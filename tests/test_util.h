@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "pm/mesh.h"
+#include "pm/status.h"
 
 namespace pm::test {
 
@@ -105,6 +106,10 @@ using FacePositions = std::array<float, 9>;
 // the result is well defined for any bit pattern.
 // Throws std::out_of_range if a face references a vertex beyond Mesh::positions.
 std::vector<FacePositions> canonical_faces(const pm::Mesh& mesh);
+
+// A Status as an assertion: on failure, its code's name and its message.
+// Usage: EXPECT_TRUE(pm::test::ok(validate(pm)));
+::testing::AssertionResult ok(const pm::Status& status);
 
 // Whether the two meshes have the same multiset of faces, comparing positions bit for bit
 // (-0.0 differs from 0.0; a NaN equals a NaN with the same bits). Unreferenced vertices

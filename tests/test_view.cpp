@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <string>
@@ -253,6 +254,23 @@ TEST(SelectiveRefinement, EveryPrefixOfTheSplitsIsThatLevelWithEveryAttribute) {
     ASSERT_TRUE(r.collapse(j)) << j;
   }
   EXPECT_TRUE(test::same_attributed_faces(extract_level(pm, 0), r.to_mesh()));
+}
+
+// The shared_ptr constructor keeps the progressive mesh alive: a binding may drop its own
+// reference (under the sanitizers, a borrowed mesh freed here would be read after free).
+TEST(SelectiveRefinement, SharingTheProgressiveMeshKeepsItAliveAfterTheCallerDropsIt) {
+  const ProgressiveMesh& pm = grid().pm;
+  auto shared = std::make_shared<const ProgressiveMesh>(pm);
+  SelectiveRefinement owning(shared);
+  shared.reset();
+  SelectiveRefinement moved(std::move(owning));
+  moved.refine_sphere({0.25, 0.25, 0}, 0.2);
+  SelectiveRefinement borrowing(pm);
+  borrowing.refine_sphere({0.25, 0.25, 0}, 0.2);
+  EXPECT_GT(moved.applied_count(), 0u);
+  EXPECT_LT(moved.applied_count(), pm.split_count());
+  EXPECT_EQ(moved.applied_splits(), borrowing.applied_splits());
+  EXPECT_TRUE(test::same_attributed_faces(borrowing.to_mesh(), moved.to_mesh()));
 }
 
 // Random sets of splits, closed by their dependencies, then random collapses of splits no

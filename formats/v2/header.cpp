@@ -19,6 +19,7 @@
 
 #include "byte_io.h"
 #include "core/huge_pages.h"
+#include "core/no_throw.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
 #include "v2/format.h"
@@ -381,7 +382,9 @@ bool PmStreamReader::State::decode_index(ByteReader& in) {
   return true;
 }
 
-Status read_pm_info(std::string_view bytes, PmInfo& info) {
+namespace {
+
+Status read_info(std::string_view bytes, PmInfo& info) {
   if (bytes.size() >= 12 && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0 &&
       (static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {
     return read_pm_info_v1(bytes, info);
@@ -474,6 +477,12 @@ Status read_pm_info(std::string_view bytes, PmInfo& info) {
   }
   info = r;
   return Status::ok();
+}
+
+}  // namespace
+
+Status read_pm_info(std::string_view bytes, PmInfo& info) {
+  return detail::no_throw([&] { return read_info(bytes, info); });
 }
 
 }  // namespace pm

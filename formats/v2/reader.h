@@ -44,6 +44,8 @@ struct PmStreamReader::State {
   std::vector<ChunkEntry> index;
   std::size_t chunks_decoded = 0;
   bool base_done = false;       // every section before the first chunk decoded
+  bool finished = false;        // finish() succeeded: take() may hand the mesh over
+  bool taken = false;           // take() did
 
   ProgressiveMesh pm;
   ProgressiveMesh trimmed;  // mesh()'s copy of pm without unknown entries (2.2, mid-stream)
@@ -97,6 +99,7 @@ struct PmStreamReader::State {
   }
 
   Status process(std::string_view bytes, std::size_t& used);
+  Status finish(ReadResult* result);
   Status start(std::string_view header_bytes, bool reserve = true);
   Status check_section(uint32_t tag, uint32_t flags, uint64_t stored, uint64_t raw_size) const;
   Status decode(uint32_t tag, ByteReader& in);

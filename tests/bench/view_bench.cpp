@@ -162,11 +162,12 @@ int main(int argc, char** argv) {
       const pm::ViewCamera camera = camera_at(f);
       pm::UpdateStats stats;
       start = Clock::now();
-      incremental.update_view(camera, options, {}, &stats);
+      const pm::Status updated = incremental.update_view(camera, options, {}, &stats);
       run.incremental_ms.push_back(ms_since(start));
       start = Clock::now();
-      rebuild.set_view(camera, options);
+      const pm::Status rebuilt = rebuild.set_view(camera, options);
       run.rebuild_ms.push_back(ms_since(start));
+      if (!updated || !rebuilt) die("update_view or set_view failed");
       run.equal_frames += incremental.applied_splits() == rebuild.applied_splits() &&
                           incremental.face_count() == rebuild.face_count();
       run.faces.push_back(double(incremental.face_count()));

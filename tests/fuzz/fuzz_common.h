@@ -224,7 +224,8 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
   check_mesh(mesh, "reader: face index out of range");
   {
     std::string problem;
-    if (!validate_attributes(mesh, &problem)) fail("reader: invalid attributes: " + problem);
+    if (Status valid = validate_attributes(mesh); !valid)
+      fail("reader: invalid attributes: " + valid.message());
   }
   for (float x : mesh.positions) check(std::isfinite(x), "reader: non-finite coordinate");
 
@@ -276,7 +277,8 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
     return 0;
   }
   std::string message;
-  if (!validate(pm, &message)) fail("encode produced an invalid progressive mesh: " + message);
+  if (Status valid = validate(pm); !valid)
+    fail("encode produced an invalid progressive mesh: " + valid.message());
   // Nothing is lost: full detail is the input's faces, exactly, with every vertex.
   const Mesh full = extract_level(pm, pm.split_count());
   check(same_faces(mesh, full), "full detail differs from the input's faces");

@@ -188,7 +188,7 @@ void check_attributes(const ProgressiveMesh& pm) {
   check(identical(a, b) && same_attributes(a, b),
         "read_pm(write_pm(pm)) differs from pm in its attributes");
   const Mesh mesh = extract_level(pm, pm.split_count() / 2);
-  check(validate_attributes(mesh, nullptr), "extract_level: invalid attributes");
+  check(validate_attributes(mesh).is_ok(), "extract_level: invalid attributes");
   check(mesh.colors.size() == std::size_t{pm.color_components} * mesh.vertex_count(),
         "extract_level: colour count");
   check(mesh.uv_indices.size() == (pm.has_uvs() ? mesh.triangles.size() : 0),
@@ -231,7 +231,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // The reader runs validate() less its replay of the moved faces on a 2.x stream, having
   // replayed them itself (validate_decoded.h): the whole of validate() must agree.
   std::string problem;
-  if (!validate(pm, &problem)) fail("read_pm returned a mesh validate() refuses: " + problem);
+  if (Status valid = validate(pm); !valid)
+    fail("read_pm returned a mesh validate() refuses: " + valid.message());
   const std::size_t full = pm.split_count();
   check(info.base_vertex_count == pm.base_vertex_count && info.split_count == full &&
             info.base_face_count == pm.base_face_count() &&

@@ -62,13 +62,13 @@ struct WriteOptions {
 // or library holds a NUL, an option is out of range, or positions to quantize are not finite;
 // kResourceLimit when a count exceeds the format's limits (2^30; 2^20 materials and libraries) or a
 // string is longer than 4096 bytes. `bytes` is untouched on error.
-Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
+[[nodiscard]] Status write_pm(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes);
 
 // Whether the stream can hold these material names and libraries (§5.9, §7.2: at most 2^20
 // of each, each at most 4096 bytes without NUL). encode() checks this first, so that a name
 // the format cannot store fails before the work, not at write_pm. Errors:
 // kInvalidArgument (a NUL), kResourceLimit (too long, too many).
-Status check_material_strings(const std::vector<std::string>& names,
+[[nodiscard]] Status check_material_strings(const std::vector<std::string>& names,
                               const std::vector<std::string>& libraries);
 
 struct ReadOptions {
@@ -106,27 +106,31 @@ struct ReadResult {
 
 // Parses and validates a stream. Errors: kTruncatedStream, kCorruptStream,
 // kChecksumMismatch, kUnsupportedVersion, kResourceLimit. Never reads out of bounds.
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options,
+[[nodiscard]] Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options,
                ReadResult* result);
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options);
-Status read_pm(std::string_view bytes, ProgressiveMesh& pm);  // default ReadOptions
+[[nodiscard]] Status read_pm(std::string_view bytes, ProgressiveMesh& pm, const ReadOptions& options);
+[[nodiscard]] Status read_pm(std::string_view bytes, ProgressiveMesh& pm);  // default ReadOptions
 
 // Decodes a 2.x stream as it arrives (Hoppe 1996, §3: progressive transmission): feed it
 // bytes in order, in pieces of any size; every section that is complete is decoded at
 // once, so mesh() refines chunk by chunk. Streams of version 1.x are decoded whole, when
 // they have fully arrived.
+// Ownership: owns its buffers and the decoded mesh until take() hands the mesh over;
+// movable (a moved-from reader may only be destroyed or assigned to), not copyable.
 class PmStreamReader {
  public:
   explicit PmStreamReader(const ReadOptions& options = {});
   ~PmStreamReader();
   PmStreamReader(const PmStreamReader&) = delete;
   PmStreamReader& operator=(const PmStreamReader&) = delete;
+  PmStreamReader(PmStreamReader&& other) noexcept;
+  PmStreamReader& operator=(PmStreamReader&& other) noexcept;
 
   // The next bytes. An error (damage, a limit) is final: later calls return it again.
-  Status append(std::string_view bytes);
+  [[nodiscard]] Status append(std::string_view bytes);
   // The end of the stream: kTruncatedStream (with the same message as read_pm) when it
   // ended before it was complete, unless options.allow_truncated and the base mesh arrived.
-  Status finish(ReadResult* result = nullptr);
+  [[nodiscard]] Status finish(ReadResult* result = nullptr);
 
   // Whether the base mesh has been decoded (mesh() is then a valid progressive mesh).
   bool has_base() const;
@@ -139,6 +143,12 @@ class PmStreamReader {
   // included), and of the whole stream (from the header, once it has arrived).
   uint64_t decoded_face_count() const;
   uint64_t stream_face_count() const;
+
+  // Hands the decoded mesh over, without a copy, once finish() has succeeded (what read_pm
+  // returns): the reader then holds nothing, mesh() is empty and every later call returns
+  // kInvalidArgument. Before a successful finish(): kInvalidArgument (or the reader's error),
+  // and `out` is untouched.
+  [[nodiscard]] Status take(ProgressiveMesh& out);
 
  private:
   friend Status read_pm(std::string_view, ProgressiveMesh&, const ReadOptions&, ReadResult*);
@@ -195,7 +205,7 @@ struct PmInfo {
 // is long enough for the counts) and, in a 2.x stream, the chunk index (the sections before
 // it are skipped, not decompressed); `bytes` may be a prefix of the stream that holds them.
 // Same errors as read_pm.
-Status read_pm_info(std::string_view bytes, PmInfo& info);
+[[nodiscard]] Status read_pm_info(std::string_view bytes, PmInfo& info);
 
 // Where a 2.x stream's bytes go, for `pmdec --info --sizes`: each section's bytes (its
 // 24-byte header and zstd frame; the chunks summed), and the chunks' streams (pm-format.md
@@ -212,6 +222,6 @@ struct PmSizes {
 };
 // Decodes the whole stream first (the same checks and errors as read_pm); a 1.x stream is
 // kUnsupportedVersion (its records are not chunked).
-Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options = {});
+[[nodiscard]] Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options = {});
 
 }  // namespace pm

@@ -112,10 +112,12 @@ struct EncodeStats {
 // bounding-box diagonal: encode() refuses a wider mesh, whose errors could overflow.
 inline constexpr double kMaxEncodeDiagonal = 1e38;
 
-// Errors: kEmptyMesh (no vertices), kParseError when an index is out of range or a
-// coordinate is not finite, kResourceLimit from 2^30 vertices or faces, or when the
-// bounding-box diagonal exceeds kMaxEncodeDiagonal.
-Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
+// Errors: kInvalidArgument for an option out of range or a mesh that is not well formed
+// (arrays of the wrong length, a vertex or attribute index out of range, a coordinate that
+// is not finite: validate_attributes()); kEmptyMesh (no vertices); kResourceLimit from 2^30
+// vertices or faces, when the bounding-box diagonal exceeds kMaxEncodeDiagonal, or when
+// memory runs out. Never throws.
+[[nodiscard]] Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
               EncodeStats* stats = nullptr);
 
 }  // namespace pm

@@ -43,7 +43,7 @@ struct GltfReadOptions {
 // does not know. Malformed files (bad JSON, GLB chunks past the end, accessors or strides
 // past their buffers, indices out of range) are kParseError, too many faces kResourceLimit,
 // no triangle kEmptyMesh.
-Status read_gltf(std::string_view bytes, const GltfReadOptions& options, Mesh& mesh,
+[[nodiscard]] Status read_gltf(std::string_view bytes, const GltfReadOptions& options, Mesh& mesh,
                  ReadReport* report = nullptr);
 
 // The material names read_gltf gives a file's materials, by index: the material's own name,
@@ -81,7 +81,7 @@ struct GltfLevel {
 // level is one mesh with one primitive per material (faces without a material in one of
 // their own). Errors: kInvalidArgument for no level, a mesh that fails validate_attributes
 // or has non-finite values, a material source that does not parse (kParseError).
-Status write_gltf(const std::vector<GltfLevel>& levels, const GltfWriteOptions& options,
+[[nodiscard]] Status write_gltf(const std::vector<GltfLevel>& levels, const GltfWriteOptions& options,
                   std::string& bytes);
 
 }  // namespace pm

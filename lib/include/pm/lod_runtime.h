@@ -12,6 +12,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "pm/mesh.h"
@@ -19,7 +21,12 @@
 
 namespace pm {
 
+// Ownership: copies what it needs from the ProgressiveMesh (which may then go); movable and
+// copyable; its per-wedge arrays never change and are shared with its geomorphs.
 class RuntimeLod {
+ private:
+  struct Wedges;
+
  public:
   // pm must be valid (see validate()); the object starts at level 0, the base mesh.
   explicit RuntimeLod(const ProgressiveMesh& pm);
@@ -41,17 +48,16 @@ class RuntimeLod {
   std::size_t vertex_count() const;  // as vertices_at_level()
   const uint32_t* indices() const { return indices_.data(); }
   std::size_t wedge_count() const { return wedge_end_[level_]; }
-  const float* positions() const { return wedge_positions_.data(); }  // 3 per wedge
+  const float* positions() const;  // 3 per wedge
   // Per wedge, or null when the mesh has none (a wedge without one holds NaN).
-  const float* uvs() const { return wedge_uvs_.empty() ? nullptr : wedge_uvs_.data(); }
-  const float* normals() const { return wedge_normals_.empty() ? nullptr : wedge_normals_.data(); }
-  const float* colors() const { return wedge_colors_.empty() ? nullptr : wedge_colors_.data(); }
-  uint32_t color_components() const { return color_components_; }
+  const float* uvs() const;
+  const float* normals() const;
+  const float* colors() const;
+  uint32_t color_components() const;
   // Per face slot (active faces first), or null: indices into material_names().
-  const uint32_t* face_materials() const {
-    return face_materials_.empty() ? nullptr : face_materials_.data();
-  }
-  const std::vector<std::string>& material_names() const { return material_names_; }
+  const uint32_t* face_materials() const;
+  const std::vector<std::string>& material_names() const;
+  const std::vector<std::string>& material_libraries() const;
 
   // The active mesh as a Mesh: one vertex per wedge in use, per-corner attributes. Its
   // faces (positions and attributes, corner by corner) are those of extract_level() at the
@@ -64,6 +70,8 @@ class RuntimeLod {
   // A geomorph (Hoppe 1996, §4.2) from level `from` to level `to` (from <= to): the mesh of
   // level `to`, in which each wedge that level `from` does not have starts at its
   // ancestor's position and attributes in `from`. Leaves this object at level `to`.
+  // Ownership: owns its blend ends and index buffer and shares the RuntimeLod's wedge
+  // arrays, so it stays valid when the RuntimeLod moves, changes level or is destroyed.
   class Geomorph {
    public:
     // Writes the blend at alpha in [0, 1] (0: level `from`'s geometry, 1: level `to`'s,
@@ -76,7 +84,9 @@ class RuntimeLod {
     const uint32_t* indices() const { return indices_.data(); }
     // The blended mesh as extract_level() writes a level: one vertex per vertex of level
     // `to` (welded copies merged), attributes per corner. At alpha = 1 its faces are those of
-    // extract_level(to); at alpha = 0, those of extract_level(from) plus faces of no area.
+    // extract_level(to); at alpha = 0, those of extract_level(from) plus faces of no area,
+    // corner attributes included (a corner has a texture coordinate or normal as level `from`
+    // has it at 0, as level `to` has it above).
     Mesh mesh(float alpha) const;
 
    private:
@@ -84,14 +94,26 @@ class RuntimeLod {
     std::size_t wedge_count_ = 0;
     std::vector<uint32_t> indices_;
     std::vector<uint32_t> morphing_;  // wedges whose start differs from their end
+    std::vector<uint32_t> starts_;    // per morphing wedge: the wedge it starts as
     std::vector<float> start_positions_, end_positions_;  // 3 per morphing wedge
     std::vector<float> start_uvs_, end_uvs_, start_normals_, end_normals_;
     std::vector<float> start_colors_, end_colors_;
-    const RuntimeLod* owner_ = nullptr;
+    std::shared_ptr<const Wedges> wedges_;
   };
   Geomorph geomorph(std::size_t from, std::size_t to);
 
  private:
+  // What never changes after construction: the wedges' values and what to_mesh() needs.
+  struct Wedges {
+    std::vector<float> positions, uvs, normals, colors;
+    uint32_t color_components = 0;
+    std::vector<uint32_t> vertex;  // the progressive mesh's vertex id of each wedge
+    std::vector<bool> has_uv, has_normal;  // per wedge, when the mesh has the kind
+    std::vector<uint32_t> face_materials;  // per face slot
+    std::vector<std::string> material_names, material_libraries;
+    // Per base vertex when there are welds: the vertex it is output as.
+    std::vector<uint32_t> canonical;
+  };
   struct Split {
     uint32_t moved_begin, moved_end;  // into moved_
     uint32_t new_faces;               // 1 or 2
@@ -111,14 +133,8 @@ class RuntimeLod {
   std::vector<uint32_t> vertex_end_;  // per level: output vertices (vertices_at_level)
   std::vector<float> errors_;         // per level: error bound
   std::vector<uint32_t> indices_;     // 3 per face slot, all levels
-  std::vector<float> wedge_positions_, wedge_uvs_, wedge_normals_, wedge_colors_;
-  std::vector<uint32_t> wedge_vertex_;  // the progressive mesh's vertex id of each wedge
   std::vector<uint32_t> wedge_parent_;  // the wedge it merges into when its vertex collapses
-  std::vector<bool> wedge_has_uv_, wedge_has_normal_;  // per wedge, when the mesh has the kind
-  std::vector<uint32_t> face_materials_;
-  std::vector<std::string> material_names_, material_libraries_;
-  std::vector<uint32_t> canonical_;  // per base vertex when there are welds: the vertex it is output as
-  uint32_t color_components_ = 0;
+  std::shared_ptr<const Wedges> wedges_;  // never null
   uint32_t base_vertex_count_ = 0;
   std::size_t level_ = 0;
 };

@@ -33,7 +33,7 @@ struct MeasuredLevel {
 // bracket; the bound on the returned level always holds, since it was measured.
 // Errors: kInvalidArgument (max_hausdorff negative or not finite, face_ratio <= 1, an
 // invalid pm), and those of measure_surface_distance.
-Status level_for_measured_error(const ProgressiveMesh& pm, double max_hausdorff,
+[[nodiscard]] Status level_for_measured_error(const ProgressiveMesh& pm, double max_hausdorff,
                                 const MeasuredLevelOptions& options, MeasuredLevel& out);
 
 }  // namespace pm

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "pm/status.h"
+
 namespace pm {
 
 // A corner or face without the attribute (an OBJ face corner written "v" or "v//vn", a
@@ -20,6 +22,7 @@ inline constexpr uint32_t kNoAttribute = 0xFFFFFFFFu;
 // (texture coordinates and normals: a UV seam, a crease) are per corner, as indices into
 // a table of values, so that one vertex can carry several ("wedges"). Every attribute is
 // optional: an empty vector means the mesh has none.
+// Ownership: a value that owns its arrays; no function keeps a reference to one it is given.
 struct Mesh {
   std::vector<float> positions;     // x, y, z per vertex (float32, as stored in files)
   std::vector<uint32_t> triangles;  // three vertex indices per face, counter-clockwise
@@ -56,9 +59,9 @@ struct Mesh {
 };
 
 // Checks the attribute arrays against the counts above (sizes, indices in range or
-// kNoAttribute, 3 or 4 colour components). Returns false and a message on the first
+// kNoAttribute, 3 or 4 colour components). kInvalidArgument with a message on the first
 // violation. Readers produce valid meshes; encode() refuses an invalid one.
-bool validate_attributes(const Mesh& mesh, std::string* message);
+[[nodiscard]] Status validate_attributes(const Mesh& mesh);
 
 // Reorders the faces so that each material's faces are contiguous: materials in the order
 // of their first face, faces without a material where their first one stood, each group's

@@ -47,11 +47,11 @@ std::vector<std::string> describe_read_report(const ReadReport& report);
 // (cannot open/read), kParseError (malformed: the message names the line or element),
 // kUnsupportedFormat (extension; for glTF also what read_gltf refuses).
 // A mesh with neither vertices nor faces is kEmptyMesh.
-Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report = nullptr);
+[[nodiscard]] Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report = nullptr);
 
 // Parses a mesh held in memory (stdin, tests); a .gltf whose buffers are other files is
 // refused (bytes in memory have no directory).
-Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
+[[nodiscard]] Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
                              ReadReport* report = nullptr);
 
 // Serializes a mesh with every attribute the format can hold (README.md, "Input and output
@@ -62,6 +62,6 @@ Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& me
 // kInvalidArgument for a mesh that fails validate_attributes, has non-finite values or a
 // material name that would not read back as itself (empty, control characters, blanks at
 // an end or in a library name, a '#' starting a comment).
-Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& bytes);
+[[nodiscard]] Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& bytes);
 
 }  // namespace pm

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pm/mesh.h"  // kNoAttribute
+#include "pm/status.h"
 
 namespace pm {
 
@@ -53,6 +54,8 @@ struct Weld {
 // Vertex ids: [0, base_vertex_count) base vertices; then one per split in order; then
 // loose_vertex_count vertices that no face of the input used, output at full detail only.
 // Face ids: base faces first, then the faces each split appends, in order.
+// Ownership: a value that owns its arrays. Only SelectiveRefinement keeps one after its
+// constructor returns (borrowed or shared, see there); RuntimeLod copies what it needs.
 struct ProgressiveMesh {
   uint32_t base_vertex_count = 0;
   uint32_t loose_vertex_count = 0;
@@ -112,8 +115,8 @@ struct ProgressiveMesh {
 };
 
 // Validates every invariant a decoder relies on (ids in range, faces that hold u,
-// non-increasing errors, ...). Returns false and a message on the first violation.
-bool validate(const ProgressiveMesh& pm, std::string* message);
+// non-increasing errors, ...). kInvalidArgument with a message on the first violation.
+[[nodiscard]] Status validate(const ProgressiveMesh& pm);
 
 // The .pm stream's chunks (pm-format.md §5.6): 256 splits, then doubling up to `largest`,
 // the rest in the last. Sizes, in order.

@@ -51,7 +51,7 @@ struct ViewCamera {
 // kInvalidArgument with a one-line message when the camera has no view direction (eye ==
 // target, or up parallel to it), a field of view outside (0, 180), a viewport of no pixels,
 // or a value that is not finite.
-Status check_camera(const ViewCamera& camera);
+[[nodiscard]] Status check_camera(const ViewCamera& camera);
 
 // The criteria of view-dependent refinement (Hoppe 1997, §3.1-3.3). A split is wanted when its
 // box (SplitBounds) meets the view frustum, its region is not entirely back-facing (normal cone)
@@ -109,12 +109,18 @@ enum class DependencyRule {
   kExactRing,
 };
 
+// Ownership: borrows its ProgressiveMesh for its whole life (the reference constructor: the
+// caller keeps it alive, unmoved and unchanged) or shares it (the shared_ptr constructor, for
+// bindings); movable, not copyable.
 class SelectiveRefinement {
  public:
-  // pm must be valid (see validate()) and outlive this object, which reads its positions and
-  // attributes. Builds the hierarchy, the dependencies and the bounds in one replay of the
-  // splits; starts at the base mesh.
+  // pm must be valid (see validate()) and outlive this object, unmoved and unchanged: this
+  // object reads its positions and attributes. Builds the hierarchy, the dependencies and the
+  // bounds in one replay of the splits; starts at the base mesh.
   explicit SelectiveRefinement(const ProgressiveMesh& pm,
+                               DependencyRule rule = DependencyRule::kHoppe1997);
+  // The same, keeping pm alive for as long as this object lives (pm must not be null).
+  explicit SelectiveRefinement(std::shared_ptr<const ProgressiveMesh> pm,
                                DependencyRule rule = DependencyRule::kHoppe1997);
   DependencyRule dependency_rule() const { return rule_; }
 
@@ -169,12 +175,12 @@ class SelectiveRefinement {
   // that vertices near the viewpoint are kept first, while the mesh stays within the budget
   // (faces as face_count(), vertices as vertex_count()). kInvalidArgument when the budget is
   // below the base mesh's count, or the viewpoint is not finite. Give one budget (the other 0).
-  Status refine_toward(const Point3& viewpoint, std::size_t max_faces, std::size_t max_vertices);
+  [[nodiscard]] Status refine_toward(const Point3& viewpoint, std::size_t max_faces, std::size_t max_vertices);
 
   // --- View-dependent refinement (Hoppe 1997) ---
   // From scratch: the base mesh, then every wanted split (evaluated top-down through the
   // hierarchy) with its dependencies. kInvalidArgument on a bad camera or tolerance.
-  Status set_view(const ViewCamera& camera, const ViewOptions& options);
+  [[nodiscard]] Status set_view(const ViewCamera& camera, const ViewOptions& options);
   // Incremental (Hoppe 1997, §5: temporal coherence): moves the mesh to what set_view() gives
   // for this camera by re-evaluating only the splits on the boundary of the wanted set whose
   // decision may have changed since the previous camera (each carries a margin of camera
@@ -183,7 +189,7 @@ class SelectiveRefinement {
   // mesh is valid after every update and reaches set_view()'s within the next updates
   // (stats->pending says how much is left). The first update, and any change of options, field
   // of view or viewport, evaluates the whole boundary.
-  Status update_view(const ViewCamera& camera, const ViewOptions& options,
+  [[nodiscard]] Status update_view(const ViewCamera& camera, const ViewOptions& options,
                      const UpdateBudget& budget = {}, UpdateStats* stats = nullptr);
 
   // --- Output ---
@@ -214,6 +220,7 @@ class SelectiveRefinement {
   template <class Wanted>
   void refine_top_down(const Wanted& wanted);
 
+  std::shared_ptr<const ProgressiveMesh> owned_;  // null when pm_ is borrowed
   const ProgressiveMesh* pm_;
   DependencyRule rule_;
   uint32_t base_vertex_count_ = 0;

@@ -43,7 +43,7 @@ struct SurfaceDistance {
 // Memory: about 150 bytes per face of both meshes together (with one thread, less).
 // Errors: kInvalidArgument (a mesh with no faces, a vertex index out of range, a
 // non-finite coordinate, samples_per_face below 1 or not finite).
-Status measure_surface_distance(const Mesh& reference, const Mesh& other,
+[[nodiscard]] Status measure_surface_distance(const Mesh& reference, const Mesh& other,
                                 const DistanceOptions& options, SurfaceDistance& out);
 
 // The diagonal of the bounding box of x, y, z triples (0 for none): the unit of errors

@@ -28,9 +28,7 @@ bool check_indices(const std::vector<uint32_t>& indices, std::size_t expected_si
   return true;
 }
 
-}  // namespace
-
-bool validate_attributes(const Mesh& mesh, std::string* message) {
+bool check_attributes(const Mesh& mesh, std::string* message) {
   if (mesh.color_components != 0 && mesh.color_components != 3 && mesh.color_components != 4)
     return fail(message, "colours have " + std::to_string(mesh.color_components) +
                              " components, not 3 or 4");
@@ -45,6 +43,14 @@ bool validate_attributes(const Mesh& mesh, std::string* message) {
                        "normal index", message) &&
          check_indices(mesh.face_materials, mesh.face_count(), mesh.material_names.size(),
                        "face material", message);
+}
+
+}  // namespace
+
+Status validate_attributes(const Mesh& mesh) {
+  std::string problem;
+  if (check_attributes(mesh, &problem)) return Status::ok();
+  return Status(ErrorCode::kInvalidArgument, std::move(problem));
 }
 
 void group_faces_by_material(Mesh& mesh) {

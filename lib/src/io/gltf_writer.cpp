@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "io/gltf_glb.h"
+#include "core/no_throw.h"
 #include "io/gltf_names.h"
 #include "pm/gltf.h"
 
@@ -358,267 +359,268 @@ bool all_finite(const std::vector<float>& values) {
 }  // namespace
 
 Status write_gltf(const std::vector<GltfLevel>& levels, const GltfWriteOptions& options, std::string& bytes) {
-  if (levels.empty()) return Status(ErrorCode::kInvalidArgument, "no level to write");
-  uint32_t color_components = 0;
-  for (const GltfLevel& level : levels) {
-    if (!level.mesh) return Status(ErrorCode::kInvalidArgument, "a level without a mesh");
-    std::string problem;
-    if (!validate_attributes(*level.mesh, &problem)) return Status(ErrorCode::kInvalidArgument, problem);
-    const Mesh& m = *level.mesh;
-    if (!all_finite(m.positions) || !all_finite(m.colors) || !all_finite(m.uvs) || !all_finite(m.normals))
-      return Status(ErrorCode::kInvalidArgument, "non-finite value");
-    if (&level != &levels.front() && m.color_components != color_components)
-      return Status(ErrorCode::kInvalidArgument, "levels with different colour components");
-    color_components = m.color_components;
-  }
+  return detail::no_throw([&]() -> Status {
+    if (levels.empty()) return Status(ErrorCode::kInvalidArgument, "no level to write");
+    uint32_t color_components = 0;
+    for (const GltfLevel& level : levels) {
+      if (!level.mesh) return Status(ErrorCode::kInvalidArgument, "a level without a mesh");
+      if (Status valid = validate_attributes(*level.mesh); !valid) return valid;
+      const Mesh& m = *level.mesh;
+      if (!all_finite(m.positions) || !all_finite(m.colors) || !all_finite(m.uvs) || !all_finite(m.normals))
+        return Status(ErrorCode::kInvalidArgument, "non-finite value");
+      if (&level != &levels.front() && m.color_components != color_components)
+        return Status(ErrorCode::kInvalidArgument, "levels with different colour components");
+      color_components = m.color_components;
+    }
 
-  // Materials by name, in order of first use over the levels.
-  std::vector<std::string> material_names;
-  std::map<std::string, uint32_t> material_ids;
-  // Each level's faces as primitives; the shared vertices.
-  SharedVertices vertices;
-  std::vector<std::map<PrimitiveKey, std::vector<uint32_t>>> level_primitives(levels.size());
-  for (std::size_t l = 0; l < levels.size(); ++l) {
-    const Mesh& m = *levels[l].mesh;
-    std::vector<uint32_t> material_of(m.material_names.size(), kNone);
-    for (std::size_t f = 0; f < m.face_count(); ++f) {
-      PrimitiveKey key{kNone, m.has_uvs(), m.has_normals()};
-      if (m.has_materials() && m.face_materials[f] != kNoAttribute) {
-        const uint32_t local = m.face_materials[f];
-        if (material_of[local] == kNone) {
-          auto [it, inserted] = material_ids.try_emplace(m.material_names[local], uint32_t(material_names.size()));
-          if (inserted) material_names.push_back(m.material_names[local]);
-          material_of[local] = it->second;
+    // Materials by name, in order of first use over the levels.
+    std::vector<std::string> material_names;
+    std::map<std::string, uint32_t> material_ids;
+    // Each level's faces as primitives; the shared vertices.
+    SharedVertices vertices;
+    std::vector<std::map<PrimitiveKey, std::vector<uint32_t>>> level_primitives(levels.size());
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+      const Mesh& m = *levels[l].mesh;
+      std::vector<uint32_t> material_of(m.material_names.size(), kNone);
+      for (std::size_t f = 0; f < m.face_count(); ++f) {
+        PrimitiveKey key{kNone, m.has_uvs(), m.has_normals()};
+        if (m.has_materials() && m.face_materials[f] != kNoAttribute) {
+          const uint32_t local = m.face_materials[f];
+          if (material_of[local] == kNone) {
+            auto [it, inserted] = material_ids.try_emplace(m.material_names[local], uint32_t(material_names.size()));
+            if (inserted) material_names.push_back(m.material_names[local]);
+            material_of[local] = it->second;
+          }
+          key.material = material_of[local];
         }
-        key.material = material_of[local];
-      }
-      for (int c = 0; c < 3; ++c) {
-        key.uvs = key.uvs && m.uv_indices[3 * f + c] != kNoAttribute;
-        key.normals = key.normals && m.normal_indices[3 * f + c] != kNoAttribute;
-      }
-      std::vector<uint32_t>& indices = level_primitives[l][key];
-      for (int c = 0; c < 3; ++c) {
-        const std::size_t corner = 3 * f + c;
-        const uint32_t v = m.triangles[corner];
-        const float* position = &m.positions[3 * std::size_t{v}];
-        const float* color = color_components ? &m.colors[std::size_t{v} * color_components] : nullptr;
-        const float* uv = key.uvs ? &m.uvs[2 * std::size_t{m.uv_indices[corner]}] : nullptr;
-        float normal[3];
-        if (key.normals) unit_normal(&m.normals[3 * std::size_t{m.normal_indices[corner]}], normal);
-        std::array<uint32_t, 12> id;
-        id.fill(kNone);
-        for (int i = 0; i < 3; ++i) id[i] = bits_of(position[i]);
-        for (uint32_t i = 0; i < color_components; ++i) id[3 + i] = bits_of(color[i]);
-        if (uv) id[7] = bits_of(uv[0]), id[8] = bits_of(uv[1]);
-        if (key.normals) id[9] = bits_of(normal[0]), id[10] = bits_of(normal[1]), id[11] = bits_of(normal[2]);
-        indices.push_back(vertices.add(id, position, color, color_components, uv, key.normals ? normal : nullptr));
-      }
-    }
-  }
-  const std::size_t vertex_count = vertices.count();
-  if (vertex_count == 0) return Status(ErrorCode::kInvalidArgument, "no faces to write");
-  if (vertex_count > UINT32_MAX - 1) return Status(ErrorCode::kResourceLimit, "more than 2^32 - 1 vertices");
-  bool any_uvs = false, any_normals = false;
-  for (const auto& primitives : level_primitives)
-    for (const auto& [key, indices] : primitives) any_uvs |= key.uvs, any_normals |= key.normals;
-
-  Json document;
-  document["asset"] = {{"version", "2.0"}, {"generator", std::string("pm ") + PM_VERSION_STRING}};
-  Json views = Json::array(), accessors = Json::array();
-  BinaryBuilder binary;
-
-  // Vertex attributes: one accessor each, shared by every primitive of every level.
-  Json attributes;
-  double grid_scale = 1;
-  std::array<double, 3> grid_origin{};
-  {
-    // POSITION: min and max are required (§3.7.2.1).
-    std::array<float, 3> low, high;
-    for (int i = 0; i < 3; ++i) {
-      low[i] = high[i] = vertices.positions[i];
-      for (std::size_t v = 0; v < vertex_count; ++v) {
-        low[i] = std::min(low[i], vertices.positions[3 * v + i]);
-        high[i] = std::max(high[i], vertices.positions[3 * v + i]);
-      }
-    }
-    Json accessor = {{"bufferView", 0}, {"componentType", kFloat}, {"count", vertex_count}, {"type", "VEC3"}};
-    if (options.quantize) {
-      double extent = 0;
-      for (int i = 0; i < 3; ++i) extent = std::max(extent, double(high[i]) - low[i]), grid_origin[i] = low[i];
-      grid_scale = extent > 0 ? extent / 65535.0 : 1.0;
-      accessor["bufferView"] = binary.begin_view(views, 8, kArrayBuffer);
-      accessor["componentType"] = kUnsignedShort;
-      std::array<uint16_t, 3> qlow{65535, 65535, 65535}, qhigh{0, 0, 0};
-      for (std::size_t v = 0; v < vertex_count; ++v) {
-        for (int i = 0; i < 3; ++i) {
-          const double q = std::round((vertices.positions[3 * v + i] - grid_origin[i]) / grid_scale);
-          const auto value = static_cast<uint16_t>(std::clamp(q, 0.0, 65535.0));
-          qlow[i] = std::min(qlow[i], value), qhigh[i] = std::max(qhigh[i], value);
-          binary.put(value);
+        for (int c = 0; c < 3; ++c) {
+          key.uvs = key.uvs && m.uv_indices[3 * f + c] != kNoAttribute;
+          key.normals = key.normals && m.normal_indices[3 * f + c] != kNoAttribute;
         }
-        binary.pad(2);
+        std::vector<uint32_t>& indices = level_primitives[l][key];
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t corner = 3 * f + c;
+          const uint32_t v = m.triangles[corner];
+          const float* position = &m.positions[3 * std::size_t{v}];
+          const float* color = color_components ? &m.colors[std::size_t{v} * color_components] : nullptr;
+          const float* uv = key.uvs ? &m.uvs[2 * std::size_t{m.uv_indices[corner]}] : nullptr;
+          float normal[3];
+          if (key.normals) unit_normal(&m.normals[3 * std::size_t{m.normal_indices[corner]}], normal);
+          std::array<uint32_t, 12> id;
+          id.fill(kNone);
+          for (int i = 0; i < 3; ++i) id[i] = bits_of(position[i]);
+          for (uint32_t i = 0; i < color_components; ++i) id[3 + i] = bits_of(color[i]);
+          if (uv) id[7] = bits_of(uv[0]), id[8] = bits_of(uv[1]);
+          if (key.normals) id[9] = bits_of(normal[0]), id[10] = bits_of(normal[1]), id[11] = bits_of(normal[2]);
+          indices.push_back(vertices.add(id, position, color, color_components, uv, key.normals ? normal : nullptr));
+        }
       }
-      accessor["min"] = qlow;
-      accessor["max"] = qhigh;
-    } else {
-      accessor["bufferView"] = binary.begin_view(views, 0, kArrayBuffer);
-      for (float value : vertices.positions) binary.put(value);
-      accessor["min"] = {double(low[0]), double(low[1]), double(low[2])};
-      accessor["max"] = {double(high[0]), double(high[1]), double(high[2])};
     }
-    binary.end_view(views);
-    accessors.push_back(accessor);
-    attributes["POSITION"] = accessors.size() - 1;
-  }
-  if (any_normals) {
-    Json accessor = {{"componentType", kFloat}, {"count", vertex_count}, {"type", "VEC3"}};
-    if (options.quantize) {
-      accessor["bufferView"] = binary.begin_view(views, 4, kArrayBuffer);
-      accessor["componentType"] = kByte;
-      accessor["normalized"] = true;
-      for (std::size_t v = 0; v < vertex_count; ++v) {
-        for (int8_t q : quantize_normal(&vertices.normals[3 * v])) binary.put(q);
-        binary.pad(1);
-      }
-    } else {
-      accessor["bufferView"] = binary.begin_view(views, 0, kArrayBuffer);
-      for (float value : vertices.normals) binary.put(value);
-    }
-    binary.end_view(views);
-    accessors.push_back(accessor);
-    attributes["NORMAL"] = accessors.size() - 1;
-  }
-  if (any_uvs) {
-    Json accessor = {{"componentType", kFloat}, {"count", vertex_count}, {"type", "VEC2"}};
-    const bool unit_range = std::all_of(vertices.uvs.begin(), vertices.uvs.end(), [](float t) { return t >= 0 && t <= 1; });
-    accessor["bufferView"] = binary.begin_view(views, 0, kArrayBuffer);
-    if (options.quantize && unit_range) {
-      accessor["componentType"] = kUnsignedShort;
-      accessor["normalized"] = true;
-      for (float t : vertices.uvs) binary.put(static_cast<uint16_t>(std::lround(double(t) * 65535.0)));
-    } else {
-      for (float value : vertices.uvs) binary.put(value);
-    }
-    binary.end_view(views);
-    accessors.push_back(accessor);
-    attributes["TEXCOORD_0"] = accessors.size() - 1;
-  }
-  if (color_components) {
-    Json accessor = {{"bufferView", binary.begin_view(views, 0, kArrayBuffer)}, {"componentType", kFloat},
-                     {"count", vertex_count}, {"type", color_components == 4 ? "VEC4" : "VEC3"}};
-    for (float value : vertices.colors) binary.put(value);
-    binary.end_view(views);
-    accessors.push_back(accessor);
-    attributes["COLOR_0"] = accessors.size() - 1;
-  }
+    const std::size_t vertex_count = vertices.count();
+    if (vertex_count == 0) return Status(ErrorCode::kInvalidArgument, "no faces to write");
+    if (vertex_count > UINT32_MAX - 1) return Status(ErrorCode::kResourceLimit, "more than 2^32 - 1 vertices");
+    bool any_uvs = false, any_normals = false;
+    for (const auto& primitives : level_primitives)
+      for (const auto& [key, indices] : primitives) any_uvs |= key.uvs, any_normals |= key.normals;
 
-  // Materials: definitions copied from the source, or names.
-  Json materials = Json::array();
-  Json copied_textures = Json::object();
-  MaterialCopier copier;
-  if (options.materials)
-    if (Status s = copier.load(*options.materials); !s) return s;
-  for (const std::string& name : material_names) {
-    Json definition;
-    if (options.materials) {
-      if (Status s = copier.material(name, copied_textures, binary, views, definition); !s) return s;
-    } else {
-      definition = {{"name", name}};
-    }
-    materials.push_back(definition);
-  }
+    Json document;
+    document["asset"] = {{"version", "2.0"}, {"generator", std::string("pm ") + PM_VERSION_STRING}};
+    Json views = Json::array(), accessors = Json::array();
+    BinaryBuilder binary;
 
-  // Indices: one bufferView per level, finest first (the order of the nodes), one accessor
-  // per primitive; 16-bit when every index fits below 65535 (the primitive restart value).
-  const bool short_indices = vertex_count <= 65535;
-  Json meshes = Json::array(), nodes = Json::array();
-  for (std::size_t n = 0; n < levels.size(); ++n) {
-    const std::size_t l = levels.size() - 1 - n;  // node n is level l: finest first
-    const int view = binary.begin_view(views, 0, kElementArrayBuffer);
-    Json primitives = Json::array();
-    for (const auto& [key, indices] : level_primitives[l]) {
-      Json accessor = {{"bufferView", view},
-                       {"byteOffset", binary.view_offset()},
-                       {"componentType", short_indices ? kUnsignedShort : kUnsignedInt},
-                       {"count", indices.size()},
-                       {"type", "SCALAR"}};
-      for (uint32_t index : indices) short_indices ? binary.put(static_cast<uint16_t>(index)) : binary.put(index);
-      if (short_indices && indices.size() % 2) binary.pad(2);  // the next accessor on 4 bytes
-      accessors.push_back(accessor);
-      Json primitive_attributes = {{"POSITION", attributes["POSITION"]}};
-      if (key.normals) primitive_attributes["NORMAL"] = attributes["NORMAL"];
-      if (key.uvs) primitive_attributes["TEXCOORD_0"] = attributes["TEXCOORD_0"];
-      if (attributes.contains("COLOR_0")) primitive_attributes["COLOR_0"] = attributes["COLOR_0"];
-      Json primitive = {{"attributes", primitive_attributes}, {"indices", accessors.size() - 1}};
-      if (key.material != kNone) primitive["material"] = key.material;
-      primitives.push_back(primitive);
-    }
-    binary.end_view(views);
-    meshes.push_back({{"name", "level_" + std::to_string(n)}, {"primitives", primitives}});
-    Json node = {{"name", "level_" + std::to_string(n)}, {"mesh", n}};
-    if (options.quantize) {
-      node["translation"] = grid_origin;
-      node["scale"] = {grid_scale, grid_scale, grid_scale};
-    }
-    nodes.push_back(node);
-  }
-  std::vector<std::string> used, required;
-  if (levels.size() > 1) {
-    // MSFT_lod on the finest node, the coarser ones listed finest first; one screen-coverage
-    // hint per level: the share of the screen's height the model's diagonal may cover before
-    // the next coarser level's error bound would project to more than a pixel on a
-    // kHintScreenPixels-high screen, squared (an area), 0 for the coarsest.
-    Json ids = Json::array(), coverage = Json::array();
-    double diagonal = 0;
+    // Vertex attributes: one accessor each, shared by every primitive of every level.
+    Json attributes;
+    double grid_scale = 1;
+    std::array<double, 3> grid_origin{};
     {
-      double d2 = 0;
+      // POSITION: min and max are required (§3.7.2.1).
+      std::array<float, 3> low, high;
       for (int i = 0; i < 3; ++i) {
-        float lo = vertices.positions[i], hi = lo;
-        for (std::size_t v = 0; v < vertex_count; ++v)
-          lo = std::min(lo, vertices.positions[3 * v + i]), hi = std::max(hi, vertices.positions[3 * v + i]);
-        d2 += (double(hi) - lo) * (double(hi) - lo);
+        low[i] = high[i] = vertices.positions[i];
+        for (std::size_t v = 0; v < vertex_count; ++v) {
+          low[i] = std::min(low[i], vertices.positions[3 * v + i]);
+          high[i] = std::max(high[i], vertices.positions[3 * v + i]);
+        }
       }
-      diagonal = std::sqrt(d2);
+      Json accessor = {{"bufferView", 0}, {"componentType", kFloat}, {"count", vertex_count}, {"type", "VEC3"}};
+      if (options.quantize) {
+        double extent = 0;
+        for (int i = 0; i < 3; ++i) extent = std::max(extent, double(high[i]) - low[i]), grid_origin[i] = low[i];
+        grid_scale = extent > 0 ? extent / 65535.0 : 1.0;
+        accessor["bufferView"] = binary.begin_view(views, 8, kArrayBuffer);
+        accessor["componentType"] = kUnsignedShort;
+        std::array<uint16_t, 3> qlow{65535, 65535, 65535}, qhigh{0, 0, 0};
+        for (std::size_t v = 0; v < vertex_count; ++v) {
+          for (int i = 0; i < 3; ++i) {
+            const double q = std::round((vertices.positions[3 * v + i] - grid_origin[i]) / grid_scale);
+            const auto value = static_cast<uint16_t>(std::clamp(q, 0.0, 65535.0));
+            qlow[i] = std::min(qlow[i], value), qhigh[i] = std::max(qhigh[i], value);
+            binary.put(value);
+          }
+          binary.pad(2);
+        }
+        accessor["min"] = qlow;
+        accessor["max"] = qhigh;
+      } else {
+        accessor["bufferView"] = binary.begin_view(views, 0, kArrayBuffer);
+        for (float value : vertices.positions) binary.put(value);
+        accessor["min"] = {double(low[0]), double(low[1]), double(low[2])};
+        accessor["max"] = {double(high[0]), double(high[1]), double(high[2])};
+      }
+      binary.end_view(views);
+      accessors.push_back(accessor);
+      attributes["POSITION"] = accessors.size() - 1;
     }
-    for (std::size_t n = 1; n < levels.size(); ++n) ids.push_back(n);
-    double previous = 1;
+    if (any_normals) {
+      Json accessor = {{"componentType", kFloat}, {"count", vertex_count}, {"type", "VEC3"}};
+      if (options.quantize) {
+        accessor["bufferView"] = binary.begin_view(views, 4, kArrayBuffer);
+        accessor["componentType"] = kByte;
+        accessor["normalized"] = true;
+        for (std::size_t v = 0; v < vertex_count; ++v) {
+          for (int8_t q : quantize_normal(&vertices.normals[3 * v])) binary.put(q);
+          binary.pad(1);
+        }
+      } else {
+        accessor["bufferView"] = binary.begin_view(views, 0, kArrayBuffer);
+        for (float value : vertices.normals) binary.put(value);
+      }
+      binary.end_view(views);
+      accessors.push_back(accessor);
+      attributes["NORMAL"] = accessors.size() - 1;
+    }
+    if (any_uvs) {
+      Json accessor = {{"componentType", kFloat}, {"count", vertex_count}, {"type", "VEC2"}};
+      const bool unit_range = std::all_of(vertices.uvs.begin(), vertices.uvs.end(), [](float t) { return t >= 0 && t <= 1; });
+      accessor["bufferView"] = binary.begin_view(views, 0, kArrayBuffer);
+      if (options.quantize && unit_range) {
+        accessor["componentType"] = kUnsignedShort;
+        accessor["normalized"] = true;
+        for (float t : vertices.uvs) binary.put(static_cast<uint16_t>(std::lround(double(t) * 65535.0)));
+      } else {
+        for (float value : vertices.uvs) binary.put(value);
+      }
+      binary.end_view(views);
+      accessors.push_back(accessor);
+      attributes["TEXCOORD_0"] = accessors.size() - 1;
+    }
+    if (color_components) {
+      Json accessor = {{"bufferView", binary.begin_view(views, 0, kArrayBuffer)}, {"componentType", kFloat},
+                       {"count", vertex_count}, {"type", color_components == 4 ? "VEC4" : "VEC3"}};
+      for (float value : vertices.colors) binary.put(value);
+      binary.end_view(views);
+      accessors.push_back(accessor);
+      attributes["COLOR_0"] = accessors.size() - 1;
+    }
+
+    // Materials: definitions copied from the source, or names.
+    Json materials = Json::array();
+    Json copied_textures = Json::object();
+    MaterialCopier copier;
+    if (options.materials)
+      if (Status s = copier.load(*options.materials); !s) return s;
+    for (const std::string& name : material_names) {
+      Json definition;
+      if (options.materials) {
+        if (Status s = copier.material(name, copied_textures, binary, views, definition); !s) return s;
+      } else {
+        definition = {{"name", name}};
+      }
+      materials.push_back(definition);
+    }
+
+    // Indices: one bufferView per level, finest first (the order of the nodes), one accessor
+    // per primitive; 16-bit when every index fits below 65535 (the primitive restart value).
+    const bool short_indices = vertex_count <= 65535;
+    Json meshes = Json::array(), nodes = Json::array();
     for (std::size_t n = 0; n < levels.size(); ++n) {
-      double hint = 0;
-      if (n + 1 < levels.size()) {
-        const double coarser_error = levels[levels.size() - 2 - n].error;
-        const double height_share = coarser_error > 0 ? diagonal / (coarser_error * kHintScreenPixels) : 1;
-        hint = std::min(previous, std::min(1.0, height_share * height_share));
+      const std::size_t l = levels.size() - 1 - n;  // node n is level l: finest first
+      const int view = binary.begin_view(views, 0, kElementArrayBuffer);
+      Json primitives = Json::array();
+      for (const auto& [key, indices] : level_primitives[l]) {
+        Json accessor = {{"bufferView", view},
+                         {"byteOffset", binary.view_offset()},
+                         {"componentType", short_indices ? kUnsignedShort : kUnsignedInt},
+                         {"count", indices.size()},
+                         {"type", "SCALAR"}};
+        for (uint32_t index : indices) short_indices ? binary.put(static_cast<uint16_t>(index)) : binary.put(index);
+        if (short_indices && indices.size() % 2) binary.pad(2);  // the next accessor on 4 bytes
+        accessors.push_back(accessor);
+        Json primitive_attributes = {{"POSITION", attributes["POSITION"]}};
+        if (key.normals) primitive_attributes["NORMAL"] = attributes["NORMAL"];
+        if (key.uvs) primitive_attributes["TEXCOORD_0"] = attributes["TEXCOORD_0"];
+        if (attributes.contains("COLOR_0")) primitive_attributes["COLOR_0"] = attributes["COLOR_0"];
+        Json primitive = {{"attributes", primitive_attributes}, {"indices", accessors.size() - 1}};
+        if (key.material != kNone) primitive["material"] = key.material;
+        primitives.push_back(primitive);
       }
-      coverage.push_back(hint);
-      previous = hint;
+      binary.end_view(views);
+      meshes.push_back({{"name", "level_" + std::to_string(n)}, {"primitives", primitives}});
+      Json node = {{"name", "level_" + std::to_string(n)}, {"mesh", n}};
+      if (options.quantize) {
+        node["translation"] = grid_origin;
+        node["scale"] = {grid_scale, grid_scale, grid_scale};
+      }
+      nodes.push_back(node);
     }
-    nodes[0]["extensions"] = {{"MSFT_lod", {{"ids", ids}}}};
-    nodes[0]["extras"] = {{"MSFT_screencoverage", coverage}};
-    used.push_back("MSFT_lod");
-  }
-  if (options.quantize) used.push_back("KHR_mesh_quantization"), required.push_back("KHR_mesh_quantization");
-  for (const std::string& extension : copier.extensions()) {
-    used.push_back(extension);
-    if (copier.required(extension)) required.push_back(extension);
-  }
-  if (!used.empty()) document["extensionsUsed"] = used;
-  if (!required.empty()) document["extensionsRequired"] = required;
-  document["scene"] = 0;
-  document["scenes"] = Json::array({{{"nodes", {0}}}});
-  document["nodes"] = nodes;
-  document["meshes"] = meshes;
-  if (!materials.empty()) document["materials"] = materials;
-  for (const char* kind : {"textures", "images", "samplers"})
-    if (copied_textures.contains(kind)) document[kind] = copied_textures[kind];
-  document["accessors"] = accessors;
-  document["bufferViews"] = views;
-  while (binary.bytes().size() % 4) binary.bytes().push_back('\0');
-  Json buffer = {{"byteLength", binary.bytes().size()}};
-  if (!options.binary) buffer["uri"] = "data:application/octet-stream;base64," + base64(binary.bytes());
-  document["buffers"] = Json::array({buffer});
-  const std::string json = document.dump();
-  bytes = options.binary ? detail::make_glb(json, binary.bytes()) : json;
-  return Status::ok();
+    std::vector<std::string> used, required;
+    if (levels.size() > 1) {
+      // MSFT_lod on the finest node, the coarser ones listed finest first; one screen-coverage
+      // hint per level: the share of the screen's height the model's diagonal may cover before
+      // the next coarser level's error bound would project to more than a pixel on a
+      // kHintScreenPixels-high screen, squared (an area), 0 for the coarsest.
+      Json ids = Json::array(), coverage = Json::array();
+      double diagonal = 0;
+      {
+        double d2 = 0;
+        for (int i = 0; i < 3; ++i) {
+          float lo = vertices.positions[i], hi = lo;
+          for (std::size_t v = 0; v < vertex_count; ++v)
+            lo = std::min(lo, vertices.positions[3 * v + i]), hi = std::max(hi, vertices.positions[3 * v + i]);
+          d2 += (double(hi) - lo) * (double(hi) - lo);
+        }
+        diagonal = std::sqrt(d2);
+      }
+      for (std::size_t n = 1; n < levels.size(); ++n) ids.push_back(n);
+      double previous = 1;
+      for (std::size_t n = 0; n < levels.size(); ++n) {
+        double hint = 0;
+        if (n + 1 < levels.size()) {
+          const double coarser_error = levels[levels.size() - 2 - n].error;
+          const double height_share = coarser_error > 0 ? diagonal / (coarser_error * kHintScreenPixels) : 1;
+          hint = std::min(previous, std::min(1.0, height_share * height_share));
+        }
+        coverage.push_back(hint);
+        previous = hint;
+      }
+      nodes[0]["extensions"] = {{"MSFT_lod", {{"ids", ids}}}};
+      nodes[0]["extras"] = {{"MSFT_screencoverage", coverage}};
+      used.push_back("MSFT_lod");
+    }
+    if (options.quantize) used.push_back("KHR_mesh_quantization"), required.push_back("KHR_mesh_quantization");
+    for (const std::string& extension : copier.extensions()) {
+      used.push_back(extension);
+      if (copier.required(extension)) required.push_back(extension);
+    }
+    if (!used.empty()) document["extensionsUsed"] = used;
+    if (!required.empty()) document["extensionsRequired"] = required;
+    document["scene"] = 0;
+    document["scenes"] = Json::array({{{"nodes", {0}}}});
+    document["nodes"] = nodes;
+    document["meshes"] = meshes;
+    if (!materials.empty()) document["materials"] = materials;
+    for (const char* kind : {"textures", "images", "samplers"})
+      if (copied_textures.contains(kind)) document[kind] = copied_textures[kind];
+    document["accessors"] = accessors;
+    document["bufferViews"] = views;
+    while (binary.bytes().size() % 4) binary.bytes().push_back('\0');
+    Json buffer = {{"byteLength", binary.bytes().size()}};
+    if (!options.binary) buffer["uri"] = "data:application/octet-stream;base64," + base64(binary.bytes());
+    document["buffers"] = Json::array({buffer});
+    const std::string json = document.dump();
+    bytes = options.binary ? detail::make_glb(json, binary.bytes()) : json;
+    return Status::ok();
+  });
 }
 
 }  // namespace pm

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/no_throw.h"
 #include "io/mesh_readers.h"
 #include "io/reader_support.h"
 #include "pm/gltf.h"
@@ -81,8 +82,10 @@ const char* mesh_format_name(MeshFormat format) {
   return "unknown";
 }
 
-Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
-                             ReadReport* report) {
+namespace {
+
+Status read_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
+                        ReadReport* report) {
   Mesh parsed;
   ReadReport parsed_report;
   Status status;
@@ -114,7 +117,7 @@ Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& me
   return Status::ok();
 }
 
-Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
+Status read_file(const std::string& path, Mesh& mesh, ReadReport* report) {
   const MeshFormat format = mesh_format_from_path(path);
   if (format == MeshFormat::kUnknown) {
     return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
@@ -155,7 +158,18 @@ Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
     options.base_directory = directory.empty() ? "." : directory.string();
     return read_gltf(std::string_view(bytes.get(), size), options, mesh, report);
   }
-  return read_mesh_from_memory(std::string_view(bytes.get(), size), format, mesh, report);
+  return read_from_memory(std::string_view(bytes.get(), size), format, mesh, report);
+}
+
+}  // namespace
+
+Status read_mesh_from_memory(std::string_view bytes, MeshFormat format, Mesh& mesh,
+                             ReadReport* report) {
+  return detail::no_throw([&] { return read_from_memory(bytes, format, mesh, report); });
+}
+
+Status read_mesh(const std::string& path, Mesh& mesh, ReadReport* report) {
+  return detail::no_throw([&] { return read_file(path, mesh, report); });
 }
 
 }  // namespace pm

@@ -37,6 +37,7 @@
 
 #include "pm/gltf.h"
 #include "pm/mesh_io.h"
+#include "core/no_throw.h"
 
 namespace pm {
 namespace {
@@ -135,8 +136,7 @@ Status validate(const Mesh& mesh) {
                      std::to_string(mesh.triangles[i]) + " of " + std::to_string(vertices));
     }
   }
-  std::string message;
-  if (!validate_attributes(mesh, &message)) return invalid(message);
+  if (Status valid = validate_attributes(mesh); !valid) return valid;
   // Readers refuse non-finite attribute values (and NaN means "none" in PLY and OFF lists).
   const std::pair<const std::vector<float>*, const char*> tables[] = {
       {&mesh.colors, "colour"}, {&mesh.uvs, "texture coordinate"}, {&mesh.normals, "normal"}};
@@ -678,29 +678,32 @@ Status write_stl(const Mesh& mesh, std::string& bytes) {
 }  // namespace
 
 Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& bytes) {
-  if (format == MeshFormat::kUnknown) {
-    return Status(ErrorCode::kUnsupportedFormat, "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
-  }
-  if (Status status = validate(mesh); !status) return status;
-  switch (format) {
-    case MeshFormat::kObj:
-      return write_obj(mesh, bytes);
-    case MeshFormat::kOff:
-      return write_off(mesh, bytes);
-    case MeshFormat::kPly:
-      return write_ply(mesh, bytes);
-    case MeshFormat::kStl:
-      return write_stl(mesh, bytes);
-    case MeshFormat::kGltf:
-    case MeshFormat::kGlb: {
-      GltfWriteOptions options;
-      options.binary = format == MeshFormat::kGlb;
-      return write_gltf({{&mesh, 0}}, options, bytes);
+  return detail::no_throw([&]() -> Status {
+    if (format == MeshFormat::kUnknown) {
+      return Status(ErrorCode::kUnsupportedFormat,
+                    "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
     }
-    case MeshFormat::kUnknown:
-      break;
-  }
-  return Status(ErrorCode::kInternal, "unhandled mesh format");
+    if (Status status = validate(mesh); !status) return status;
+    switch (format) {
+      case MeshFormat::kObj:
+        return write_obj(mesh, bytes);
+      case MeshFormat::kOff:
+        return write_off(mesh, bytes);
+      case MeshFormat::kPly:
+        return write_ply(mesh, bytes);
+      case MeshFormat::kStl:
+        return write_stl(mesh, bytes);
+      case MeshFormat::kGltf:
+      case MeshFormat::kGlb: {
+        GltfWriteOptions options;
+        options.binary = format == MeshFormat::kGlb;
+        return write_gltf({{&mesh, 0}}, options, bytes);
+      }
+      case MeshFormat::kUnknown:
+        break;
+    }
+    return Status(ErrorCode::kInternal, "unhandled mesh format");
+  });
 }
 
 }  // namespace pm

@@ -347,7 +347,7 @@ Status read_with_openmesh(std::string_view bytes, MeshFormat format, Mesh& mesh,
   std::string abort_message;
   try {
     std::lock_guard<std::mutex> lock(openmesh_mutex());
-    silence_openmesh_logs();
+    const QuietOpenMeshLogs quiet;
     ok = OpenMesh::IO::IOManager().read(in, name, importer, options);
   } catch (const AbortRead& abort) {
     abort_message = abort.message;

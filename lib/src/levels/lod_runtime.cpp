@@ -33,18 +33,20 @@ constexpr uint32_t kNone = 0xFFFFFFFFu;
 }  // namespace
 
 RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
+  auto built = std::make_shared<Wedges>();
+  Wedges& W = *built;
   const uint32_t base_faces = static_cast<uint32_t>(pm.base_face_count());
   const uint32_t carried = static_cast<uint32_t>(pm.carried_faces.size() / 3);
   const std::size_t total_faces = pm.total_face_count();
   const bool has_uvs = pm.has_uvs(), has_normals = pm.has_normals();
   base_vertex_count_ = pm.base_vertex_count;
-  color_components_ = pm.color_components;
-  material_names_ = pm.material_names;
-  material_libraries_ = pm.material_libraries;
+  W.color_components = pm.color_components;
+  W.material_names = pm.material_names;
+  W.material_libraries = pm.material_libraries;
   if (!pm.welds.empty()) {
-    canonical_.resize(pm.base_vertex_count);
-    for (uint32_t v = 0; v < pm.base_vertex_count; ++v) canonical_[v] = v;
-    for (const Weld& w : pm.welds) canonical_[w.copy] = w.canonical;
+    W.canonical.resize(pm.base_vertex_count);
+    for (uint32_t v = 0; v < pm.base_vertex_count; ++v) W.canonical[v] = v;
+    for (const Weld& w : pm.welds) W.canonical[w.copy] = w.canonical;
   }
 
   std::unordered_map<WedgeKey, uint32_t, WedgeKeyHash> wedge_of;
@@ -57,9 +59,9 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
   uint32_t splitting = kNone;  // the vertex the current split creates: its wedges merge into u's
   auto wedge = [&](uint32_t vertex, uint32_t uv, uint32_t normal) {
     const auto [it, added] =
-        wedge_of.emplace(WedgeKey{vertex, uv, normal}, static_cast<uint32_t>(wedge_vertex_.size()));
+        wedge_of.emplace(WedgeKey{vertex, uv, normal}, static_cast<uint32_t>(W.vertex.size()));
     if (added) {
-      wedge_vertex_.push_back(vertex);
+      W.vertex.push_back(vertex);
       wedge_uv_id.push_back(uv);
       wedge_normal_id.push_back(normal);
       wedge_parent_.push_back(vertex == splitting ? kNone : first_wedge[vertex]);
@@ -71,7 +73,7 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
   // splits add. pm's creation order is base, split faces, carried; face ids in
   // moved_faces count base and split faces.
   indices_.assign(3 * total_faces, 0);
-  face_materials_.reserve(pm.face_materials.size());
+  W.face_materials.reserve(pm.face_materials.size());
   auto creation_index = [&](std::size_t slot) -> std::size_t {
     return slot < carried ? total_faces - carried + slot : slot - carried;
   };
@@ -94,7 +96,7 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
   wedge_end_.reserve(levels + 1);
   uint32_t faces = carried + base_faces;
   face_end_.push_back(faces);
-  wedge_end_.push_back(static_cast<uint32_t>(wedge_vertex_.size()));
+  wedge_end_.push_back(static_cast<uint32_t>(W.vertex.size()));
   for (std::size_t i = 0; i < levels; ++i) {
     const VertexSplit& s = pm.splits[i];
     const uint32_t v = pm.base_vertex_count + static_cast<uint32_t>(i);
@@ -104,7 +106,7 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
       const uint32_t entry = s.moved_begin + k;
       const uint32_t slot = carried + pm.moved_faces[entry];
       int c = 0;
-      while (wedge_vertex_[indices_[3 * slot + c]] != s.u) ++c;  // validate(): u is there once
+      while (W.vertex[indices_[3 * slot + c]] != s.u) ++c;  // validate(): u is there once
       const uint32_t coarse = indices_[3 * slot + c];
       const uint32_t fine = wedge(v, has_uvs ? pm.moved_uvs[entry] : kNoAttribute,
                                   has_normals ? pm.moved_normals[entry] : kNoAttribute);
@@ -130,12 +132,12 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
     }
     splits_.push_back(record);
     face_end_.push_back(faces);
-    wedge_end_.push_back(static_cast<uint32_t>(wedge_vertex_.size()));
+    wedge_end_.push_back(static_cast<uint32_t>(W.vertex.size()));
   }
   level_ = levels;
 
   for (std::size_t slot = 0; slot < total_faces && pm.has_materials(); ++slot)
-    face_materials_.push_back(pm.face_materials[creation_index(slot)]);
+    W.face_materials.push_back(pm.face_materials[creation_index(slot)]);
   vertex_end_.resize(levels + 1);
   errors_.resize(levels + 1);
   for (std::size_t l = 0; l <= levels; ++l) {
@@ -145,33 +147,54 @@ RuntimeLod::RuntimeLod(const ProgressiveMesh& pm) {
   }
 
   // Wedge values, stored once.
-  const std::size_t wedges = wedge_vertex_.size();
+  const std::size_t wedges = W.vertex.size();
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  wedge_positions_.resize(3 * wedges);
-  if (has_uvs) wedge_uvs_.assign(2 * wedges, nan);
-  if (has_normals) wedge_normals_.assign(3 * wedges, nan);
-  wedge_colors_.resize(std::size_t{color_components_} * wedges);
+  W.positions.resize(3 * wedges);
+  if (has_uvs) W.uvs.assign(2 * wedges, nan);
+  if (has_normals) W.normals.assign(3 * wedges, nan);
+  W.colors.resize(std::size_t{W.color_components} * wedges);
   for (std::size_t w = 0; w < wedges; ++w) {
-    const std::size_t v = wedge_vertex_[w];
-    std::copy_n(&pm.positions[3 * v], 3, &wedge_positions_[3 * w]);
+    const std::size_t v = W.vertex[w];
+    std::copy_n(&pm.positions[3 * v], 3, &W.positions[3 * w]);
     if (has_uvs && wedge_uv_id[w] != kNoAttribute)
-      std::copy_n(&pm.uvs[2 * std::size_t{wedge_uv_id[w]}], 2, &wedge_uvs_[2 * w]);
+      std::copy_n(&pm.uvs[2 * std::size_t{wedge_uv_id[w]}], 2, &W.uvs[2 * w]);
     if (has_normals && wedge_normal_id[w] != kNoAttribute)
-      std::copy_n(&pm.normals[3 * std::size_t{wedge_normal_id[w]}], 3, &wedge_normals_[3 * w]);
-    std::copy_n(pm.colors.begin() + color_components_ * v, color_components_,
-                wedge_colors_.begin() + color_components_ * w);
+      std::copy_n(&pm.normals[3 * std::size_t{wedge_normal_id[w]}], 3, &W.normals[3 * w]);
+    std::copy_n(pm.colors.begin() + W.color_components * v, W.color_components,
+                W.colors.begin() + W.color_components * w);
   }
-  wedge_has_uv_.resize(has_uvs ? wedges : 0);
-  wedge_has_normal_.resize(has_normals ? wedges : 0);
-  for (std::size_t w = 0; w < wedge_has_uv_.size(); ++w) wedge_has_uv_[w] = wedge_uv_id[w] != kNoAttribute;
-  for (std::size_t w = 0; w < wedge_has_normal_.size(); ++w)
-    wedge_has_normal_[w] = wedge_normal_id[w] != kNoAttribute;
+  W.has_uv.resize(has_uvs ? wedges : 0);
+  W.has_normal.resize(has_normals ? wedges : 0);
+  for (std::size_t w = 0; w < W.has_uv.size(); ++w) W.has_uv[w] = wedge_uv_id[w] != kNoAttribute;
+  for (std::size_t w = 0; w < W.has_normal.size(); ++w)
+    W.has_normal[w] = wedge_normal_id[w] != kNoAttribute;
 
   // Back to the base mesh: each face that leaves the prefix is left as it is re-created.
+  wedges_ = std::move(built);
   coarsen_to(0);
 }
 
 std::size_t RuntimeLod::vertex_count() const { return vertex_end_[level_]; }
+const float* RuntimeLod::positions() const { return wedges_->positions.data(); }
+const float* RuntimeLod::uvs() const {
+  return wedges_->uvs.empty() ? nullptr : wedges_->uvs.data();
+}
+const float* RuntimeLod::normals() const {
+  return wedges_->normals.empty() ? nullptr : wedges_->normals.data();
+}
+const float* RuntimeLod::colors() const {
+  return wedges_->colors.empty() ? nullptr : wedges_->colors.data();
+}
+uint32_t RuntimeLod::color_components() const { return wedges_->color_components; }
+const uint32_t* RuntimeLod::face_materials() const {
+  return wedges_->face_materials.empty() ? nullptr : wedges_->face_materials.data();
+}
+const std::vector<std::string>& RuntimeLod::material_names() const {
+  return wedges_->material_names;
+}
+const std::vector<std::string>& RuntimeLod::material_libraries() const {
+  return wedges_->material_libraries;
+}
 
 void RuntimeLod::refine_to(std::size_t level) {
   for (; level_ < level; ++level_) {
@@ -212,11 +235,12 @@ void RuntimeLod::set_error(double e) {
 }
 
 Mesh RuntimeLod::to_mesh() const {
+  const Wedges& data = *wedges_;
   Mesh mesh;
   const std::size_t faces = face_count();
   std::vector<uint32_t> output(wedge_count(), kNone);
-  const bool uvs = !wedge_uvs_.empty(), normals = !wedge_normals_.empty();
-  mesh.color_components = color_components_;
+  const bool uvs = !data.uvs.empty(), normals = !data.normals.empty();
+  mesh.color_components = data.color_components;
   mesh.triangles.resize(3 * faces);
   if (uvs) mesh.uv_indices.resize(3 * faces);
   if (normals) mesh.normal_indices.resize(3 * faces);
@@ -224,37 +248,40 @@ Mesh RuntimeLod::to_mesh() const {
     const uint32_t w = indices_[i];
     if (output[w] == kNone) {
       output[w] = static_cast<uint32_t>(mesh.positions.size() / 3);
-      mesh.positions.insert(mesh.positions.end(), &wedge_positions_[3 * w], &wedge_positions_[3 * w] + 3);
-      mesh.colors.insert(mesh.colors.end(), wedge_colors_.begin() + color_components_ * w,
-                         wedge_colors_.begin() + color_components_ * (w + 1));
-      if (uvs) mesh.uvs.insert(mesh.uvs.end(), &wedge_uvs_[2 * w], &wedge_uvs_[2 * w] + 2);
+      mesh.positions.insert(mesh.positions.end(), &data.positions[3 * w], &data.positions[3 * w] + 3);
+      mesh.colors.insert(mesh.colors.end(), data.colors.begin() + data.color_components * w,
+                         data.colors.begin() + data.color_components * (w + 1));
+      if (uvs) mesh.uvs.insert(mesh.uvs.end(), &data.uvs[2 * w], &data.uvs[2 * w] + 2);
       if (normals)
-        mesh.normals.insert(mesh.normals.end(), &wedge_normals_[3 * w], &wedge_normals_[3 * w] + 3);
+        mesh.normals.insert(mesh.normals.end(), &data.normals[3 * w], &data.normals[3 * w] + 3);
     }
     mesh.triangles[i] = output[w];
-    if (uvs) mesh.uv_indices[i] = wedge_has_uv_[w] ? output[w] : kNoAttribute;
-    if (normals) mesh.normal_indices[i] = wedge_has_normal_[w] ? output[w] : kNoAttribute;
+    if (uvs) mesh.uv_indices[i] = data.has_uv[w] ? output[w] : kNoAttribute;
+    if (normals) mesh.normal_indices[i] = data.has_normal[w] ? output[w] : kNoAttribute;
   }
-  if (!face_materials_.empty()) mesh.face_materials.assign(face_materials_.begin(), face_materials_.begin() + faces);
-  mesh.material_names = material_names_;
+  if (!data.face_materials.empty()) mesh.face_materials.assign(data.face_materials.begin(), data.face_materials.begin() + faces);
+  mesh.material_names = data.material_names;
+  mesh.material_libraries = data.material_libraries;
   return mesh;
 }
 
 std::size_t RuntimeLod::memory_bytes() const {
+  const Wedges& data = *wedges_;
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  return sizeof(*this) + bytes(splits_) + bytes(moved_) + bytes(face_end_) + bytes(wedge_end_) +
-         bytes(vertex_end_) + bytes(errors_) + bytes(indices_) + bytes(wedge_positions_) +
-         bytes(wedge_uvs_) + bytes(wedge_normals_) + bytes(wedge_colors_) + bytes(wedge_vertex_) +
-         bytes(wedge_parent_) + bytes(face_materials_) + wedge_has_uv_.capacity() / 8 +
-         wedge_has_normal_.capacity() / 8;
+  return sizeof(*this) + sizeof(Wedges) + bytes(splits_) + bytes(moved_) + bytes(face_end_) + bytes(wedge_end_) +
+         bytes(vertex_end_) + bytes(errors_) + bytes(indices_) + bytes(data.positions) +
+         bytes(data.uvs) + bytes(data.normals) + bytes(data.colors) + bytes(data.vertex) +
+         bytes(wedge_parent_) + bytes(data.face_materials) + data.has_uv.capacity() / 8 +
+         data.has_normal.capacity() / 8;
 }
 
 RuntimeLod::Geomorph RuntimeLod::geomorph(std::size_t from, std::size_t to) {
+  const Wedges& data = *wedges_;
   to = std::min(to, max_level());
   from = std::min(from, to);
   set_level(to);
   Geomorph g;
-  g.owner_ = this;
+  g.wedges_ = wedges_;  // shared: the geomorph outlives a move of this object
   g.wedge_count_ = wedge_count();
   g.indices_.assign(indices_.begin(), indices_.begin() + 3 * face_count());
   // Hoppe 1996, §4.2: a vertex that `from` does not have starts where its ancestor is in
@@ -265,7 +292,7 @@ RuntimeLod::Geomorph RuntimeLod::geomorph(std::size_t from, std::size_t to) {
   for (uint32_t w = 0; w < g.wedge_count_; ++w) {
     uint32_t x = w;
     chain.clear();
-    while (start[x] == kNone && wedge_vertex_[x] >= active && wedge_parent_[x] != kNone) {
+    while (start[x] == kNone && data.vertex[x] >= active && wedge_parent_[x] != kNone) {
       chain.push_back(x);
       x = wedge_parent_[x];
     }
@@ -273,39 +300,40 @@ RuntimeLod::Geomorph RuntimeLod::geomorph(std::size_t from, std::size_t to) {
     for (uint32_t y : chain) start[y] = root;
     start[x] = root;
   }
-  const bool uvs = !wedge_uvs_.empty(), normals = !wedge_normals_.empty();
+  const bool uvs = !data.uvs.empty(), normals = !data.normals.empty();
   for (uint32_t w = 0; w < g.wedge_count_; ++w) {
     if (start[w] == w) continue;
     const uint32_t s = start[w];
     g.morphing_.push_back(w);
-    g.start_positions_.insert(g.start_positions_.end(), &wedge_positions_[3 * s], &wedge_positions_[3 * s] + 3);
-    g.end_positions_.insert(g.end_positions_.end(), &wedge_positions_[3 * w], &wedge_positions_[3 * w] + 3);
+    g.starts_.push_back(s);
+    g.start_positions_.insert(g.start_positions_.end(), &data.positions[3 * s], &data.positions[3 * s] + 3);
+    g.end_positions_.insert(g.end_positions_.end(), &data.positions[3 * w], &data.positions[3 * w] + 3);
     if (uvs) {
-      g.start_uvs_.insert(g.start_uvs_.end(), &wedge_uvs_[2 * s], &wedge_uvs_[2 * s] + 2);
-      g.end_uvs_.insert(g.end_uvs_.end(), &wedge_uvs_[2 * w], &wedge_uvs_[2 * w] + 2);
+      g.start_uvs_.insert(g.start_uvs_.end(), &data.uvs[2 * s], &data.uvs[2 * s] + 2);
+      g.end_uvs_.insert(g.end_uvs_.end(), &data.uvs[2 * w], &data.uvs[2 * w] + 2);
     }
     if (normals) {
-      g.start_normals_.insert(g.start_normals_.end(), &wedge_normals_[3 * s], &wedge_normals_[3 * s] + 3);
-      g.end_normals_.insert(g.end_normals_.end(), &wedge_normals_[3 * w], &wedge_normals_[3 * w] + 3);
+      g.start_normals_.insert(g.start_normals_.end(), &data.normals[3 * s], &data.normals[3 * s] + 3);
+      g.end_normals_.insert(g.end_normals_.end(), &data.normals[3 * w], &data.normals[3 * w] + 3);
     }
-    const std::size_t cc = color_components_;
-    g.start_colors_.insert(g.start_colors_.end(), wedge_colors_.begin() + cc * s,
-                           wedge_colors_.begin() + cc * (s + 1));
-    g.end_colors_.insert(g.end_colors_.end(), wedge_colors_.begin() + cc * w,
-                         wedge_colors_.begin() + cc * (w + 1));
+    const std::size_t cc = data.color_components;
+    g.start_colors_.insert(g.start_colors_.end(), data.colors.begin() + cc * s,
+                           data.colors.begin() + cc * (s + 1));
+    g.end_colors_.insert(g.end_colors_.end(), data.colors.begin() + cc * w,
+                         data.colors.begin() + cc * (w + 1));
   }
   return g;
 }
 
 void RuntimeLod::Geomorph::evaluate(float alpha, float* positions, float* uvs, float* normals,
                                     float* colors) const {
-  const RuntimeLod& lod = *owner_;
-  const std::size_t cc = lod.color_components_;
-  std::copy_n(lod.wedge_positions_.data(), 3 * wedge_count_, positions);
-  if (uvs && !lod.wedge_uvs_.empty()) std::copy_n(lod.wedge_uvs_.data(), 2 * wedge_count_, uvs);
-  if (normals && !lod.wedge_normals_.empty())
-    std::copy_n(lod.wedge_normals_.data(), 3 * wedge_count_, normals);
-  if (colors && cc) std::copy_n(lod.wedge_colors_.data(), cc * wedge_count_, colors);
+  const Wedges& lod = *wedges_;
+  const std::size_t cc = lod.color_components;
+  std::copy_n(lod.positions.data(), 3 * wedge_count_, positions);
+  if (uvs && !lod.uvs.empty()) std::copy_n(lod.uvs.data(), 2 * wedge_count_, uvs);
+  if (normals && !lod.normals.empty())
+    std::copy_n(lod.normals.data(), 3 * wedge_count_, normals);
+  if (colors && cc) std::copy_n(lod.colors.data(), cc * wedge_count_, colors);
   // (1 - alpha) s + alpha e, with the ends copied so that they are exact to the bit (the
   // blend would turn a -0 end into +0).
   const float beta = 1.0f - alpha;
@@ -329,27 +357,33 @@ void RuntimeLod::Geomorph::evaluate(float alpha, float* positions, float* uvs, f
 }
 
 Mesh RuntimeLod::Geomorph::mesh(float alpha) const {
-  const RuntimeLod& lod = *owner_;
-  const std::size_t cc = lod.color_components_;
+  const Wedges& lod = *wedges_;
+  const std::size_t cc = lod.color_components;
   std::vector<float> positions(3 * wedge_count_), uvs, normals, colors(cc * wedge_count_);
-  if (!lod.wedge_uvs_.empty()) uvs.resize(2 * wedge_count_);
-  if (!lod.wedge_normals_.empty()) normals.resize(3 * wedge_count_);
+  if (!lod.uvs.empty()) uvs.resize(2 * wedge_count_);
+  if (!lod.normals.empty()) normals.resize(3 * wedge_count_);
   evaluate(alpha, positions.data(), uvs.empty() ? nullptr : uvs.data(),
            normals.empty() ? nullptr : normals.data(), colors.empty() ? nullptr : colors.data());
   // One output vertex per vertex of the level (welded copies as their canonical vertex),
   // as extract_level() writes it: a vertex's wedges share its position and colour, which
   // morph together since they share an ancestor. Texture coordinates and normals stay per
   // corner, one table entry per wedge in use.
+  // Whether a corner has a texture coordinate (normal): the start wedge's flag at alpha 0,
+  // where the mesh is level `from` exactly, the end wedge's above.
+  std::vector<uint32_t> flags_of(wedge_count_);
+  for (uint32_t w = 0; w < wedge_count_; ++w) flags_of[w] = w;
+  if (alpha <= 0)
+    for (std::size_t k = 0; k < morphing_.size(); ++k) flags_of[morphing_[k]] = starts_[k];
   Mesh mesh;
-  mesh.color_components = lod.color_components_;
+  mesh.color_components = lod.color_components;
   std::unordered_map<uint32_t, uint32_t> vertex_out, wedge_out;
   mesh.triangles.resize(indices_.size());
   if (!uvs.empty()) mesh.uv_indices.resize(indices_.size());
   if (!normals.empty()) mesh.normal_indices.resize(indices_.size());
   for (std::size_t i = 0; i < indices_.size(); ++i) {
     const uint32_t w = indices_[i];
-    uint32_t vertex = lod.wedge_vertex_[w];
-    if (vertex < lod.canonical_.size()) vertex = lod.canonical_[vertex];
+    uint32_t vertex = lod.vertex[w];
+    if (vertex < lod.canonical.size()) vertex = lod.canonical[vertex];
     const auto [v, new_vertex] = vertex_out.emplace(vertex, static_cast<uint32_t>(vertex_out.size()));
     if (new_vertex) {
       mesh.positions.insert(mesh.positions.end(), &positions[3 * w], &positions[3 * w] + 3);
@@ -361,13 +395,14 @@ Mesh RuntimeLod::Geomorph::mesh(float alpha) const {
       if (!uvs.empty()) mesh.uvs.insert(mesh.uvs.end(), &uvs[2 * w], &uvs[2 * w] + 2);
       if (!normals.empty()) mesh.normals.insert(mesh.normals.end(), &normals[3 * w], &normals[3 * w] + 3);
     }
-    if (!uvs.empty()) mesh.uv_indices[i] = lod.wedge_has_uv_[w] ? t->second : kNoAttribute;
-    if (!normals.empty()) mesh.normal_indices[i] = lod.wedge_has_normal_[w] ? t->second : kNoAttribute;
+    if (!uvs.empty()) mesh.uv_indices[i] = lod.has_uv[flags_of[w]] ? t->second : kNoAttribute;
+    if (!normals.empty())
+      mesh.normal_indices[i] = lod.has_normal[flags_of[w]] ? t->second : kNoAttribute;
   }
-  if (!lod.face_materials_.empty())
-    mesh.face_materials.assign(lod.face_materials_.begin(), lod.face_materials_.begin() + face_count());
-  mesh.material_names = lod.material_names_;
-  mesh.material_libraries = lod.material_libraries_;
+  if (!lod.face_materials.empty())
+    mesh.face_materials.assign(lod.face_materials.begin(), lod.face_materials.begin() + face_count());
+  mesh.material_names = lod.material_names;
+  mesh.material_libraries = lod.material_libraries;
   return mesh;
 }
 

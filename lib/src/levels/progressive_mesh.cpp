@@ -329,10 +329,14 @@ std::size_t ProgressiveMesh::total_face_count() const {
   return faces;
 }
 
-bool validate(const ProgressiveMesh& pm, std::string* message) {
-  return check_counts(pm, message) && check_base_faces(pm, message) && check_splits(pm, message) &&
-         check_welds(pm, message) && check_carried_faces(pm, message) &&
-         check_attributes(pm, message) && check_order(pm, message);
+Status validate(const ProgressiveMesh& pm) {
+  std::string problem;
+  std::string* message = &problem;
+  if (check_counts(pm, message) && check_base_faces(pm, message) && check_splits(pm, message) &&
+      check_welds(pm, message) && check_carried_faces(pm, message) &&
+      check_attributes(pm, message) && check_order(pm, message))
+    return Status::ok();
+  return Status(ErrorCode::kInvalidArgument, std::move(problem));
 }
 
 namespace detail {

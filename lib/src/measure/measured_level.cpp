@@ -2,6 +2,7 @@
 // 1976, "An almost optimal algorithm for unbounded searching") from the recorded errors'
 // guess, then bisection, in face count, over Metro measurements (Cignoni et al. 1998).
 #include "pm/measured_level.h"
+#include "core/no_throw.h"
 
 #include <algorithm>
 #include <cmath>
@@ -111,13 +112,15 @@ class LevelSearch {
 
 Status level_for_measured_error(const ProgressiveMesh& pm, double max_hausdorff,
                                 const MeasuredLevelOptions& options, MeasuredLevel& out) {
-  if (!(max_hausdorff >= 0) || !std::isfinite(max_hausdorff))
-    return Status(ErrorCode::kInvalidArgument, "the error tolerance must be a finite number >= 0");
-  if (!(options.face_ratio > 1) || !std::isfinite(options.face_ratio))
-    return Status(ErrorCode::kInvalidArgument, "the face ratio must be a finite number > 1");
-  if (std::string problem; !validate(pm, &problem))
-    return Status(ErrorCode::kInvalidArgument, "invalid progressive mesh: " + problem);
-  return LevelSearch(pm, max_hausdorff, options).run(out);
+  return detail::no_throw([&]() -> Status {
+    if (!(max_hausdorff >= 0) || !std::isfinite(max_hausdorff))
+      return Status(ErrorCode::kInvalidArgument, "the error tolerance must be a finite number >= 0");
+    if (!(options.face_ratio > 1) || !std::isfinite(options.face_ratio))
+      return Status(ErrorCode::kInvalidArgument, "the face ratio must be a finite number > 1");
+    if (Status valid = validate(pm); !valid)
+      return Status(ErrorCode::kInvalidArgument, "invalid progressive mesh: " + valid.message());
+    return LevelSearch(pm, max_hausdorff, options).run(out);
+  });
 }
 
 }  // namespace pm

@@ -22,6 +22,7 @@
 // - both hierarchies are built at once on two threads, overlapping the first measurement;
 // - the sums of squares are exact (Neal 2015), so the order of the work does not matter.
 #include "pm/surface_distance.h"
+#include "core/no_throw.h"
 
 #include <algorithm>
 #include <atomic>
@@ -422,99 +423,101 @@ class OneWayMeasurement {
 
 Status measure_surface_distance(const Mesh& reference, const Mesh& other,
                                 const DistanceOptions& options, SurfaceDistance& out) {
-  if (!(options.samples_per_face >= 1) || !std::isfinite(options.samples_per_face))
-    return Status(ErrorCode::kInvalidArgument, "samples per face must be a number of at least 1");
-  if (Status s = check_mesh(reference, "reference"); !s) return s;
-  if (Status s = check_mesh(other, "other"); !s) return s;
+  return detail::no_throw([&]() -> Status {
+    if (!(options.samples_per_face >= 1) || !std::isfinite(options.samples_per_face))
+      return Status(ErrorCode::kInvalidArgument, "samples per face must be a number of at least 1");
+    if (Status s = check_mesh(reference, "reference"); !s) return s;
+    if (Status s = check_mesh(other, "other"); !s) return s;
 
-  unsigned threads = options.threads;
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  // Double-precision rounding in building a sample and its closest point is a few units
-  // in the last place of the coordinates; 1e-12 of the largest one is far above that and
-  // far below float32 input resolution (6e-8).
-  const double largest = std::max(largest_coordinate(reference), largest_coordinate(other));
-  const double noise_floor = 1e-12 * largest;
+    unsigned threads = options.threads;
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    // Double-precision rounding in building a sample and its closest point is a few units
+    // in the last place of the coordinates; 1e-12 of the largest one is far above that and
+    // far below float32 input resolution (6e-8).
+    const double largest = std::max(largest_coordinate(reference), largest_coordinate(other));
+    const double noise_floor = 1e-12 * largest;
 
-  // Forward: samples of `reference` against a hierarchy over `other`; backward: the
-  // reverse. With one thread, one after the other. With more, this thread builds the
-  // forward hierarchy while another builds the backward one, then joins the forward
-  // measurement; each thread moves on to the backward measurement when the forward one has
-  // no faces left for it. The results are the same either way.
-  std::optional<TriangleBvh> other_bvh, reference_bvh;
-  std::optional<OneWayMeasurement> forward_pass, backward_pass;
-  Gate forward_ready, backward_ready;
-  std::mutex error_mutex;
-  std::exception_ptr error;
-  auto guarded = [&](auto&& body) {
-    try {
-      body();
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(error_mutex);
-      if (!error) error = std::current_exception();
-    }
-  };
-  auto prepare_forward = [&] {
-    guarded([&] {
-      other_bvh.emplace(other, largest);
-      forward_pass.emplace(reference, *other_bvh, options, options.seed * 2 + 0, noise_floor);
-    });
-    forward_ready.open();
-  };
-  auto prepare_backward = [&] {
-    guarded([&] {
-      reference_bvh.emplace(reference, largest);
-      backward_pass.emplace(other, *reference_bvh, options, options.seed * 2 + 1, noise_floor);
-    });
-    backward_ready.open();
-  };
-  auto measure = [&] {
-    forward_ready.wait();
-    if (forward_pass) guarded([&] { forward_pass->work(); });
-    backward_ready.wait();
-    if (backward_pass) guarded([&] { backward_pass->work(); });
-  };
-  OneWay forward, backward;
-  if (threads == 1) {
-    // One hierarchy at a time, to halve the memory.
-    prepare_forward();
-    if (forward_pass) guarded([&] { forward_pass->work(); });
-    if (forward_pass) forward = forward_pass->total();
-    forward_pass.reset();
-    other_bvh.reset();
-    prepare_backward();
-    if (backward_pass) guarded([&] { backward_pass->work(); });
-  } else {
-    std::vector<std::thread> workers;
-    try {
-      workers.emplace_back([&] {
-        prepare_backward();
-        measure();
+    // Forward: samples of `reference` against a hierarchy over `other`; backward: the
+    // reverse. With one thread, one after the other. With more, this thread builds the
+    // forward hierarchy while another builds the backward one, then joins the forward
+    // measurement; each thread moves on to the backward measurement when the forward one has
+    // no faces left for it. The results are the same either way.
+    std::optional<TriangleBvh> other_bvh, reference_bvh;
+    std::optional<OneWayMeasurement> forward_pass, backward_pass;
+    Gate forward_ready, backward_ready;
+    std::mutex error_mutex;
+    std::exception_ptr error;
+    auto guarded = [&](auto&& body) {
+      try {
+        body();
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    };
+    auto prepare_forward = [&] {
+      guarded([&] {
+        other_bvh.emplace(other, largest);
+        forward_pass.emplace(reference, *other_bvh, options, options.seed * 2 + 0, noise_floor);
       });
-      for (unsigned i = 2; i < threads; ++i) workers.emplace_back(measure);
-    } catch (const std::system_error&) {
-      // No more threads to be had: the ones running and this one share the work.
+      forward_ready.open();
+    };
+    auto prepare_backward = [&] {
+      guarded([&] {
+        reference_bvh.emplace(reference, largest);
+        backward_pass.emplace(other, *reference_bvh, options, options.seed * 2 + 1, noise_floor);
+      });
+      backward_ready.open();
+    };
+    auto measure = [&] {
+      forward_ready.wait();
+      if (forward_pass) guarded([&] { forward_pass->work(); });
+      backward_ready.wait();
+      if (backward_pass) guarded([&] { backward_pass->work(); });
+    };
+    OneWay forward, backward;
+    if (threads == 1) {
+      // One hierarchy at a time, to halve the memory.
+      prepare_forward();
+      if (forward_pass) guarded([&] { forward_pass->work(); });
+      if (forward_pass) forward = forward_pass->total();
+      forward_pass.reset();
+      other_bvh.reset();
+      prepare_backward();
+      if (backward_pass) guarded([&] { backward_pass->work(); });
+    } else {
+      std::vector<std::thread> workers;
+      try {
+        workers.emplace_back([&] {
+          prepare_backward();
+          measure();
+        });
+        for (unsigned i = 2; i < threads; ++i) workers.emplace_back(measure);
+      } catch (const std::system_error&) {
+        // No more threads to be had: the ones running and this one share the work.
+      }
+      prepare_forward();
+      if (workers.empty()) prepare_backward();
+      measure();
+      for (std::thread& worker : workers) worker.join();
+      if (forward_pass) forward = forward_pass->total();
     }
-    prepare_forward();
-    if (workers.empty()) prepare_backward();
-    measure();
-    for (std::thread& worker : workers) worker.join();
-    if (forward_pass) forward = forward_pass->total();
-  }
-  if (error) std::rethrow_exception(error);
-  backward = backward_pass->total();
-  SurfaceDistance result;
-  result.forward_max = forward.max;
-  result.forward_rms = forward.rms();
-  result.backward_max = backward.max;
-  result.backward_rms = backward.rms();
-  result.hausdorff = std::max(forward.max, backward.max);
-  OneWay both = forward;
-  both.merge(backward);
-  result.rms = both.rms();
-  result.samples = both.count;
-  result.diagonal = bounding_box_diagonal(reference.positions);
-  out = result;
-  return Status::ok();
+    if (error) std::rethrow_exception(error);
+    backward = backward_pass->total();
+    SurfaceDistance result;
+    result.forward_max = forward.max;
+    result.forward_rms = forward.rms();
+    result.backward_max = backward.max;
+    result.backward_rms = backward.rms();
+    result.hausdorff = std::max(forward.max, backward.max);
+    OneWay both = forward;
+    both.merge(backward);
+    result.rms = both.rms();
+    result.samples = both.count;
+    result.diagonal = bounding_box_diagonal(reference.positions);
+    out = result;
+    return Status::ok();
+  });
 }
 
 double bounding_box_diagonal(const std::vector<float>& positions) {

@@ -64,9 +64,9 @@ Status check_encodable(const Mesh& input) {
   const uint32_t* tri = input.triangles.data();
   for (std::size_t i = 0; i < input.triangles.size(); ++i) {
     if (tri[i] >= vertex_count)
-      return Status(ErrorCode::kParseError, "face " + std::to_string(i / 3 + 1) + " uses vertex " +
-                                                std::to_string(tri[i] + 1) + " of " +
-                                                std::to_string(vertex_count));
+      return Status(ErrorCode::kInvalidArgument, "face " + std::to_string(i / 3 + 1) +
+                                                     " uses vertex " + std::to_string(tri[i] + 1) +
+                                                     " of " + std::to_string(vertex_count));
   }
   // Every distance the encoder records must fit a float32 (encoder.h, kMaxEncodeDiagonal).
   double low[3], high[3];
@@ -74,7 +74,7 @@ Status check_encodable(const Mesh& input) {
   for (std::size_t i = 0; i < input.positions.size(); ++i) {
     const double x = input.positions[i];
     if (!std::isfinite(x)) {
-      return Status(ErrorCode::kParseError,
+      return Status(ErrorCode::kInvalidArgument,
                     "vertex " + std::to_string(i / 3 + 1) + " has a non-finite coordinate");
     }
     low[i % 3] = std::min(low[i % 3], x);
@@ -97,7 +97,7 @@ Status build_manifold_mesh(const Mesh& input, ManifoldMesh& out) {
   const uint32_t* tri = input.triangles.data();
 
   // OpenMesh reports rejected faces on its error stream; the library never prints.
-  silence_openmesh_logs();
+  const QuietOpenMeshLogs quiet;
 
   // Faces with a repeated index have no place in a half-edge mesh: carry them aside.
   std::vector<uint8_t> carried(face_count, 0);

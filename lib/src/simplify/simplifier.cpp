@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <new>
 #include <numeric>
 #include <set>
+#include <stdexcept>
 #include <string>
 
+#include "io/openmesh_logs.h"
 #include "simplify/collapse_legality.h"
 #include "simplify/collapse_sequence.h"
 #include "simplify/corner_attributes.h"
@@ -744,8 +747,10 @@ double effective_feature_angle(const EncodeOptions& options) {
                                        : options.feature_angle_deg;
 }
 
-Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
-              EncodeStats* stats) {
+namespace {
+
+Status encode_unguarded(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
+                        EncodeStats* stats) {
   if (!(options.feature_angle_deg <= 180))  // negative: the default; NaN fails here
     return Status(ErrorCode::kInvalidArgument, "feature angle must be within [0, 180] degrees");
   if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
@@ -755,8 +760,8 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   if (options.layer_window > 0 && options.layer_chunk_splits == 0)
     return Status(ErrorCode::kInvalidArgument, "layer chunks must hold at least one split");
 
-  if (std::string problem; !validate_attributes(input, &problem))
-    return Status(ErrorCode::kInvalidArgument, "mesh attributes: " + problem);
+  if (Status valid = validate_attributes(input); !valid)
+    return Status(valid.code(), "mesh attributes: " + valid.message());
   if (!options.drop_attributes) {
     if (Status s = check_material_strings(input.material_names, input.material_libraries); !s)
       return s;
@@ -813,8 +818,8 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   if (options.layer_window > 0)
     layer_splits(out, options.layer_chunk_splits, options.layer_window, options.threads);
   order_attribute_tables(out);  // after the splits' order is final
-  std::string problem;
-  if (!validate(out, &problem)) return Status(ErrorCode::kInternal, "encoder produced " + problem);
+  if (Status valid = validate(out); !valid)
+    return Status(ErrorCode::kInternal, "encoder produced " + valid.message());
 
   if (stats) {
     stats->repair = repaired.report;
@@ -826,6 +831,24 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   }
   if (options.progress) options.progress(1.0);
   return Status::ok();
+}
+
+}  // namespace
+
+Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
+              EncodeStats* stats) {
+  // OpenMesh's logs are off while the half-edge mesh is built and simplified, as the caller
+  // left them afterwards; no exception leaves (status.h).
+  const QuietOpenMeshLogs quiet;
+  try {
+    return encode_unguarded(input, options, out, stats);
+  } catch (const std::bad_alloc&) {
+    out = ProgressiveMesh();
+    return Status(ErrorCode::kResourceLimit, "out of memory");
+  } catch (const std::length_error&) {  // a container asked for more than it can hold
+    out = ProgressiveMesh();
+    return Status(ErrorCode::kResourceLimit, "out of memory");
+  }
 }
 
 }  // namespace pm

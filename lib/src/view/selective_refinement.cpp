@@ -54,6 +54,7 @@
 // face around u; Xia and Varshney 1996, §4; El-Sana and Varshney 1999, §3) makes every face
 // one of some M_k, at the price of about 2.6 times as many splits for the same wanted set.
 #include "pm/selective_refinement.h"
+#include "core/no_throw.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,6 +87,12 @@ Vec position(const ProgressiveMesh& pm, uint32_t v) { return view::vec(&pm.posit
 
 
 }  // namespace
+
+SelectiveRefinement::SelectiveRefinement(std::shared_ptr<const ProgressiveMesh> pm,
+                                         DependencyRule rule)
+    : SelectiveRefinement(*pm, rule) {
+  owned_ = std::move(pm);
+}
 
 SelectiveRefinement::SelectiveRefinement(const ProgressiveMesh& pm, DependencyRule rule)
     : pm_(&pm), rule_(rule) {
@@ -480,12 +487,14 @@ Status check_camera(const ViewCamera& camera) {
 }
 
 Status SelectiveRefinement::set_view(const ViewCamera& camera, const ViewOptions& options) {
-  if (Status s = check_camera(camera); !s) return s;
-  if (!(options.pixel_error > 0 && std::isfinite(options.pixel_error)))
-    return Status(ErrorCode::kInvalidArgument, "pixel error must be a positive number");
-  const view::Frame frame = view::make_frame(camera, options);
-  refine_top_down([&](uint32_t j) { return view::evaluate(bounds_[j], frame, false).want; });
-  return Status::ok();
+  return detail::no_throw([&]() -> Status {
+    if (Status s = check_camera(camera); !s) return s;
+    if (!(options.pixel_error > 0 && std::isfinite(options.pixel_error)))
+      return Status(ErrorCode::kInvalidArgument, "pixel error must be a positive number");
+    const view::Frame frame = view::make_frame(camera, options);
+    refine_top_down([&](uint32_t j) { return view::evaluate(bounds_[j], frame, false).want; });
+    return Status::ok();
+  });
 }
 
 Mesh SelectiveRefinement::to_mesh(std::vector<uint32_t>* face_levels) const {

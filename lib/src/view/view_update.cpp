@@ -19,6 +19,7 @@
 #include <limits>
 
 #include "pm/selective_refinement.h"
+#include "core/no_throw.h"
 #include "view/view_criteria.h"
 
 namespace pm {
@@ -251,94 +252,96 @@ std::size_t SelectiveRefinement::view_memory_bytes() const {
 
 Status SelectiveRefinement::update_view(const ViewCamera& camera, const ViewOptions& options,
                                         const UpdateBudget& budget, UpdateStats* stats) {
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point start = Clock::now();
-  if (Status s = check_camera(camera); !s) return s;
-  if (!(options.pixel_error > 0 && std::isfinite(options.pixel_error)))
-    return Status(ErrorCode::kInvalidArgument, "pixel error must be a positive number");
-  view::Frame frame = view::make_frame(camera, options);
-  // While the model's box is inside the frustum, so is every split's box (they nest in it): the frustum test passes everywhere, so it is neither evaluated nor watched,
-  // and the boundary is watched by the eye's motion alone. When the model starts to leave
-  // the frustum the whole boundary is evaluated again.
-  const view::Vec center = view::vec(model_center_);
-  const bool model_inside =
-      options.frustum_culling && view::box_inside_frustum(frame, box_lo_, box_hi_);
-  if (model_inside) frame.frustum = false;
-  UpdateStats local;
-  const bool same_projection = !(view_ && view_->model_inside && !model_inside) &&
-      view_ && view_->options.pixel_error == options.pixel_error &&
-      view_->options.frustum_culling == options.frustum_culling &&
-      view_->options.backface_culling == options.backface_culling &&
-      view_->camera.fov_degrees == camera.fov_degrees &&
-      view_->camera.viewport_height == camera.viewport_height &&
-      view_->camera.viewport_width == camera.viewport_width;
-  if (!view_) view_.reset(new ViewState);
-  ViewState& state = *view_;
-  const std::size_t evaluations_before = state.evaluations;
-  const view::Frame previous = state.frame;
-  state.frame = frame;
-  state.camera = camera;
-  state.options = options;
-  state.model_inside = model_inside;
-  if (!same_projection) {
-    state.initialize(*this);
-  } else {
-    state.advance(*this, view::eye_motion(previous, frame, center, model_radius_),
-                  view::motion(previous, frame, center, model_radius_));
-  }
-
-  // W's changes become splits and collapses, within the budget.
-  std::size_t operations = 0, looked_at = 0;
-  while (state.dirty_head < state.dirty.size()) {
-    if (budget.max_operations && operations >= budget.max_operations) break;
-    if (budget.max_microseconds && (looked_at++ & 15) == 0 &&
-        std::chrono::duration<double, std::micro>(Clock::now() - start).count() >=
-            budget.max_microseconds)
-      break;
-    // As in advance(): the flags and counts of a split some entries ahead, asked for now.
-    if (state.dirty_head + 8 < state.dirty.size()) {
-      const uint32_t ahead = state.dirty[state.dirty_head + 8];
-      __builtin_prefetch(&state.flags[ahead]);
-      __builtin_prefetch(&refcount_[ahead]);
-      __builtin_prefetch(&applied_[ahead]);
-      __builtin_prefetch(&deps_begin_[ahead]);
+  return detail::no_throw([&]() -> Status {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    if (Status s = check_camera(camera); !s) return s;
+    if (!(options.pixel_error > 0 && std::isfinite(options.pixel_error)))
+      return Status(ErrorCode::kInvalidArgument, "pixel error must be a positive number");
+    view::Frame frame = view::make_frame(camera, options);
+    // While the model's box is inside the frustum, so is every split's box (they nest in it): the frustum test passes everywhere, so it is neither evaluated nor watched,
+    // and the boundary is watched by the eye's motion alone. When the model starts to leave
+    // the frustum the whole boundary is evaluated again.
+    const view::Vec center = view::vec(model_center_);
+    const bool model_inside =
+        options.frustum_culling && view::box_inside_frustum(frame, box_lo_, box_hi_);
+    if (model_inside) frame.frustum = false;
+    UpdateStats local;
+    const bool same_projection = !(view_ && view_->model_inside && !model_inside) &&
+        view_ && view_->options.pixel_error == options.pixel_error &&
+        view_->options.frustum_culling == options.frustum_culling &&
+        view_->options.backface_culling == options.backface_culling &&
+        view_->camera.fov_degrees == camera.fov_degrees &&
+        view_->camera.viewport_height == camera.viewport_height &&
+        view_->camera.viewport_width == camera.viewport_width;
+    if (!view_) view_.reset(new ViewState);
+    ViewState& state = *view_;
+    const std::size_t evaluations_before = state.evaluations;
+    const view::Frame previous = state.frame;
+    state.frame = frame;
+    state.camera = camera;
+    state.options = options;
+    state.model_inside = model_inside;
+    if (!same_projection) {
+      state.initialize(*this);
+    } else {
+      state.advance(*this, view::eye_motion(previous, frame, center, model_radius_),
+                    view::motion(previous, frame, center, model_radius_));
     }
-    const uint32_t j = state.dirty[state.dirty_head++];
-    state.flags[j].queued = 0;
-    const bool needed = state.flags[j].wanted || refcount_[j] > 0;
-    if (needed && !applied_[j]) {
-      const std::size_t count = apply_with_dependencies(j);
-      operations += count;
-      local.splits += count;
-    } else if (!needed && applied_[j]) {
-      // Collapse it, then whatever only it held (dependencies no longer needed).
-      std::vector<std::pair<uint32_t, uint32_t>>& stack = collapse_stack_;
-      stack.assign(1, {j, 0});
-      while (!stack.empty()) {
-        const uint32_t x = stack.back().first;
-        stack.pop_back();
-        if (!applied_[x] || refcount_[x] != 0 || state.flags[x].wanted) continue;
-        collapse_one(x);
-        ++operations;
-        ++local.collapses;
-        for (uint32_t k = deps_begin_[x]; k < deps_begin_[x + 1]; ++k) {
-          const uint32_t d = deps_[k];
-          if (refcount_[d] == 0 && !state.flags[d].wanted && applied_[d]) stack.push_back({d, 0});
+
+    // W's changes become splits and collapses, within the budget.
+    std::size_t operations = 0, looked_at = 0;
+    while (state.dirty_head < state.dirty.size()) {
+      if (budget.max_operations && operations >= budget.max_operations) break;
+      if (budget.max_microseconds && (looked_at++ & 15) == 0 &&
+          std::chrono::duration<double, std::micro>(Clock::now() - start).count() >=
+              budget.max_microseconds)
+        break;
+      // As in advance(): the flags and counts of a split some entries ahead, asked for now.
+      if (state.dirty_head + 8 < state.dirty.size()) {
+        const uint32_t ahead = state.dirty[state.dirty_head + 8];
+        __builtin_prefetch(&state.flags[ahead]);
+        __builtin_prefetch(&refcount_[ahead]);
+        __builtin_prefetch(&applied_[ahead]);
+        __builtin_prefetch(&deps_begin_[ahead]);
+      }
+      const uint32_t j = state.dirty[state.dirty_head++];
+      state.flags[j].queued = 0;
+      const bool needed = state.flags[j].wanted || refcount_[j] > 0;
+      if (needed && !applied_[j]) {
+        const std::size_t count = apply_with_dependencies(j);
+        operations += count;
+        local.splits += count;
+      } else if (!needed && applied_[j]) {
+        // Collapse it, then whatever only it held (dependencies no longer needed).
+        std::vector<std::pair<uint32_t, uint32_t>>& stack = collapse_stack_;
+        stack.assign(1, {j, 0});
+        while (!stack.empty()) {
+          const uint32_t x = stack.back().first;
+          stack.pop_back();
+          if (!applied_[x] || refcount_[x] != 0 || state.flags[x].wanted) continue;
+          collapse_one(x);
+          ++operations;
+          ++local.collapses;
+          for (uint32_t k = deps_begin_[x]; k < deps_begin_[x + 1]; ++k) {
+            const uint32_t d = deps_[k];
+            if (refcount_[d] == 0 && !state.flags[d].wanted && applied_[d]) stack.push_back({d, 0});
+          }
         }
       }
     }
-  }
-  if (state.dirty_head == state.dirty.size()) {
-    state.dirty.clear();
-    state.dirty_head = 0;
-  } else if (state.dirty_head > state.dirty.size() / 2) {
-    state.dirty.erase(state.dirty.begin(), state.dirty.begin() + state.dirty_head);
-    state.dirty_head = 0;
-  }
-  local.pending = state.dirty.size() - state.dirty_head;
-  local.evaluations = state.evaluations - evaluations_before;
-  if (stats) *stats = local;
-  return Status::ok();
+    if (state.dirty_head == state.dirty.size()) {
+      state.dirty.clear();
+      state.dirty_head = 0;
+    } else if (state.dirty_head > state.dirty.size() / 2) {
+      state.dirty.erase(state.dirty.begin(), state.dirty.begin() + state.dirty_head);
+      state.dirty_head = 0;
+    }
+    local.pending = state.dirty.size() - state.dirty_head;
+    local.evaluations = state.evaluations - evaluations_before;
+    if (stats) *stats = local;
+    return Status::ok();
+  });
 }
 
 }  // namespace pm

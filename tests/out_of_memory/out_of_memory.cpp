@@ -1,0 +1,170 @@
+// Allocation failure: every allocation after the first N fails (this binary replaces the
+// global operator new, so it is a binary of its own: the suite's other tests must not run
+// under it). Whatever N, encode(), write_pm() and read_pm() return kResourceLimit or succeed
+// with the result they give with memory; no exception leaves them (status.h), and the
+// sanitizers see no leak.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "pm/encoder.h"
+#include "pm/pm_codec.h"
+#include "test_util.h"
+
+namespace {
+
+// Allocations left before the next one fails; negative: no limit.
+std::atomic<long> allocations_left{-1};
+std::atomic<long> allocations_made{0};
+
+void* allocate(std::size_t size, std::size_t alignment) {
+  allocations_made.fetch_add(1, std::memory_order_relaxed);
+  if (allocations_left.load(std::memory_order_relaxed) >= 0 &&
+      allocations_left.fetch_sub(1, std::memory_order_relaxed) <= 0)
+    throw std::bad_alloc();
+  if (size == 0) size = 1;
+  void* p = alignment <= alignof(std::max_align_t)
+                ? std::malloc(size)
+                : std::aligned_alloc(alignment, (size + alignment - 1) / alignment * alignment);
+  if (p == nullptr) throw std::bad_alloc();
+  return p;
+}
+
+// The limit applies inside a scope only, so that GoogleTest's own allocations never fail.
+class AllocationLimit {
+ public:
+  explicit AllocationLimit(long n) {
+    allocations_made = 0;
+    allocations_left = n;
+  }
+  ~AllocationLimit() { allocations_left = -1; }
+  AllocationLimit(const AllocationLimit&) = delete;
+  AllocationLimit& operator=(const AllocationLimit&) = delete;
+};
+
+}  // namespace
+
+void* operator new(std::size_t size) { return allocate(size, 0); }
+void* operator new[](std::size_t size) { return allocate(size, 0); }
+void* operator new(std::size_t size, std::align_val_t a) { return allocate(size, std::size_t(a)); }
+void* operator new[](std::size_t size, std::align_val_t a) {
+  return allocate(size, std::size_t(a));
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+
+namespace pm {
+namespace {
+
+// Allocation counts to fail at: every one of the first 64, then every 1 in `stride`.
+std::vector<long> failure_points(long total) {
+  std::vector<long> points;
+  const long stride = std::max(1L, total / 200);
+  for (long n = 0; n < total; n += n < 64 ? 1 : stride) points.push_back(n);
+  return points;
+}
+
+TEST(OutOfMemory, EncodeReturnsResourceLimitWhereverAnAllocationFails) {
+  const Mesh grid = test::seamed_grid(8);  // texture coordinates, normals, materials
+  EncodeOptions options;
+  options.threads = 1;  // an allocation failing on a worker thread is not this test's subject
+  ProgressiveMesh expected;
+  long total = 0;
+  {
+    const AllocationLimit none(-1);
+    ASSERT_TRUE(encode(grid, options, expected).is_ok());
+    total = allocations_made;
+  }
+  ASSERT_GT(total, 100);
+  std::size_t failed = 0;
+  for (long n : failure_points(total)) {
+    ProgressiveMesh pm;
+    Status status;
+    {
+      const AllocationLimit limit(n);
+      status = encode(grid, options, pm);
+    }
+    // A few allocations have a fallback (a scratch buffer that may be skipped): then the
+    // result is the one with memory.
+    if (status.is_ok()) {
+      EXPECT_EQ(pm.positions, expected.positions) << "failing allocation " << n;
+      EXPECT_EQ(pm.moved_faces, expected.moved_faces) << "failing allocation " << n;
+      continue;
+    }
+    ASSERT_EQ(status.code(), ErrorCode::kResourceLimit) << "failing allocation " << n << " of "
+                                                        << total << ": " << status.message();
+    EXPECT_EQ(status.message(), "out of memory");
+    EXPECT_EQ(pm.vertex_count(), 0u);
+    ++failed;
+  }
+  EXPECT_GE(failed, 100u);
+  // And with memory again, the same result as before.
+  ProgressiveMesh again;
+  ASSERT_TRUE(encode(grid, options, again).is_ok());
+  EXPECT_EQ(again.positions, expected.positions);
+  EXPECT_EQ(again.base_faces, expected.base_faces);
+}
+
+TEST(OutOfMemory, WriteAndReadReturnResourceLimitWhereverAnAllocationFails) {
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(test::seamed_grid(8), EncodeOptions{}, pm).is_ok());
+  WriteOptions options;
+  options.threads = 1;
+  std::string bytes;
+  long total = 0;
+  {
+    const AllocationLimit none(-1);
+    ASSERT_TRUE(write_pm(pm, options, bytes).is_ok());
+    total = allocations_made;
+  }
+  std::size_t write_failures = 0, read_failures = 0;
+  for (long n : failure_points(total)) {
+    std::string out;
+    Status status;
+    {
+      const AllocationLimit limit(n);
+      status = write_pm(pm, options, out);
+    }
+    if (!status.is_ok()) {
+      ASSERT_EQ(status.code(), ErrorCode::kResourceLimit) << "failing allocation " << n;
+      ++write_failures;
+    } else {
+      EXPECT_EQ(out, bytes) << "failing allocation " << n;
+    }
+  }
+  {
+    ProgressiveMesh decoded;
+    const AllocationLimit none(-1);
+    ASSERT_TRUE(read_pm(bytes, decoded).is_ok());
+    total = allocations_made;
+  }
+  for (long n : failure_points(total)) {
+    ProgressiveMesh decoded;
+    Status status;
+    {
+      const AllocationLimit limit(n);
+      status = read_pm(bytes, decoded);
+    }
+    if (!status.is_ok()) {
+      ASSERT_EQ(status.code(), ErrorCode::kResourceLimit) << "failing allocation " << n;
+      ++read_failures;
+    } else {
+      EXPECT_EQ(decoded.positions, pm.positions) << "failing allocation " << n;
+    }
+  }
+  EXPECT_GE(write_failures, 10u);
+  EXPECT_GE(read_failures, 10u);
+}
+
+}  // namespace
+}  // namespace pm
