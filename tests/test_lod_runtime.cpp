@@ -117,6 +117,38 @@ TEST(RuntimeLod, ActiveWedgesAndFacesArePrefixes) {
   EXPECT_GT(lod.memory_bytes(), 0u);
 }
 
+// A renderer that keeps the active indices uploads only the range set_level reports: its copy
+// is then the active prefix exactly, by steps and by jumps both ways.
+TEST(RuntimeLod, SetLevelReportsTheIndicesItRewrote) {
+  const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
+  RuntimeLod lod(pm);
+  std::vector<uint32_t> uploaded(lod.indices(), lod.indices() + 3 * lod.face_count());
+  std::size_t uploaded_entries = 0, active_entries = 0;
+  auto change = [&](std::size_t level) {
+    const std::size_t before = lod.level();
+    const RuntimeLod::IndexRange range = lod.set_level(level);
+    uploaded.resize(3 * lod.face_count());
+    ASSERT_LE(range.end, uploaded.size());
+    if (lod.level() == before) {
+      ASSERT_TRUE(range.empty());
+    }
+    if (!range.empty())
+      std::copy(lod.indices() + range.begin, lod.indices() + range.end, uploaded.begin() + range.begin);
+    ASSERT_TRUE(std::equal(uploaded.begin(), uploaded.end(), lod.indices())) << "level " << level;
+    uploaded_entries += range.end - range.begin;
+    active_entries += uploaded.size();
+  };
+  for (std::size_t level = 0; level <= lod.max_level(); ++level) change(level);
+  for (std::size_t level = lod.max_level() + 1; level-- > 0;) change(level);
+  // One split at a time, the ranges are less than whole uploads (64% here: one range spans
+  // from the earliest corner a split moves, which may lie anywhere in the prefix).
+  EXPECT_LT(uploaded_entries, active_entries);
+  std::mt19937 random(3);
+  std::uniform_int_distribution<std::size_t> any_level(0, lod.max_level());
+  for (int jump = 0; jump < 200; ++jump) change(any_level(random));
+  change(lod.level());  // no change: nothing to upload
+}
+
 TEST(Geomorph, EndsAreTheTwoLevelsExactlyAndEveryAlphaHasTheFineConnectivity) {
   const ProgressiveMesh pm = encode_ok(test::seamed_grid(16));
   RuntimeLod lod(pm);

@@ -34,13 +34,23 @@ class RuntimeLod {
   // Levels as in lod.h: level k is the base mesh refined by k splits.
   std::size_t level() const { return level_; }
   std::size_t max_level() const { return splits_.size(); }
+
+  // What a level change rewrote: entries [begin, end) of indices(). A renderer holding a copy
+  // of the active indices, indices()[0, 3 * face_count()), from before the change makes it
+  // the new one by uploading this range alone (Hoppe 1998, §5: the active faces are a
+  // prefix, so a refinement rewrites a few corners and appends faces, a coarsening only
+  // rewrites corners of the faces that stay).
+  struct IndexRange {
+    std::size_t begin = 0, end = 0;  // index entries, 3 per face
+    bool empty() const { return begin >= end; }
+  };
   // Applies the splits or collapses between the current level and the requested one.
-  void set_level(std::size_t level);
+  IndexRange set_level(std::size_t level);
   // The coarsest level with at least n faces (vertices), or whose error bound is at most e,
   // as level_for_faces / level_for_vertices / level_for_error (O(log levels)).
-  void set_face_count(std::size_t n);
-  void set_vertex_count(std::size_t n);
-  void set_error(double e);
+  IndexRange set_face_count(std::size_t n);
+  IndexRange set_vertex_count(std::size_t n);
+  IndexRange set_error(double e);
 
   // The active mesh, ready to draw: face_count() triangles of wedge indices, all below
   // wedge_count(). The wedge arrays hold every level's wedges and never change.

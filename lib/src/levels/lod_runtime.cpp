@@ -210,28 +210,47 @@ void RuntimeLod::coarsen_to(std::size_t level) {
   }
 }
 
-void RuntimeLod::set_level(std::size_t level) {
+RuntimeLod::IndexRange RuntimeLod::set_level(std::size_t level) {
   level = std::min(level, max_level());
-  if (level > level_) refine_to(level);
-  else coarsen_to(level);
+  if (level == level_) return {};
+  // The splits between the two levels rewrite the corners moved_[first, last), whatever the
+  // direction (Hoppe 1998, §5: a collapse undoes its split's rewrites).
+  const bool refine = level > level_;
+  const uint32_t first = splits_[refine ? level_ : level].moved_begin;
+  const uint32_t last = splits_[(refine ? level : level_) - 1].moved_end;
+  const std::size_t old_end = 3 * std::size_t{face_end_[level_]};
+  const std::size_t new_end = 3 * std::size_t{face_end_[level]};
+  std::size_t low = new_end, high = 0;
+  for (uint32_t k = first; k < last; ++k) {
+    const std::size_t index = moved_[k].index;
+    if (index >= new_end) continue;  // a face that leaves the prefix
+    low = std::min(low, index);
+    high = std::max(high, index + 1);
+  }
+  if (refine) {
+    refine_to(level);
+    return {std::min(low, old_end), new_end};  // the appended faces too
+  }
+  coarsen_to(level);
+  return low < high ? IndexRange{low, high} : IndexRange{};
 }
 
-void RuntimeLod::set_face_count(std::size_t n) {
+RuntimeLod::IndexRange RuntimeLod::set_face_count(std::size_t n) {
   const auto it = std::lower_bound(face_end_.begin(), face_end_.end(), n);
-  set_level(it == face_end_.end() ? max_level() : std::size_t(it - face_end_.begin()));
+  return set_level(it == face_end_.end() ? max_level() : std::size_t(it - face_end_.begin()));
 }
 
-void RuntimeLod::set_vertex_count(std::size_t n) {
+RuntimeLod::IndexRange RuntimeLod::set_vertex_count(std::size_t n) {
   // vertex_end_ is increasing but for the last level (loose vertices): search the rest.
   const auto it = std::lower_bound(vertex_end_.begin(), vertex_end_.end() - 1, n);
-  set_level(std::size_t(it - vertex_end_.begin()));
+  return set_level(std::size_t(it - vertex_end_.begin()));
 }
 
-void RuntimeLod::set_error(double e) {
+RuntimeLod::IndexRange RuntimeLod::set_error(double e) {
   // errors_ is non-increasing: the first level whose bound is at most e.
   const auto it = std::partition_point(errors_.begin(), errors_.end(),
                                        [e](float bound) { return bound > e; });
-  set_level(std::size_t(it - errors_.begin()));
+  return set_level(std::size_t(it - errors_.begin()));
 }
 
 Mesh RuntimeLod::to_mesh() const {
