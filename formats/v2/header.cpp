@@ -382,107 +382,101 @@ bool PmStreamReader::State::decode_index(ByteReader& in) {
   return true;
 }
 
-namespace {
-
-Status read_info(std::string_view bytes, PmInfo& info) {
-  if (bytes.size() >= 12 && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0 &&
-      (static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {
-    return read_pm_info_v1(bytes, info);
-  }
-  if (bytes.size() < kHeaderSize) {
-    const std::size_t magic = std::min(bytes.size(), sizeof kMagic);
-    if (std::memcmp(bytes.data(), kMagic, magic) != 0) return corrupt("not a .pm stream (bad magic)");
-    return Status(ErrorCode::kTruncatedStream, "truncated in the header (" +
-                                                   std::to_string(bytes.size()) + " of 96 bytes)");
-  }
-  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return corrupt("not a .pm stream (bad magic)");
-  Header2 h;
-  if (Status status = parse_header2(bytes, h); !status) return status;
-  PmInfo r = info_from_header(h);
-  r.section_count = static_cast<uint32_t>(expected_sections(h).size());
-  r.position_bits = h.position_bits;
-  r.uv_bits = h.uv_bits;
-  r.normal_bits = h.normal_bits;
-  r.keeps_order = (h.options & kOptionKeepsOrder) != 0;
-  r.positions_decimal = (h.options & kOptionDecimalPositions) != 0;
-  r.positions_significant = (h.options & kOptionSignificantPositions) != 0;
-  r.uvs_significant = (h.options & kOptionSignificantUvs) != 0;
-  r.normals_significant = (h.options & kOptionSignificantNormals) != 0;
-  // The chunk index: skip the sections before it, decompress it, and walk the chunks'
-  // section headers for their ends.
-  if (h.chunk_count > 0) {
-    ReadOptions options;
-    options.max_splits = 0;
-    options.allow_truncated = true;
-    PmStreamReader::State s;
-    s.options = options;
-    if (Status status = s.start(bytes, false); !status) return status;
-    // Section headers from `offset`: tag and stored size, or false at the end of `bytes`.
-    std::size_t offset = kHeaderSize;
-    const auto section_at = [&](uint32_t& tag, uint32_t& flags, uint64_t& stored, uint64_t& raw_size) {
-      SectionHeader section;
-      if (offset > bytes.size() || !read_section_header(bytes.substr(offset), section)) return false;
-      tag = section.tag;
-      flags = section.flags;
-      stored = section.stored_size;
-      raw_size = section.raw_size;
-      return true;
-    };
-    uint32_t tag = 0, flags = 0;
-    uint64_t stored = 0, raw_size = 0;
-    while (s.index.empty()) {
-      if (!section_at(tag, flags, stored, raw_size) ||
-          bytes.size() - offset - kSectionHeaderSize < stored) {
-        return Status(ErrorCode::kTruncatedStream, "truncated before the chunk index");
-      }
-      if (tag == kTagIndex) {
-        if (Status status = s.check_section(tag, flags, stored, raw_size); !status) return status;
-        if (Status status = decompress_frame("section INDX", bytes.substr(offset + kSectionHeaderSize, stored),
-                                             raw_size, s.dctx.get(), s.raw);
-            !status) {
-          return status;
-        }
-        ByteReader payload(s.raw, "section INDX", ErrorCode::kCorruptStream);
-        if (!s.decode_index(payload)) return payload.status();
-        if (!payload.at_end()) return corrupt("section INDX: bytes left over");
-      } else if (is_v2_tag(tag)) {
-        if (tag != s.expected[s.next]) return corrupt("section " + tag_name(tag) + ": out of order");
-        ++s.next;
-      }
-      offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
-    }
-    uint64_t splits = 0, faces = uint64_t{h.base_face_count} + h.carried_face_count;
-    for (const ChunkEntry& e : s.index) {
-      PmInfo::Chunk chunk;
-      chunk.splits = e.splits;
-      splits += e.splits;
-      faces += e.new_faces;
-      chunk.vertices_after = h.base_vertex_count + splits - h.weld_count +
-                             (splits == h.split_count ? h.loose_vertex_count : 0);
-      chunk.faces_after = faces;
-      chunk.error_after = e.error_after;
-      // Where the chunk ends, when its section header is in `bytes` (optional sections of
-      // other tools may come between chunks).
-      while (section_at(tag, flags, stored, raw_size) && tag != kTagChunk && stored <= bytes.size()) {
-        offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
-      }
-      if (section_at(tag, flags, stored, raw_size) && stored <= bytes.size()) {
-        offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
-        chunk.stream_end = offset;
-      } else {
-        offset = bytes.size() + 1;  // the rest is not in `bytes`
-      }
-      r.chunks.push_back(chunk);
-    }
-  }
-  info = r;
-  return Status::ok();
-}
-
-}  // namespace
-
 Status read_pm_info(std::string_view bytes, PmInfo& info) {
-  return detail::no_throw([&] { return read_info(bytes, info); });
+  return detail::no_throw([&]() -> Status {
+    if (bytes.size() >= 12 && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0 &&
+        (static_cast<uint8_t>(bytes[8]) | static_cast<uint8_t>(bytes[9]) << 8) != kMajor2) {
+      return read_pm_info_v1(bytes, info);
+    }
+    if (bytes.size() < kHeaderSize) {
+      const std::size_t magic = std::min(bytes.size(), sizeof kMagic);
+      if (std::memcmp(bytes.data(), kMagic, magic) != 0) return corrupt("not a .pm stream (bad magic)");
+      return Status(ErrorCode::kTruncatedStream, "truncated in the header (" +
+                                                     std::to_string(bytes.size()) + " of 96 bytes)");
+    }
+    if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) return corrupt("not a .pm stream (bad magic)");
+    Header2 h;
+    if (Status status = parse_header2(bytes, h); !status) return status;
+    PmInfo r = info_from_header(h);
+    r.section_count = static_cast<uint32_t>(expected_sections(h).size());
+    r.position_bits = h.position_bits;
+    r.uv_bits = h.uv_bits;
+    r.normal_bits = h.normal_bits;
+    r.keeps_order = (h.options & kOptionKeepsOrder) != 0;
+    r.positions_decimal = (h.options & kOptionDecimalPositions) != 0;
+    r.positions_significant = (h.options & kOptionSignificantPositions) != 0;
+    r.uvs_significant = (h.options & kOptionSignificantUvs) != 0;
+    r.normals_significant = (h.options & kOptionSignificantNormals) != 0;
+    // The chunk index: skip the sections before it, decompress it, and walk the chunks'
+    // section headers for their ends.
+    if (h.chunk_count > 0) {
+      ReadOptions options;
+      options.max_splits = 0;
+      options.allow_truncated = true;
+      PmStreamReader::State s;
+      s.options = options;
+      if (Status status = s.start(bytes, false); !status) return status;
+      // Section headers from `offset`: tag and stored size, or false at the end of `bytes`.
+      std::size_t offset = kHeaderSize;
+      const auto section_at = [&](uint32_t& tag, uint32_t& flags, uint64_t& stored, uint64_t& raw_size) {
+        SectionHeader section;
+        if (offset > bytes.size() || !read_section_header(bytes.substr(offset), section)) return false;
+        tag = section.tag;
+        flags = section.flags;
+        stored = section.stored_size;
+        raw_size = section.raw_size;
+        return true;
+      };
+      uint32_t tag = 0, flags = 0;
+      uint64_t stored = 0, raw_size = 0;
+      while (s.index.empty()) {
+        if (!section_at(tag, flags, stored, raw_size) ||
+            bytes.size() - offset - kSectionHeaderSize < stored) {
+          return Status(ErrorCode::kTruncatedStream, "truncated before the chunk index");
+        }
+        if (tag == kTagIndex) {
+          if (Status status = s.check_section(tag, flags, stored, raw_size); !status) return status;
+          if (Status status = decompress_frame("section INDX", bytes.substr(offset + kSectionHeaderSize, stored),
+                                               raw_size, s.dctx.get(), s.raw);
+              !status) {
+            return status;
+          }
+          ByteReader payload(s.raw, "section INDX", ErrorCode::kCorruptStream);
+          if (!s.decode_index(payload)) return payload.status();
+          if (!payload.at_end()) return corrupt("section INDX: bytes left over");
+        } else if (is_v2_tag(tag)) {
+          if (tag != s.expected[s.next]) return corrupt("section " + tag_name(tag) + ": out of order");
+          ++s.next;
+        }
+        offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
+      }
+      uint64_t splits = 0, faces = uint64_t{h.base_face_count} + h.carried_face_count;
+      for (const ChunkEntry& e : s.index) {
+        PmInfo::Chunk chunk;
+        chunk.splits = e.splits;
+        splits += e.splits;
+        faces += e.new_faces;
+        chunk.vertices_after = h.base_vertex_count + splits - h.weld_count +
+                               (splits == h.split_count ? h.loose_vertex_count : 0);
+        chunk.faces_after = faces;
+        chunk.error_after = e.error_after;
+        // Where the chunk ends, when its section header is in `bytes` (optional sections of
+        // other tools may come between chunks).
+        while (section_at(tag, flags, stored, raw_size) && tag != kTagChunk && stored <= bytes.size()) {
+          offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
+        }
+        if (section_at(tag, flags, stored, raw_size) && stored <= bytes.size()) {
+          offset += kSectionHeaderSize + static_cast<std::size_t>(stored);
+          chunk.stream_end = offset;
+        } else {
+          offset = bytes.size() + 1;  // the rest is not in `bytes`
+        }
+        r.chunks.push_back(chunk);
+      }
+    }
+    info = r;
+    return Status::ok();
+  });
 }
 
 }  // namespace pm

@@ -23,8 +23,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   fuzz::check_mesh(mesh, "read_gltf: face index out of range");
-  std::string problem;
-  if (!validate_attributes(mesh, &problem)) fuzz::fail("read_gltf gave an invalid mesh: " + problem);
+  if (const Status valid = validate_attributes(mesh); !valid) {
+    fuzz::fail("read_gltf gave an invalid mesh: " + valid.message());
+  }
   for (bool quantize : {false, true}) {
     GltfWriteOptions write_options;
     write_options.quantize = quantize;
