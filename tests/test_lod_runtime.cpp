@@ -189,8 +189,10 @@ TEST(Geomorph, OutlivesAMoveAndTheDestructionOfItsRuntime) {
   auto lod = std::make_unique<RuntimeLod>(pm);
   const RuntimeLod::Geomorph morph = lod->geomorph(pm.split_count() / 4, pm.split_count() / 2);
   const std::size_t wedges = morph.wedge_count();
+  // Per wedge: a position (3), a texture coordinate (2), a normal (3), a colour (3 here).
+  ASSERT_EQ(pm.color_components, 3u);
   auto evaluate = [&](float alpha) {
-    std::vector<float> values(10 * wedges);
+    std::vector<float> values(11 * wedges);
     morph.evaluate(alpha, values.data(), values.data() + 3 * wedges, values.data() + 5 * wedges,
                    values.data() + 8 * wedges);
     return values;
