@@ -5,6 +5,8 @@
 #   bench_configure REPO BUILD             configures BUILD for the benchmarks (tests off)
 #   bench_big_and_runs TOOL ARGS...        parses [--big] [--runs N] into $big (kept when
 #                                          not given) and $runs (7 unless given, at least 5)
+#   bench_commit REPO PATHSPEC...          prints HEAD's short hash, "with uncommitted
+#                                          changes" after it when the paths have some
 
 bench_install() {
   local tool=$1
@@ -43,4 +45,13 @@ bench_big_and_runs() {
     echo "$tool: --runs must be at least 5 (each row is a median)" >&2
     exit 2
   fi
+}
+
+bench_commit() {
+  local repo=$1
+  shift
+  local commit
+  commit="$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+  [[ -z "$(git -C "$repo" status --porcelain -- "$@" 2>/dev/null)" ]] || commit="$commit with uncommitted changes"
+  echo "$commit"
 }
