@@ -3,10 +3,13 @@
 on nefertiti, no hidden copies): pmesh.encode of the mesh's arrays against pm::encode, and
 ProgressiveMesh.level(ratio=R) against pm::extract_level, for each ratio. Runs alternate between the two
 (pm_bench_python_peer, then Python, RUNS times) so that the machine's load falls on both
-alike; each time is the median of its runs (a level: of 21 extractions a run). Prints a
+alike; each time is the median of its runs. A level's time in a run is the median of 21
+samples, each the mean of --calls calls timed together (50: a call of half a millisecond is
+not timed alone, at the mercy of the clock, the interpreter and the scheduler). Prints a
 markdown table with the machine, the date and the load average.
 
-    PYTHONPATH=build/python /usr/bin/python3 python/bench/bench.py [--mesh M] [--runs N] [--ratios 0.1,1]
+    PYTHONPATH=build/python /usr/bin/python3 python/bench/bench.py [--mesh M] [--runs N] [--calls N]
+        [--ratios 0.1,1]
 """
 
 import argparse
@@ -37,24 +40,25 @@ def commit():
         return "unknown"
 
 
-def python_run(mesh, ratios, extractions):
-    """Encode seconds, then (median seconds, faces) per ratio."""
+def python_run(mesh, ratios, samples, calls):
+    """Encode seconds, then (median seconds a call, faces) per ratio."""
     start = time.perf_counter()
     pm = pmesh.encode(mesh)
     results = [time.perf_counter() - start]
     for ratio in ratios:
         times = []
-        for _ in range(extractions):
+        for _ in range(samples):
             start = time.perf_counter()
-            level = pm.level(ratio=ratio)
-            times.append(time.perf_counter() - start)
+            for _ in range(calls):
+                level = pm.level(ratio=ratio)
+            times.append((time.perf_counter() - start) / calls)
         results.append((statistics.median(times), len(level.faces)))
     return results
 
 
-def cpp_run(peer, path, ratios, extractions):
-    out = subprocess.run([peer, path, str(extractions), *map(str, ratios)], capture_output=True, text=True,
-                         check=True).stdout.splitlines()
+def cpp_run(peer, path, ratios, samples, calls):
+    out = subprocess.run([peer, path, str(samples), str(calls), *map(str, ratios)], capture_output=True,
+                         text=True, check=True).stdout.splitlines()
     results = [float(out[0].split()[1])]
     for line in out[1:]:
         _, _, seconds, faces = line.split()
@@ -67,9 +71,10 @@ def main():
     parser.add_argument("--mesh", default=str(SOURCE.parent / "shared" / "meshes" / "nefertiti.obj"))
     parser.add_argument("--peer", default=str(SOURCE / "build" / "python" / "pm_bench_python_peer"))
     parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--calls", type=int, default=50, help="level calls timed together in a sample")
     parser.add_argument("--ratios", default="0.1,1", help="levels to extract, as ratios of the full faces")
     args = parser.parse_args()
-    extractions = 21
+    samples = 21
     # The arrays as a numpy user has them (new arrays, not the library's views of a mesh it
     # read): encode() checks them and hands them to the library, copy included if it makes one.
     read = pmesh.read(args.mesh)
@@ -81,8 +86,8 @@ def main():
     load_before = os.getloadavg()[0]
     cpp, python = [], []
     for _ in range(args.runs):
-        cpp.append(cpp_run(args.peer, args.mesh, ratios, extractions))
-        python.append(python_run(mesh, ratios, extractions))
+        cpp.append(cpp_run(args.peer, args.mesh, ratios, samples, args.calls))
+        python.append(python_run(mesh, ratios, samples, args.calls))
     load_after = os.getloadavg()[0]
     rows = [(f"encode ({len(mesh.faces):,} faces)", [r[0] for r in cpp], [r[0] for r in python])]
     for k, ratio in enumerate(ratios, 1):
@@ -93,7 +98,8 @@ def main():
     print(f"- machine: {machine()}")
     print(f"- date: {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit()}")
     print(f"- load average (1 min): {load_before:.2f} before, {load_after:.2f} after")
-    print(f"- mesh: {args.mesh}; {args.runs} runs each, alternating; medians")
+    print(f"- mesh: {args.mesh}; {args.runs} runs each, alternating; medians (a level: of {samples} samples "
+          f"a run, each the mean of {args.calls} calls; both sides choose the level by ratio, then extract it)")
     print()
     print("| step | C++ (s) | Python (s) | Python / C++ | goal |")
     print("|---|---|---|---|---|")

@@ -192,7 +192,15 @@ struct Progressive {
   std::optional<pm::EncodeStats> stats;       // when made by encode()
 
   std::size_t levels() const { return pm->splits.size() + 1; }
-  std::size_t full_faces() const { return pm::faces_at_level(*pm, pm->splits.size()); }
+  // Counted once: a walk over every split (0.1 ms on nefertiti's 50k), which level(ratio=)
+  // would otherwise add to each call. The GIL guards the cache, as pm never changes.
+  std::size_t full_faces() const {
+    if (!full_faces_known) full_face_count = pm::faces_at_level(*pm, pm->splits.size());
+    full_faces_known = true;
+    return full_face_count;
+  }
+  mutable std::size_t full_face_count = 0;
+  mutable bool full_faces_known = false;
   std::size_t checked_level(long long level) const {
     if (level < 0 || std::size_t(level) >= levels())
       invalid_argument("level " + std::to_string(level) + " is not in [0, " +
