@@ -9,6 +9,7 @@
 
 #include "batch_options.h"
 #include "cli_common.h"
+#include "pm/advanced/pm_stream.h"
 #include "pm/encoder.h"
 #include "pm/gltf.h"
 #include "pm/mesh_io.h"
@@ -121,14 +122,14 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   const bool fast_by_size =
       !options.fast && settings.fast_from != 0 && mesh.face_count() >= settings.fast_from;
   if (fast_by_size) options.fast = true;
-  // The windows of layered splits stay inside the stream's chunks (--chunk-splits);
-  // --layered: whole chunks.
-  options.layer_chunk_splits = settings.write.chunk_splits;
+  // --layered: whole chunks. The windows of layered splits stay inside the stream's chunks
+  // (--chunk-splits), those of the options the stream is written with.
   if (settings.layered) options.layer_window = std::numeric_limits<double>::infinity();
   options.progress = [&progress](double fraction) { progress.set_fraction(fraction); };
   pm::ProgressiveMesh progressive;
   pm::EncodeStats stats;
-  if (pm::Status s = pm::encode(mesh, options, progressive, &stats); !s) return failed(s);
+  if (pm::Status s = pm::encode(mesh, options, settings.write, progressive, &stats); !s)
+    return failed(s);
   mesh = pm::Mesh();
   if (stats.repair.any()) progress.note(repairs_note(input, stats.repair));
   if (fast_by_size && stats.fast)

@@ -56,6 +56,7 @@
 #include "core/in_turn.h"
 #include "core/no_throw.h"
 #include "levels/validate_decoded.h"
+#include "pm/advanced/pm_stream.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
 #include "split_fans.h"

@@ -158,8 +158,9 @@ TEST(Cli, LayerWindowSetsTheSplitOrder) {
     EXPECT_EQ(encode(mesh, options, pm).code(), ErrorCode::kInvalidArgument) << share;
   }
   options.layer_window = 0.1;
-  options.layer_chunk_splits = 0;
-  EXPECT_EQ(encode(mesh, options, pm).code(), ErrorCode::kInvalidArgument);
+  WriteOptions no_chunks;
+  no_chunks.chunk_splits = 0;
+  EXPECT_EQ(encode(mesh, options, no_chunks, pm).code(), ErrorCode::kInvalidArgument);
 }
 
 TEST(Cli, ErrorBitsRoundTheErrorsUpByDefaultOnlyWhenQuantized) {

@@ -25,6 +25,8 @@
 #include "../formats/pm_layout.h"
 #include "../formats/range_coder.h"
 #include "core/huge_pages.h"
+#include "pm/advanced/pm_stream.h"
+#include "pm/advanced/stream_order.h"
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
@@ -1618,8 +1620,9 @@ TEST(PmStream, LayeredSplitsKeepEveryWindowsMesh) {
       ProgressiveMesh plain, layered;
       ASSERT_TRUE(encode(input, options, plain).is_ok());
       options.layer_window = share;
-      options.layer_chunk_splits = 256;
-      ASSERT_TRUE(encode(input, options, layered).is_ok());
+      WriteOptions chunked;
+      chunked.chunk_splits = 256;
+      ASSERT_TRUE(encode(input, options, chunked, layered).is_ok());
       ASSERT_TRUE(test::ok(validate(layered)));
       ASSERT_EQ(layered.splits.size(), plain.splits.size());
       expect_same_arrays(extract_level(layered, layered.splits.size()), input);
@@ -1644,8 +1647,6 @@ TEST(PmStream, LayeredSplitsKeepEveryWindowsMesh) {
       expect_identical(with_sorted_moves(read(write(layered))), with_sorted_moves(layered));
       // The written stream's index describes each chunk's level; every split inside a chunk
       // is a valid level too (extract_level validates), with a non-increasing error.
-      WriteOptions chunked;
-      chunked.chunk_splits = 256;
       PmInfo info;
       ASSERT_TRUE(read_pm_info(write(layered, chunked), info).is_ok());
       std::size_t end = 0;
@@ -1688,11 +1689,10 @@ TEST(PmStream, LayerWindowsKeepTheLevelsAsCloseAsTheGreedyOrder) {
     ProgressiveMesh plain, layered;
     ASSERT_TRUE(encode(input, options, plain).is_ok());
     options.layer_window = 1.0 / 16;
-    options.layer_chunk_splits = WriteOptions{}.chunk_splits;
-    ASSERT_TRUE(encode(input, options, layered).is_ok());
+    ASSERT_TRUE(encode(input, options, layered).is_ok());  // WriteOptions{}'s chunks
     const std::vector<uint32_t> windows =
         layer_windows(plain.base_vertex_count, static_cast<uint32_t>(plain.splits.size()),
-                      options.layer_chunk_splits, options.layer_window);
+                      WriteOptions{}.chunk_splits, options.layer_window);
     std::size_t begin = 0, candidates = 0, compared = 0;
     for (uint32_t size : windows) {
       const std::size_t vertices = plain.base_vertex_count + begin + size / 2;

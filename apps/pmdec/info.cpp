@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "cli_common.h"
+#include "pm/advanced/pm_stream.h"
 #include "pmdec/pmdec.h"
 
 namespace pmdec {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "byte_io.h"
+#include "pm/advanced/stream_order.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
 #include "range_coder.h"

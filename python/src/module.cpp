@@ -26,6 +26,7 @@
 
 #include "errors.h"
 #include "mesh_arrays.h"
+#include "pm/advanced/pm_stream.h"
 #include "pm/encoder.h"
 #include "pm/gltf.h"
 #include "pm/lod.h"
@@ -394,7 +395,6 @@ void complete_options(EncodeArguments& a, std::size_t faces) {
   // pmenc's --fast-from: large meshes take the fast loop unless asked otherwise.
   encode.fast = encode.fast || (a.fast_from != 0 && faces >= a.fast_from);
   if (a.layered) encode.layer_window = std::numeric_limits<double>::infinity();
-  encode.layer_chunk_splits = write.chunk_splits;  // the windows stay inside the stream's chunks
   write.error_bits = a.error_bits.value_or(write.position_bits > 0 ? pm::kQuantizedErrorBits : 0);
   write.threads = encode.threads;
 }
@@ -417,7 +417,8 @@ Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
   std::shared_ptr<std::string> stream;
   {
     py::gil_scoped_release release;
-    status = pm::encode(input, options, *encoded, &stats);
+    // The splits' windows stay inside the chunks of the stream p.write writes.
+    status = pm::encode(input, options, p.write, *encoded, &stats);
     // Lossy storage (grids, error bits) changes the levels: the object holds what a reader
     // of its stream decodes, the levels pmdec gives for pmenc's file.
     if (status && lossy) {

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "pm/advanced/pm_stream.h"
 #include "pm/encoder.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"

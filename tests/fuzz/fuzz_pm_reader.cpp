@@ -23,6 +23,7 @@
 #include "../../formats/byte_io.h"
 #include "../../formats/pm_layout.h"
 #include "fuzz_common.h"
+#include "pm/advanced/pm_stream.h"
 
 extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t max_size);
 

@@ -1,6 +1,6 @@
-// Allocation failure: every allocation after the first N fails (this binary replaces the
-// global operator new, so it is a binary of its own: the suite's other tests must not run
-// under it). Whatever N, encode(), write_pm() and read_pm() return kResourceLimit or succeed
+// Allocation failure: every allocation after the first N fails, or every one after the first
+// N made on threads other than the test's (this binary replaces the global operator new, so
+// it is a binary of its own: the suite's other tests must not run under it). Whatever N, encode(), write_pm() and read_pm() return kResourceLimit or succeed
 // with the result they give with memory; no exception leaves them (status.h), and the
 // sanitizers see no leak.
 #include <gtest/gtest.h>
@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <new>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "pm/encoder.h"
@@ -20,12 +21,22 @@ namespace {
 // Allocations left before the next one fails; negative: no limit.
 std::atomic<long> allocations_left{-1};
 std::atomic<long> allocations_made{0};
+// The same for the allocations of every thread but `test_thread` (the library's workers).
+std::atomic<long> worker_allocations_left{-1};
+std::atomic<long> worker_allocations_made{0};
+std::thread::id test_thread;  // set before the library starts a thread
 
 void* allocate(std::size_t size, std::size_t alignment) {
   allocations_made.fetch_add(1, std::memory_order_relaxed);
   if (allocations_left.load(std::memory_order_relaxed) >= 0 &&
       allocations_left.fetch_sub(1, std::memory_order_relaxed) <= 0)
     throw std::bad_alloc();
+  if (std::this_thread::get_id() != test_thread) {
+    worker_allocations_made.fetch_add(1, std::memory_order_relaxed);
+    if (worker_allocations_left.load(std::memory_order_relaxed) >= 0 &&
+        worker_allocations_left.fetch_sub(1, std::memory_order_relaxed) <= 0)
+      throw std::bad_alloc();
+  }
   if (size == 0) size = 1;
   void* p = alignment <= alignof(std::max_align_t)
                 ? std::malloc(size)
@@ -44,6 +55,19 @@ class AllocationLimit {
   ~AllocationLimit() { allocations_left = -1; }
   AllocationLimit(const AllocationLimit&) = delete;
   AllocationLimit& operator=(const AllocationLimit&) = delete;
+};
+
+// The same, for the allocations made on other threads than this one.
+class WorkerAllocationLimit {
+ public:
+  explicit WorkerAllocationLimit(long n) {
+    test_thread = std::this_thread::get_id();
+    worker_allocations_made = 0;
+    worker_allocations_left = n;
+  }
+  ~WorkerAllocationLimit() { worker_allocations_left = -1; }
+  WorkerAllocationLimit(const WorkerAllocationLimit&) = delete;
+  WorkerAllocationLimit& operator=(const WorkerAllocationLimit&) = delete;
 };
 
 }  // namespace
@@ -74,6 +98,31 @@ std::vector<long> failure_points(long total) {
   return points;
 }
 
+// encode() with allocation n failing (Limit: every thread's, or the worker threads' only):
+// whether it failed as it must (kResourceLimit, "out of memory", no mesh). A few
+// allocations have a fallback (a scratch buffer that may be skipped): then the result is the
+// one with memory.
+template <class Limit>
+bool encode_fails_cleanly(const Mesh& mesh, const EncodeOptions& options,
+                          const ProgressiveMesh& expected, long n) {
+  ProgressiveMesh pm;
+  Status status;
+  {
+    const Limit limit(n);
+    status = encode(mesh, options, pm);
+  }
+  if (status.is_ok()) {
+    EXPECT_EQ(pm.positions, expected.positions) << "failing allocation " << n;
+    EXPECT_EQ(pm.moved_faces, expected.moved_faces) << "failing allocation " << n;
+    return false;
+  }
+  EXPECT_EQ(status.code(), ErrorCode::kResourceLimit) << "failing allocation " << n << ": "
+                                                      << status.message();
+  EXPECT_EQ(status.message(), "out of memory");
+  EXPECT_EQ(pm.vertex_count(), 0u);
+  return status.code() == ErrorCode::kResourceLimit;
+}
+
 TEST(OutOfMemory, EncodeReturnsResourceLimitWhereverAnAllocationFails) {
   const Mesh grid = test::seamed_grid(8);  // texture coordinates, normals, materials
   EncodeOptions options;
@@ -87,32 +136,39 @@ TEST(OutOfMemory, EncodeReturnsResourceLimitWhereverAnAllocationFails) {
   }
   ASSERT_GT(total, 100);
   std::size_t failed = 0;
-  for (long n : failure_points(total)) {
-    ProgressiveMesh pm;
-    Status status;
-    {
-      const AllocationLimit limit(n);
-      status = encode(grid, options, pm);
-    }
-    // A few allocations have a fallback (a scratch buffer that may be skipped): then the
-    // result is the one with memory.
-    if (status.is_ok()) {
-      EXPECT_EQ(pm.positions, expected.positions) << "failing allocation " << n;
-      EXPECT_EQ(pm.moved_faces, expected.moved_faces) << "failing allocation " << n;
-      continue;
-    }
-    ASSERT_EQ(status.code(), ErrorCode::kResourceLimit) << "failing allocation " << n << " of "
-                                                        << total << ": " << status.message();
-    EXPECT_EQ(status.message(), "out of memory");
-    EXPECT_EQ(pm.vertex_count(), 0u);
-    ++failed;
-  }
+  for (long n : failure_points(total))
+    failed += encode_fails_cleanly<AllocationLimit>(grid, options, expected, n);
   EXPECT_GE(failed, 100u);
   // And with memory again, the same result as before.
   ProgressiveMesh again;
   ASSERT_TRUE(encode(grid, options, again).is_ok());
   EXPECT_EQ(again.positions, expected.positions);
   EXPECT_EQ(again.base_faces, expected.base_faces);
+}
+
+// On threads: an allocation that fails on one of encode()'s worker threads (the fast loop's
+// regions, the second thread of the splits' two-stage layers) comes back as kResourceLimit
+// too, not as std::terminate.
+TEST(OutOfMemory, EncodeReturnsResourceLimitWhenAWorkerThreadsAllocationFails) {
+  const Mesh grid = test::seamed_grid(260);  // 68,121 vertices: over 2^16 splits to layer
+  EncodeOptions options;
+  options.drop_attributes = true;  // geometry only, so that the fast loop runs
+  options.fast = true;
+  options.fast_partition_vertices = 4096;  // in regions
+  options.threads = 2;
+  ProgressiveMesh expected;
+  long total = 0;
+  {
+    const WorkerAllocationLimit none(-1);
+    ASSERT_TRUE(encode(grid, options, expected).is_ok());
+    total = worker_allocations_made;
+  }
+  ASSERT_GT(expected.splits.size(), std::size_t{1} << 16);
+  ASSERT_GT(total, 0);
+  std::size_t failed = 0;
+  for (long n : {0L, 1L, 2L, 3L, total / 8, total / 4, total / 2, total * 3 / 4, total - 1})
+    failed += encode_fails_cleanly<WorkerAllocationLimit>(grid, options, expected, n);
+  EXPECT_GE(failed, 5u);
 }
 
 TEST(OutOfMemory, WriteAndReadReturnResourceLimitWhereverAnAllocationFails) {

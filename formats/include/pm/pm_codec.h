@@ -22,10 +22,6 @@ inline constexpr uint16_t kFormatMajor = 2;
 // texture coordinates through the moved face that holds the new vertex.
 inline constexpr uint16_t kFormatMinor = 4;
 
-// The error bits pmenc keeps with --quantize (WriteOptions::error_bits): at most 1/16 over
-// the exact bound, 0.4% to 2.6% smaller 14-bit streams on the shared meshes.
-inline constexpr int kQuantizedErrorBits = 5;
-
 struct WriteOptions {
   int zstd_level = 19;  // 1..22
   // Quantization (lossy, by the caller's choice; 0 keeps every float bit): positions on a
@@ -43,7 +39,7 @@ struct WriteOptions {
   // bits, rounded up so that it stays a bound (lossy, by the caller's choice, like the grids
   // above; a level chosen by error can only be finer than with every bit): 0 keeps every
   // bit; 1..24. On a grid, the errors' low bits are far below the grid's step and cost a bit
-  // or two per split; pmenc keeps kQuantizedErrorBits with --quantize.
+  // or two per split; pmenc keeps kQuantizedErrorBits (pm/advanced/pm_stream.h) with --quantize.
   int error_bits = 0;
   // The splits are stored in chunks of at most this many (each compressed on its own, with
   // an index, so that a reader decodes only the prefix it needs): the first chunks are
@@ -206,22 +202,5 @@ struct PmInfo {
 // it are skipped, not decompressed); `bytes` may be a prefix of the stream that holds them.
 // Same errors as read_pm.
 [[nodiscard]] Status read_pm_info(std::string_view bytes, PmInfo& info);
-
-// Where a 2.x stream's bytes go, for `pmdec --info --sizes`: each section's bytes (its
-// 24-byte header and zstd frame; the chunks summed), and the chunks' streams (pm-format.md
-// §5.7) before zstd, summed over the chunks. The sections and the header add up to the
-// stream's size.
-struct PmSizes {
-  uint64_t header = 0;  // 96
-  std::vector<std::pair<std::string, uint64_t>> sections;       // tag, bytes, in stream order
-  uint32_t chunks = 0;
-  std::vector<std::pair<std::string, uint64_t>> chunk_streams;  // name, raw bytes (§5.7 order)
-  // Each chunk's stream compressed alone (zstd level 19), summed: what it costs in the file,
-  // about (the file compresses a chunk's streams together, in one frame).
-  std::vector<uint64_t> chunk_streams_compressed;
-};
-// Decodes the whole stream first (the same checks and errors as read_pm); a 1.x stream is
-// kUnsupportedVersion (its records are not chunked).
-[[nodiscard]] Status measure_pm_sizes(std::string_view bytes, PmSizes& sizes, const ReadOptions& options = {});
 
 }  // namespace pm

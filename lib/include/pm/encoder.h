@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "pm/mesh.h"
+#include "pm/pm_codec.h"
 #include "pm/progressive_mesh.h"
 #include "pm/status.h"
 
@@ -37,9 +38,10 @@ struct EncodeOptions {
   bool keep_order = false;
   // Reorder the splits into layers of independent splits, which the .pm stream codes more
   // compactly: u as a small gap from the previous u of its layer instead of a global vertex
-  // id (layer_splits in progressive_mesh.h; Pajarola and Rossignac 2000, §3). Each window
-  // of at most this share of the vertices before it is reordered on its own, inside the
-  // stream's chunks of layer_chunk_splits (which should be WriteOptions::chunk_splits). The
+  // id (layer_splits in pm/advanced/stream_order.h; Pajarola and Rossignac 2000, §3). Each
+  // window of at most this share of the vertices before it is reordered on its own, inside
+  // the stream's chunks: those of the WriteOptions given to encode() (the same object the
+  // caller then gives write_pm, so the two cannot disagree), WriteOptions{}'s without. The
   // levels at window ends are the simplifier's; a level inside a window has as many
   // vertices as the greedy level it replaces, and an error bound no larger than the
   // window's first level's.
@@ -50,7 +52,6 @@ struct EncodeOptions {
   // coarser: fandisk at 259 faces, Hausdorff 0.36% -> 0.60% of the diagonal).
   // pmenc --layer-window, --layered.
   double layer_window = 1.0 / 16;
-  uint32_t layer_chunk_splits = 4096;
   // The fast collapse loop (pmenc --fast): the quadric metric on a flat connectivity,
   // without the measured distance the default loop charges each collapse (the removed input
   // vertices' worst distance to the surface, both ways round). About 22 to 26 times faster
@@ -116,8 +117,15 @@ inline constexpr double kMaxEncodeDiagonal = 1e38;
 // (arrays of the wrong length, a vertex or attribute index out of range, a coordinate that
 // is not finite: validate_attributes()); kEmptyMesh (no vertices); kResourceLimit from 2^30
 // vertices or faces, when the bounding-box diagonal exceeds kMaxEncodeDiagonal, or when
-// memory runs out. Never throws.
+// memory runs out (on any of its threads). Never throws.
 [[nodiscard]] Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
               EncodeStats* stats = nullptr);
+// The same, for a stream to be written with `stream` (write_pm): the splits' layers stay
+// inside its chunks (WriteOptions::chunk_splits, the one source of that size; the overload
+// above uses WriteOptions{}'s). Its other fields do not matter here. Errors: those above, and
+// kInvalidArgument for chunk_splits outside 1..2^20 when the splits are layered.
+[[nodiscard]] Status encode(const Mesh& input, const EncodeOptions& options,
+                            const WriteOptions& stream, ProgressiveMesh& out,
+                            EncodeStats* stats = nullptr);
 
 }  // namespace pm

@@ -49,5 +49,9 @@ struct MeshView {
 // kInvalidArgument for a view with rows but no data or a stride shorter than its row.
 [[nodiscard]] Status encode(const MeshView& input, const EncodeOptions& options,
                             ProgressiveMesh& out, EncodeStats* stats = nullptr);
+// The same, for a stream to be written with `stream` (as encode() on a Mesh with it).
+[[nodiscard]] Status encode(const MeshView& input, const EncodeOptions& options,
+                            const WriteOptions& stream, ProgressiveMesh& out,
+                            EncodeStats* stats = nullptr);
 
 }  // namespace pm

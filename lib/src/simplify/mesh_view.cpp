@@ -39,6 +39,11 @@ bool gather(const RowsView<T>& view, std::size_t width, const char* what, std::v
 
 Status encode(const MeshView& input, const EncodeOptions& options, ProgressiveMesh& out,
               EncodeStats* stats) {
+  return encode(input, options, WriteOptions{}, out, stats);
+}
+
+Status encode(const MeshView& input, const EncodeOptions& options, const WriteOptions& stream,
+              ProgressiveMesh& out, EncodeStats* stats) {
   Mesh mesh;
   std::string problem;
   const Status gathered = detail::no_throw([&] {
@@ -59,7 +64,7 @@ Status encode(const MeshView& input, const EncodeOptions& options, ProgressiveMe
     return Status::ok();
   });
   if (!gathered) return gathered;
-  return encode(mesh, options, out, stats);
+  return encode(mesh, options, stream, out, stats);
 }
 
 }  // namespace pm

@@ -17,6 +17,7 @@
 #include "simplify/corner_attributes.h"
 #include "simplify/fast_simplifier.h"
 #include "simplify/manifold_repair.h"
+#include "pm/advanced/stream_order.h"
 #include "pm/encoder.h"
 #include "pm/pm_codec.h"
 #include "simplify/quadric.h"
@@ -749,15 +750,15 @@ double effective_feature_angle(const EncodeOptions& options) {
 
 namespace {
 
-Status encode_unguarded(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
-                        EncodeStats* stats) {
+Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_t chunk_splits,
+                        ProgressiveMesh& out, EncodeStats* stats) {
   if (!(options.feature_angle_deg <= 180))  // negative: the default; NaN fails here
     return Status(ErrorCode::kInvalidArgument, "feature angle must be within [0, 180] degrees");
   if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
     return Status(ErrorCode::kInvalidArgument, "normal flip limit must be within [0, 180] degrees");
   if (!(options.layer_window >= 0))  // NaN fails here; infinity: whole chunks
     return Status(ErrorCode::kInvalidArgument, "layer window must be a share >= 0");
-  if (options.layer_window > 0 && options.layer_chunk_splits == 0)
+  if (options.layer_window > 0 && chunk_splits == 0)
     return Status(ErrorCode::kInvalidArgument, "layer chunks must hold at least one split");
 
   if (Status valid = validate_attributes(input); !valid)
@@ -816,7 +817,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, Progres
   }
   // The progressive mesh, checked as a decoder would check it.
   if (options.layer_window > 0)
-    layer_splits(out, options.layer_chunk_splits, options.layer_window, options.threads);
+    layer_splits(out, chunk_splits, options.layer_window, options.threads);
   order_attribute_tables(out);  // after the splits' order is final
   if (Status valid = validate(out); !valid)
     return Status(ErrorCode::kInternal, "encoder produced " + valid.message());
@@ -837,11 +838,16 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, Progres
 
 Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
               EncodeStats* stats) {
+  return encode(input, options, WriteOptions{}, out, stats);
+}
+
+Status encode(const Mesh& input, const EncodeOptions& options, const WriteOptions& stream,
+              ProgressiveMesh& out, EncodeStats* stats) {
   // OpenMesh's logs are off while the half-edge mesh is built and simplified, as the caller
   // left them afterwards; no exception leaves (status.h).
   const QuietOpenMeshLogs quiet;
   try {
-    return encode_unguarded(input, options, out, stats);
+    return encode_unguarded(input, options, stream.chunk_splits, out, stats);
   } catch (const std::bad_alloc&) {
     out = ProgressiveMesh();
     return Status(ErrorCode::kResourceLimit, "out of memory");

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "stream_order/attribute_renumbering.h"
+#include "pm/advanced/stream_order.h"
 #include "pm/progressive_mesh.h"
 
 namespace pm {

@@ -23,13 +23,16 @@
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <numeric>
+#include <system_error>
 #include <thread>
 #include <utility>
 #include <vector>
 
 #include "core/in_turn.h"
+#include "pm/advanced/stream_order.h"
 #include "pm/progressive_mesh.h"
 
 namespace pm {
@@ -269,30 +272,58 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, uns
   };
 
   // The two stages in a pipeline: stage 1 on a thread of its own a window ahead, stage 2
-  // here (each is about half of the work; they share no array either writes).
+  // here (each is about half of the work; they share no array either writes). An exception
+  // in either (out of memory) stops both and is rethrown here once the thread is joined, so
+  // that it reaches encode(), which returns kResourceLimit, instead of std::terminate.
   constexpr std::size_t kPipelineSplits = std::size_t{1} << 16;
-  if (thread_count(threads) < 2 || S < kPipelineSplits) {
+  const auto in_order = [&] {
     for (std::size_t w = 0; w < windows.size(); ++w) layer_window(w), reorder_window(w);
+  };
+  if (thread_count(threads) < 2 || S < kPipelineSplits) {
+    in_order();
   } else {
     std::mutex mutex;
     std::condition_variable layered;
     std::size_t windows_layered = 0;
-    std::thread first_stage([&] {
-      for (std::size_t w = 0; w < windows.size(); ++w) {
-        layer_window(w);
-        const std::lock_guard<std::mutex> lock(mutex);
-        windows_layered = w + 1;
-        layered.notify_one();
-      }
-    });
-    for (std::size_t w = 0; w < windows.size(); ++w) {
-      {
-        std::unique_lock<std::mutex> lock(mutex);
-        layered.wait(lock, [&] { return windows_layered > w; });
-      }
-      reorder_window(w);
+    std::exception_ptr first_failure, second_failure;
+    bool stop = false;  // stage 2 failed: stage 1 need not go on
+    std::thread first_stage;
+    try {
+      first_stage = std::thread([&] {
+        try {
+          for (std::size_t w = 0; w < windows.size(); ++w) {
+            layer_window(w);
+            const std::lock_guard<std::mutex> lock(mutex);
+            windows_layered = w + 1;
+            layered.notify_one();
+            if (stop) return;
+          }
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(mutex);
+          first_failure = std::current_exception();
+          layered.notify_one();
+        }
+      });
+    } catch (const std::system_error&) {  // no thread to be had: both stages here
     }
-    first_stage.join();
+    if (!first_stage.joinable()) in_order();
+    try {
+      for (std::size_t w = 0; first_stage.joinable() && w < windows.size(); ++w) {
+        {
+          std::unique_lock<std::mutex> lock(mutex);
+          layered.wait(lock, [&] { return windows_layered > w || first_failure; });
+          if (first_failure) break;
+        }
+        reorder_window(w);
+      }
+    } catch (...) {
+      second_failure = std::current_exception();
+      const std::lock_guard<std::mutex> lock(mutex);
+      stop = true;
+    }
+    if (first_stage.joinable()) first_stage.join();
+    if (first_failure) std::rethrow_exception(first_failure);
+    if (second_failure) std::rethrow_exception(second_failure);
   }
 
   pm.splits = std::move(new_splits);
