@@ -232,6 +232,51 @@ const pm::Mesh& library_mesh(const Mesh& mesh, const char* what, pm::Mesh& stora
   return storage;
 }
 
+namespace {
+
+// rows as a library view: the numpy array's own memory when its values are packed in rows,
+// else a packed copy in `storage`.
+template <class T>
+pm::RowsView<T> rows_view(const Rows<T>& rows, std::vector<T>& storage, std::size_t& copied) {
+  if (!rows.present || rows.count == 0) return {};
+  const std::size_t row = rows.columns * sizeof(T);
+  const bool packed_columns = rows.columns <= 1 || rows.column_stride == py::ssize_t(sizeof(T));
+  if (packed_columns && (rows.count == 1 || rows.row_stride >= py::ssize_t(row)))
+    return {reinterpret_cast<const T*>(rows.data), rows.count,
+            rows.count == 1 ? 0 : std::size_t(rows.row_stride)};
+  rows.append_to(storage);
+  ++copied;
+  return {storage.data(), rows.count, 0};
+}
+
+}  // namespace
+
+void library_input(const Mesh& mesh, const char* what, LibraryInput& out) {
+  const Checked c = check(mesh, what);
+  out.faces = c.faces.count;
+  if (mesh.source && mesh.source_arrays == array_pointers(mesh) &&
+      c.material_names == mesh.source->material_names &&
+      c.material_libraries == mesh.source->material_libraries) {
+    out.mesh = mesh.source.get();
+    return;
+  }
+  std::size_t& copied = out.copied_arrays;
+  pm::MeshView& v = out.view;
+  v.positions = rows_view(c.positions, out.float_storage[0], copied);
+  v.uvs = rows_view(c.uvs, out.float_storage[1], copied);
+  v.normals = rows_view(c.normals, out.float_storage[2], copied);
+  v.colors = rows_view(c.colors, out.float_storage[3], copied);
+  v.color_components = c.colors.present ? uint32_t(c.colors.columns) : 0;
+  v.triangles = rows_view(c.faces, out.index_storage[0], copied);
+  v.uv_indices = rows_view(c.uv_indices, out.index_storage[1], copied);
+  v.normal_indices = rows_view(c.normal_indices, out.index_storage[2], copied);
+  v.face_materials = rows_view(c.face_materials, out.index_storage[3], copied);
+  out.material_names = c.material_names;
+  out.material_libraries = c.material_libraries;
+  v.material_names = &out.material_names;
+  v.material_libraries = &out.material_libraries;
+}
+
 void register_mesh(py::module_& m) {
   py::class_<Mesh>(m, "Mesh", R"(A triangle mesh as plain numpy arrays.
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "pm/mesh.h"
+#include "pm/mesh_view.h"
 
 namespace pmesh {
 
@@ -48,6 +49,27 @@ Mesh wrap_mesh(pm::Mesh&& mesh);
 // array: "positions: expected float32, got float64") and returns the library mesh it stands
 // for: `mesh.source` itself when its arrays are unchanged, else a copy in `storage`.
 const pm::Mesh& library_mesh(const Mesh& mesh, const char* what, pm::Mesh& storage);
+
+// A Python mesh as the library's input for encode(), after the same checks as library_mesh():
+// either `mesh` (the library mesh its arrays are still views of) or `view`, views of the
+// caller's numpy arrays (pm/mesh_view.h) without a copy: an array whose rows hold packed
+// values (C-contiguous, or rows a stride apart as in a column slice of a wider array) is
+// passed as it is; only one of another layout (columns apart, rows backwards) is copied,
+// into `storage`. The numpy arrays must outlive the call that reads `view` (the Python
+// Mesh holds them).
+struct LibraryInput {
+  LibraryInput() = default;
+  LibraryInput(const LibraryInput&) = delete;  // view points into it: never moved
+  LibraryInput& operator=(const LibraryInput&) = delete;
+  const pm::Mesh* mesh = nullptr;
+  pm::MeshView view;
+  std::size_t faces = 0;
+  std::size_t copied_arrays = 0;  // arrays copied into storage for their layout
+  std::vector<std::string> material_names, material_libraries;
+  std::vector<float> float_storage[4];
+  std::vector<uint32_t> index_storage[4];
+};
+void library_input(const Mesh& mesh, const char* what, LibraryInput& out);
 
 // A read-only or writable numpy view of `count` rows of `columns` T at `data`, which
 // `owner` keeps alive. columns == 0: a one-dimensional array.

@@ -33,6 +33,7 @@
 #include "pm/lod_runtime.h"
 #include "pm/measured_level.h"
 #include "pm/mesh_io.h"
+#include "pm/mesh_view.h"
 #include "pm/pm_codec.h"
 #include "pm/progressive_mesh.h"
 #include "pm/surface_distance.h"
@@ -191,6 +192,7 @@ struct Progressive {
   pm::WriteOptions write;                     // what to_bytes() writes
   std::shared_ptr<const std::string> stream;  // its bytes, once written
   std::optional<pm::EncodeStats> stats;       // when made by encode()
+  std::size_t input_copies = 0;               // input arrays encode() copied for their layout
 
   std::size_t levels() const { return pm->splits.size() + 1; }
   // Counted once: a walk over every split (0.1 ms on nefertiti's 50k), which level(ratio=)
@@ -400,9 +402,12 @@ void complete_options(EncodeArguments& a, std::size_t faces) {
 }
 
 Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
-  pm::Mesh storage;
-  const pm::Mesh& input = library_mesh(mesh, "input", storage);
-  complete_options(arguments, input.face_count());
+  // The caller's arrays go to the library as views (no copy here); encode() gathers them
+  // once, at its start, and checks what it gathered, so that an array another thread writes
+  // meanwhile gives an error or the new values, never a crash.
+  LibraryInput input;
+  library_input(mesh, "input", input);
+  complete_options(arguments, input.faces);
   pm::EncodeOptions& options = arguments.encode;
   Progressive p;
   p.write = arguments.write;
@@ -418,7 +423,8 @@ Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
   {
     py::gil_scoped_release release;
     // The splits' windows stay inside the chunks of the stream p.write writes.
-    status = pm::encode(input, options, p.write, *encoded, &stats);
+    status = input.mesh ? pm::encode(*input.mesh, options, p.write, *encoded, &stats)
+                        : pm::encode(input.view, options, p.write, *encoded, &stats);
     // Lossy storage (grids, error bits) changes the levels: the object holds what a reader
     // of its stream decodes, the levels pmdec gives for pmenc's file.
     if (status && lossy) {
@@ -436,6 +442,7 @@ Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
   p.pm = std::move(encoded);
   p.stream = std::move(stream);
   p.stats = stats;
+  p.input_copies = input.copied_arrays;
   return p;
 }
 
@@ -630,9 +637,12 @@ exactly). Immutable: levels may be taken from several threads at once.)")
             d["splits"] = s.collapses;
             d["loop"] = s.fast ? "fast" : "default";
             d["repair"] = repair;
+            d["input_copies"] = p.input_copies;
             return std::move(d);
           },
-          "What encode() did (as pmenc --json reports it), or None for a decoded mesh.")
+          R"(What encode() did (as pmenc --json reports it), or None for a decoded mesh; and
+input_copies: how many input arrays were copied before the library read them (0 when every
+array was read in place: see encode()).)")
       .def(
           "level_for",
           [](const Progressive& p, std::optional<std::size_t> faces, std::optional<std::size_t> vertices,
@@ -820,7 +830,11 @@ keep_corners, keep_order, drop_attributes, min_faces, min_vertices, layer_window
 chunk_splits, zstd_level, threads (0: every core); progress: a callable given the fraction
 done now and then. With a lossy option, the result holds what its stream decodes to, the
 levels pmdec gives for pmenc's file. The inputs are checked first (pmesh.Error,
-invalid-argument, naming the array and row); the GIL is released while encoding.)");
+invalid-argument, naming the array and row); the GIL is released while encoding.
+The binding makes no copy of the arrays: the library reads them through views (pm/mesh_view.h;
+it gathers them once into its encoder's input, as it reads a Mesh) when each row's values are packed, as in a C-contiguous array or a column slice of a wider
+one (rows a stride apart); an array of another layout (Fortran order, rows backwards) is
+copied first (stats['input_copies'] counts them). A Mesh the library made goes in as it is.)");
   m.def(
       "decode",
       [](py::buffer data, uint64_t max_memory, bool allow_truncated) {

@@ -115,3 +115,39 @@ def test_a_cut_stream_decodes_to_the_finest_level_it_holds_when_allowed(encoded)
     with pytest.raises(pmesh.Error) as error:
         pmesh.decode(data[: len(data) * 2 // 3])
     assert error.value.code == "truncated-stream"
+
+
+def test_arrays_go_in_without_a_copy_and_any_layout_gives_the_same_stream():
+    """A column slice of a wider array (rows a stride apart, padding that is not finite) is read
+    in place, as a C-contiguous array is; Fortran order and rows backwards are copied first.
+    Every layout gives the contiguous arrays' stream byte for byte."""
+    mesh = pmesh.read(sample("textured.obj"))
+    positions, faces, uvs = mesh.positions.copy(), mesh.faces.copy(), mesh.uvs.copy()
+    extra = dict(uv_indices=mesh.uv_indices.copy(), normals=mesh.normals.copy(),
+                 normal_indices=mesh.normal_indices.copy(), colors=mesh.colors.copy(),
+                 face_materials=mesh.face_materials.copy(), material_names=list(mesh.material_names),
+                 material_libraries=list(mesh.material_libraries))
+    contiguous = pmesh.encode(positions, faces, uvs=uvs, **extra)
+    assert contiguous.stats["input_copies"] == 0
+
+    wide = np.full((len(positions), 5), np.nan, dtype=np.float32)  # the library must skip the NaNs
+    wide[:, 1:4] = positions
+    wide_faces = np.zeros((len(faces), 4), dtype=np.uint32)
+    wide_faces[:, :3] = faces
+    wide_faces[:, 3] = 0xFFFFFFFF
+    sliced = pmesh.encode(wide[:, 1:4], wide_faces[:, :3], uvs=uvs, **extra)
+    assert not wide[:, 1:4].flags.c_contiguous
+    assert sliced.stats["input_copies"] == 0
+    assert sliced.to_bytes() == contiguous.to_bytes()
+
+    fortran = pmesh.encode(np.asfortranarray(positions), faces, uvs=np.asfortranarray(uvs), **extra)
+    assert fortran.stats["input_copies"] == 2
+    assert fortran.to_bytes() == contiguous.to_bytes()
+    backwards_faces = faces[::-1].copy()[::-1]  # the same rows, read from the end of memory
+    assert backwards_faces.strides[0] < 0
+    backwards = pmesh.encode(positions, backwards_faces, uvs=uvs, **extra)
+    assert backwards.stats["input_copies"] == 1
+    assert backwards.to_bytes() == contiguous.to_bytes()
+    # The library's own mesh goes in as it is, with no view to make.
+    assert pmesh.encode(mesh).stats["input_copies"] == 0
+    assert pmesh.encode(mesh).to_bytes() == contiguous.to_bytes()
