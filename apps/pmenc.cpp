@@ -203,8 +203,8 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
   app.add_flag("--fast", settings.encode.fast,
-               "Fast collapse loop: quadric metric on flat arrays, without the measured error "
-               "(many times faster on large meshes; levels a little farther from the input, "
+               "Fast collapse loop: quadric metric on flat arrays, with a cheaper measured error "
+               "(many times faster; levels about as close to the input, "
                "recorded errors estimated). Geometry only: with texture coordinates, normals or "
                "materials kept, or --metric schroeder, the default loop runs");
   app.add_option("--fast-from", settings.fast_from,

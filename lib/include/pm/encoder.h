@@ -52,13 +52,13 @@ struct EncodeOptions {
   // coarser: fandisk at 259 faces, Hausdorff 0.36% -> 0.60% of the diagonal).
   // pmenc --layer-window, --layered.
   double layer_window = 1.0 / 16;
-  // The fast collapse loop (pmenc --fast): the quadric metric on a flat connectivity,
-  // without the measured distance the default loop charges each collapse (the removed input
-  // vertices' worst distance to the surface, both ways round). About 22 to 26 times faster
-  // on meshes of millions of faces (tests/bench/scale.md), in about half the memory; the
-  // levels keep the same topology rules, but their recorded errors are the
-  // quadrics' root-mean-square estimate, not a measured bound, and their distance to the
-  // input grows (tests/bench/quality.md). Geometry only: with texture coordinates, normals
+  // The fast collapse loop (pmenc --fast): the quadric metric on a flat connectivity, with
+  // a cheaper measured distance than the default loop's (each face keeps its four farthest
+  // removed input vertices; the faces that change are measured against those they
+  // replace, not against the input). Many times faster (tests/bench/fast.md, scale.md);
+  // the levels keep the same topology rules and about the default loop's distance to the
+  // input (tests/bench/fast.md), but their recorded errors are estimates (the quadric's
+  // and the kept points' distance), not measured bounds. Geometry only: with texture coordinates, normals
   // or materials to keep, or with the Schroeder metric, the default loop runs instead
   // (EncodeStats::fast tells which ran).
   bool fast = false;

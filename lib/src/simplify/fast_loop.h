@@ -18,6 +18,7 @@
 #include "simplify/fast_simplifier.h"
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
+#include "simplify/kept_points.h"
 #include "simplify/local_quadric.h"
 #include "simplify/vertex_classification.h"
 
@@ -438,6 +439,7 @@ class FastSimplifier {
     auto queue = [&](const Option& o) {
       if (!owns(worker, ring_v[o.index].vertex)) return false;
       best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
+      measured_[v] = 0;
       vertex_[v].simple = kind == VertexKind::kSimple;
       worker.queue(v, static_cast<float>(o.cost));
       return true;
@@ -481,6 +483,23 @@ class FastSimplifier {
       return;
     }
     const Sides s = sides(v, edge);
+    KeptPoints::FanFace fan[2 * kMaxValence], old_fan[kMaxValence];
+    uint32_t old_faces[kMaxValence];
+    int n_old = 0, moved = 0;
+    const int n_fan = make_fan(v, u, s, ring_v, n, fan, old_faces, old_fan, &n_old, &moved);
+    // The quadric orders the candidates; the kept points' distance is measured only for
+    // the one at the top, which goes back with its new key when that puts it behind the
+    // next (lazy evaluation, as the default loop's remeasure(); Klein, Liebich and Straßer
+    // 1996 measure the distance of the removed points, kept_points.h).
+    if (!measured_[v]) {
+      measured_[v] = 1;
+      const double worst = kept_.collapse_distance(v, old_faces, old_fan, n_old, fan, moved, n_fan);
+      const float key = static_cast<float>(best_[v].key + kWorstCaseWeight * worst * worst);
+      if (key != worker.key(v)) {
+        worker.queue(v, key);
+        if (worker.cheapest() != v) return;
+      }
+    }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
     if (worker.removed_faces + removed_faces > worker.face_budget ||
         worker.removed_vertices >= worker.vertex_budget) {
@@ -499,6 +518,7 @@ class FastSimplifier {
     c.vl = vl == kNone ? kNoVertex : vl;
     c.vr = vr == kNone ? kNoVertex : vr;
     c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
+    const double farthest = kept_.collapse(v, old_faces, n_old, fan, n_fan);
     for (int i = 0; i < n; ++i) {
       const uint32_t e = ring_v[i].edge;
       if (half_[e].vertex != v) continue;
@@ -509,7 +529,8 @@ class FastSimplifier {
         if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
     }
     c.moved_count = static_cast<uint32_t>(worker.moved_faces.size()) - c.moved_begin;
-    c.bound = std::sqrt(worker.key(v));  // its own; merge() makes it the running maximum
+    // Its own, at least the kept points' distance; merge() makes it the running maximum.
+    c.bound = static_cast<float>(std::max<double>(std::sqrt(worker.key(v)), farthest));
     worker.collapses.push_back(c);
 
     // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
@@ -564,6 +585,14 @@ class FastSimplifier {
     // changed; u's other neighbours keep their best collapse unless it became illegal,
     // which apply() finds when it is popped.
     evaluate(worker, u);
+    // Points moved onto u's faces: a neighbour's key that holds a measure of them is
+    // measured again when it comes to the top (as the default loop's keyed_by_measure_).
+    {
+      Neighbour ring_u[kMaxValence];
+      bool boundary_u_now;
+      const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
+      for (int i = 0; i < n_u; ++i) measured_[ring_u[i].vertex] = 0;
+    }
     const Vec3 pu = point(u);
     for (int i = 0; i < n; ++i) {
       const uint32_t w = ring_v[i].vertex;
@@ -576,13 +605,54 @@ class FastSimplifier {
           w != vr) {
         const LocalQuadric& qw = vertex_[w].quadric;
         const double cost = qw.weight > 0 ? qw.error_at(pu - point(w)) / qw.weight : 0.0;
-        if (static_cast<float>(cost) > worker.key(w)) continue;
+        if (static_cast<float>(cost) > best_[w].key) {
+          measured_[w] = 0;  // points may have moved onto its faces at u
+          continue;
+        }
       }
       evaluate(worker, w);
     }
     // With one heap; rounds report after each merge, on the caller's thread.
     if (options_.progress && !in_rounds_ && worker.collapses.size() % 4096 == 0)
       report_progress(out_.collapses.size() + worker.collapses.size());
+  }
+
+  // The faces of the collapse v -> u (sides s): into `fan`, v's faces but the two at v-u
+  // with u in place of v (*moved of them), then u's other faces; into old_faces, all of v's
+  // faces, and into old_fan the same with their corners now. Returns the fan's size.
+  int make_fan(uint32_t v, uint32_t u, const Sides& s, const Neighbour* ring_v, int n_v,
+               KeptPoints::FanFace* fan, uint32_t* old_faces, KeptPoints::FanFace* old_fan,
+               int* n_old, int* moved) const {
+    const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
+    const Vec3 pu = point(u);
+    int n_fan = 0;
+    auto corner = [&](uint32_t h) {
+      const uint32_t w = half_[h].vertex;
+      return w == v ? pu : point(w);
+    };
+    auto add = [&](uint32_t f) {
+      fan[n_fan++] = {f, corner(3 * f), corner(3 * f + 1), corner(3 * f + 2)};
+    };
+    for (int i = 0; i < n_v; ++i) {
+      const uint32_t e = ring_v[i].edge;
+      if (half_[e].vertex != v) continue;  // the boundary's last entry: its face came already
+      const uint32_t f = e / 3;
+      old_fan[*n_old] = {f, point(half_[3 * f].vertex), point(half_[3 * f + 1].vertex),
+                         point(half_[3 * f + 2].vertex)};
+      old_faces[(*n_old)++] = f;
+      if (f != fl && f != fr) add(f);
+    }
+    *moved = n_fan;
+    Neighbour ring_u[kMaxValence];
+    bool boundary_u;
+    const int n_u = ring(u, ring_u, kMaxValence, &boundary_u);
+    for (int i = 0; i < n_u; ++i) {
+      const uint32_t e = ring_u[i].edge;
+      if (half_[e].vertex != u) continue;
+      const uint32_t f = e / 3;
+      if (f != fl && f != fr) add(f);
+    }
+    return n_fan;
   }
 
   // A boundary vertex's walk starts at its outgoing half-edge with no twin.
@@ -649,6 +719,12 @@ class FastSimplifier {
     float key;        // its cost, the heap's key
   };
   std::vector<Best> best_;
+  // The measured error: points kept per face, and per vertex whether its queued key holds
+  // their distance (apply()). A measured distance counts as its square, as in the default
+  // loop's combined() for the quadric metric.
+  static constexpr double kWorstCaseWeight = 1.0;
+  KeptPoints kept_;
+  std::vector<uint8_t> measured_;
   bool partitioned_ = false;   // rounds first (run_rounds())
   bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap
   std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())

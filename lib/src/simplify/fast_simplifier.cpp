@@ -23,6 +23,8 @@ void FastSimplifier::run() {
       vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
   });
   best_.assign(n_vertices, Best{kNone, kNone, 0});
+  measured_.assign(n_vertices, 0);
+  kept_.reset(half_.size() / 3, xyz_.data());
   faces_alive_ = half_.size() / 3;
   vertices_alive_ = n_vertices;
   out_.collapses.reserve(n_vertices);
@@ -53,6 +55,8 @@ void FastSimplifier::run() {
   }
   one.clear();
   std::vector<Best>().swap(best_);
+  std::vector<uint8_t>().swap(measured_);
+  kept_.reset(0, nullptr);
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
     for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
@@ -113,8 +117,10 @@ void FastSimplifier::run_rounds() {
         const uint32_t v = w.vertex_at(r);
         if (vertex_[v].dead) continue;
         const Best& best = best_[v];
-        if (best.target != kNone && owns(w, v) && owns(w, best.target))
+        if (best.target != kNone && owns(w, v) && owns(w, best.target)) {
           w.queue(v, best.key);
+          measured_[v] = 0;
+        }
         else
           evaluate(w, v);
       }
@@ -166,8 +172,10 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
     c.moved_begin = begin;
     c.new_faces_begin = new_faces_recorded_;
     new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
-    // The record's error: the largest quadric distance so far, so non-increasing from
-    // the base to full detail (a root-mean-square estimate, not a measured bound).
+    // The record's error: the largest so far of the collapses' own (the square root of
+    // their key, quadric and kept points' distance, or the kept points' distance after the
+    // collapse if larger), so non-increasing from the base to full detail (an estimate,
+    // not a measured bound: the kept points leave others out).
     bound_ = std::max(bound_, c.bound);
     c.bound = bound_;
     out_.collapses.push_back(c);

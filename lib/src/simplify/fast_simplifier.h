@@ -1,6 +1,7 @@
 // The fast collapse loop (pmenc --fast, EncodeOptions::fast): Garland and Heckbert's quadric
 // metric on a flat, array-based connectivity (Campagna, Kobbelt and Seidel 1998, "Directed
-// edges"), without the measured error the default loop charges (removed_points.h). It
+// edges"), with a measured error bounded per collapse (kept_points.h) where the default
+// loop charges removed_points.h's. It
 // keeps every rule that makes the result a valid progressive mesh of the same topology:
 // the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
 // carried faces, boundaries and feature edges. Geometry only: the encoder takes the default

@@ -1,0 +1,134 @@
+// The fast loop's kept points: see kept_points.h (after Klein, Liebich and Straßer 1996).
+#include "simplify/kept_points.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pm::fast_loop {
+
+void KeptPoints::reset(std::size_t n_faces, const float* xyz) {
+  if (n_faces == 0) {  // the loop is over: the memory goes back
+    std::vector<uint32_t>().swap(point_);
+    std::vector<float>().swap(distance_);
+    xyz_ = nullptr;
+    return;
+  }
+  xyz_ = xyz;
+  point_.assign(kKept * n_faces, kNone);
+  distance_.assign(kKept * n_faces, 0.0f);
+}
+
+double KeptPoints::nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
+                           int* at) {
+  double best = HUGE_VAL;
+  int best_at = -1;
+  if (first >= 0) {
+    best = point_triangle_distance(x, fan[first].a, fan[first].b, fan[first].c);
+    best_at = first;
+    if (best <= stop) {
+      *at = best_at;
+      return best;
+    }
+  }
+  for (int i = 0; i < n_fan; ++i) {
+    if (i == first) continue;
+    const double d = point_triangle_distance(x, fan[i].a, fan[i].b, fan[i].c);
+    if (d < best) {
+      best = d;
+      best_at = i;
+      if (best <= stop) break;
+    }
+  }
+  *at = best_at;
+  return best;
+}
+
+int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
+                       int n_fan, bool take, Moving* moving) const {
+  int n = 0;
+  moving[n++] = {v, -1};
+  for (int i = 0; i < n_old; ++i) {
+    const uint32_t f = old_faces[i];
+    int hint = -1;
+    for (int j = 0; j < n_fan; ++j)
+      if (fan[j].face == f) {
+        hint = j;
+        break;
+      }
+    uint32_t* kept = const_cast<uint32_t*>(&point_[kKept * std::size_t{f}]);
+    for (int k = 0; k < kKept && kept[k] != kNone; ++k) {
+      moving[n++] = {kept[k], hint};
+      if (take) kept[k] = kNone;
+    }
+  }
+  return n;
+}
+
+double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace* old_fan,
+                                    int n_old, double worst) {
+  // Each moved face's centroid and edge midpoints. Neighbouring faces share their edge to
+  // u, so most midpoints come twice; a point measured again cannot raise `worst`, so it is
+  // measured once.
+  Vec3 points[4 * 64];
+  int n_points = 0;
+  for (int i = 0; i < moved && i < 64; ++i) {
+    const Vec3 &a = fan[i].a, &b = fan[i].b, &c = fan[i].c;
+    points[n_points++] = (a + b + c) / 3.0;
+    for (const Vec3& x : {(a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5})
+      if (std::find(points, points + n_points, x) == points + n_points) points[n_points++] = x;
+  }
+  int at = -1;
+  for (int i = 0; i < n_points; ++i) {
+    const double d = nearest(points[i], old_fan, n_old, worst, at, &at);
+    if (d > worst && d != HUGE_VAL) worst = d;
+  }
+  return worst;
+}
+
+double KeptPoints::collapse_distance(uint32_t v, const uint32_t* old_faces, const FanFace* old_fan,
+                                     int n_old, const FanFace* fan, int moved, int n_fan) const {
+  if (n_fan == 0) return 0;
+  Moving moving[kMaxMoving];
+  const int n_moving = gather(v, old_faces, n_old, fan, n_fan, false, moving);
+  // The largest over points of the distance to the nearest face: a point already within
+  // the worst so far of some face cannot raise it, so its search stops there.
+  double worst = 0;
+  for (int i = 0; i < n_moving; ++i) {
+    int at;
+    const double d =
+        nearest(position(moving[i].point), fan, n_fan, worst, moving[i].hint, &at);
+    if (d > worst) worst = d;
+  }
+  return surface_distance(fan, moved, old_fan, n_old, worst);
+}
+
+double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
+                            int n_fan) {
+  if (n_fan == 0) return 0;
+  Moving moving[kMaxMoving];
+  const int n_moving = gather(v, old_faces, n_old, fan, n_fan, true, moving);
+  double farthest = 0;
+  for (int i = 0; i < n_moving; ++i) {
+    int at;
+    const double d = nearest(position(moving[i].point), fan, n_fan, 0.0, moving[i].hint, &at);
+    if (at < 0) continue;  // no distance compares (not on finite input)
+    farthest = std::max(farthest, d);
+    // Into the face's list, in place of its nearest point when the list is full.
+    uint32_t* kept = &point_[kKept * std::size_t{fan[at].face}];
+    float* kept_distance = &distance_[kKept * std::size_t{fan[at].face}];
+    int slot = 0;
+    for (int k = 0; k < kKept; ++k) {
+      if (kept[k] == kNone) {
+        slot = k;
+        break;
+      }
+      if (kept_distance[k] < kept_distance[slot]) slot = k;
+    }
+    if (kept[slot] != kNone && !(float(d) > kept_distance[slot])) continue;
+    kept[slot] = moving[i].point;
+    kept_distance[slot] = float(d);
+  }
+  return farthest;
+}
+
+}  // namespace pm::fast_loop

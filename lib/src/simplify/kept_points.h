@@ -1,0 +1,86 @@
+// The fast loop's measured error (fast_loop.h): removed input vertices carried on the faces
+// of the simplified surface, as RemovedPoints carries them for the default loop (after Klein,
+// Liebich and Straßer 1996, "Mesh reduction with error control", who keep the
+// correspondence between the input and the reduced mesh to bound their distance), but a
+// face keeps only its kKept farthest points. The Hausdorff distance of a level to the input
+// is a maximum, made of the farthest points; the nearer ones seldom become the farthest, so
+// dropping them costs the measure little, and bounds its cost: a collapse measures at most
+// 1 + kKept points per face of v's fan against that fan, however many points its faces have
+// absorbed (where RemovedPoints samples up to 512 per collapse). And the other way round:
+// the centroids and edge midpoints of the faces that change, to the faces they replace (where
+// RemovedPoints measures them against the input faces around, which costs as much as the
+// whole default loop: measured in tests/bench/fast.md's notes). Flat arrays; safe on
+// several threads for collapses whose faces are apart (the fast loop's regions): all
+// scratch is on the stack. Internal to simplify/.
+//
+// What it measures is a lower bound of the distance of the removed input vertices to the
+// surface (the dropped points are not counted), not an upper bound.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "simplify/geometry.h"
+
+namespace pm::fast_loop {
+
+class KeptPoints {
+ public:
+  // Points kept per face: on the shared meshes 4 measure as well as 16 at 50% and 10% of the
+  // faces, a little worse at 2% (tests/bench/fast.md).
+  static constexpr int kKept = 4;
+
+  // A face of the surface, before or after a collapse: its id and its corners then.
+  struct FanFace {
+    uint32_t face;
+    Vec3 a, b, c;
+  };
+
+  // n_faces faces, none holding a point yet; xyz, the input's positions (three per vertex),
+  // stays the caller's and must not change. n_faces 0: frees the memory.
+  void reset(std::size_t n_faces, const float* xyz);
+
+  // The larger of: the largest distance from `v`'s input position and the points kept on
+  // `old_faces` (v's faces before the collapse, old_fan their corners then) to the nearest
+  // face of `fan` (the faces around v and u after it, the first `moved` of them those that
+  // replace v's), and the largest distance from the centroids and edge midpoints of the
+  // moved faces to old_fan. 0 when the fan is empty.
+  double collapse_distance(uint32_t v, const uint32_t* old_faces, const FanFace* old_fan,
+                           int n_old, const FanFace* fan, int moved, int n_fan) const;
+
+  // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
+  // farthest, and returns the largest distance of a point to its new face. Call before the
+  // collapse changes the faces (old_faces lose their points first: some are in the fan).
+  double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
+                  int n_fan);
+
+ private:
+  static constexpr uint32_t kNone = 0xffffffffu;
+  struct Moving {
+    uint32_t point;
+    int hint;  // the fan index of the face it was on, or -1
+  };
+  static constexpr int kMaxMoving = 1 + 64 * kKept;  // v and the points of 64 faces
+  // The nearest fan face to x and its distance; stops at the first face within `stop`
+  // (then the distance is at most stop). `first`: a face to try first, or -1.
+  static double nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
+                        int* at);
+  // Gathers v and the points of old_faces into `moving` (room for kMaxMoving), emptying
+  // those faces when `take`. Returns their count.
+  int gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan,
+             bool take, Moving* moving) const;
+  // The largest of `worst` and the distances from the moved faces' centroids and edge
+  // midpoints to the faces they replace.
+  static double surface_distance(const FanFace* fan, int moved, const FanFace* old_fan, int n_old,
+                                 double worst);
+  Vec3 position(uint32_t v) const {
+    const float* p = xyz_ + 3 * std::size_t{v};
+    return Vec3(p[0], p[1], p[2]);
+  }
+
+  std::vector<uint32_t> point_;  // kKept per face: vertex ids, kNone where empty
+  std::vector<float> distance_;  // their distance to that face
+  const float* xyz_ = nullptr;
+};
+
+}  // namespace pm::fast_loop
