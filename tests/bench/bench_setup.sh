@@ -7,6 +7,8 @@
 #                                          not given) and $runs (7 unless given, at least 5)
 #   bench_commit REPO PATHSPEC...          prints HEAD's short hash, "with uncommitted
 #                                          changes" after it when the paths have some
+#   bench_need_meshes MESHES REPORT        exits (0) with a note when the folder MESHES is
+#                                          missing, leaving REPORT as it was
 
 bench_install() {
   local tool=$1
@@ -54,4 +56,13 @@ bench_commit() {
   commit="$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)"
   [[ -z "$(git -C "$repo" status --porcelain -- "$@" 2>/dev/null)" ]] || commit="$commit with uncommitted changes"
   echo "$commit"
+}
+
+bench_need_meshes() {
+  [[ -d "$1" ]] && return 0
+  echo >&2
+  echo "*** NOTE: $1 is missing: there is nothing to benchmark." >&2
+  echo "*** Put the test meshes there (see its README.md) and run this again." >&2
+  echo "*** $2 was left as it was." >&2
+  exit 0
 }

@@ -1,32 +1,24 @@
 #!/usr/bin/env bash
 # The fast loop's benchmark in one command (issue 25): builds pm_bench_fast in build-bench/,
-# runs it on ../shared/meshes and writes tests/bench/fast.md (quality of the fast loop's
-# levels against the default loop's and meshopt_simplify's at 50/10/2%, and its encode time
-# on one thread against meshopt_simplify's to 1%, medians of 5 runs), then prints it. Extra
+# runs it on ../shared/meshes (or $PM_BENCH_MESHES) and writes tests/bench/fast.md (quality of the fast loop's
+# levels against the default loop's and meshopt_simplify's at 50/10/2%, and its time on one
+# thread against meshopt_simplify's to 1%, medians of 5 runs), then prints it. Extra
 # arguments go to pm_bench_fast (e.g. --runs 9). See tests/bench/README.md.
 set -euo pipefail
 
-repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="${PM_BENCH_BUILD:-$repo/build-bench}"
-meshes="$repo/../shared/meshes"
-report="$repo/tests/bench/fast.md"
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bench_install run_fast.sh
-
-if [[ ! -d "$meshes" ]]; then
-  echo >&2
-  echo "*** NOTE: $meshes is missing: there is nothing to benchmark." >&2
-  echo "*** Put the test meshes there (see its README.md) and run this again." >&2
-  echo "*** $report was left as it was." >&2
-  exit 0
-fi
-
-bench_configure "$repo" "$build"
+meshes="${PM_BENCH_MESHES:-$root/../shared/meshes}"  # beside the checkout, or as given
+bench_need_meshes "$meshes" "$root/tests/bench/fast.md"
+build="${PM_BENCH_BUILD:-$root/build-bench}"
+bench_configure "$root" "$build"
 cmake --build "$build" -j"$(nproc)" --target pm_bench_fast
 
-trap 'rm -f "$report.tmp"' EXIT
-"$build/tests/bench/pm_bench_fast" "$meshes" --out "$report.tmp" "$@" >/dev/null
-mv "$report.tmp" "$report"
-cat "$report"
+# Written to a temporary file first, so a failed run leaves the committed table in place.
+out="$root/tests/bench/fast.md"
+trap 'rm -f "$out.tmp"' EXIT
+"$build/tests/bench/pm_bench_fast" "$meshes" --out "$out.tmp" "$@" >/dev/null
+mv "$out.tmp" "$out"
+cat "$out"
