@@ -631,14 +631,15 @@ class FastSimplifier {
       return w == v ? pu : point(w);
     };
     auto add = [&](uint32_t f) {
-      fan[n_fan++] = {f, corner(3 * f), corner(3 * f + 1), corner(3 * f + 2)};
+      fan[n_fan++] = KeptPoints::FanFace::make(f, corner(3 * f), corner(3 * f + 1), corner(3 * f + 2));
     };
     for (int i = 0; i < n_v; ++i) {
       const uint32_t e = ring_v[i].edge;
       if (half_[e].vertex != v) continue;  // the boundary's last entry: its face came already
       const uint32_t f = e / 3;
-      old_fan[*n_old] = {f, point(half_[3 * f].vertex), point(half_[3 * f + 1].vertex),
-                         point(half_[3 * f + 2].vertex)};
+      old_fan[*n_old] = KeptPoints::FanFace::make(f, point(half_[3 * f].vertex),
+                                                  point(half_[3 * f + 1].vertex),
+                                                  point(half_[3 * f + 2].vertex));
       old_faces[(*n_old)++] = f;
       if (f != fl && f != fr) add(f);
     }

@@ -32,6 +32,12 @@ double KeptPoints::nearest(const Vec3& x, const FanFace* fan, int n_fan, double 
   }
   for (int i = 0; i < n_fan; ++i) {
     if (i == first) continue;
+    // |x - centre| >= best + radius: the whole face is at least `best` away.
+    const double to_centre2 = (x - fan[i].centre).sqrnorm();
+    if (best < HUGE_VAL && to_centre2 >= fan[i].radius2) {
+      const double beyond = best + std::sqrt(fan[i].radius2);
+      if (to_centre2 >= beyond * beyond) continue;
+    }
     const double d = point_triangle_distance(x, fan[i].a, fan[i].b, fan[i].c);
     if (d < best) {
       best = d;

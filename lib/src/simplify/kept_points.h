@@ -17,6 +17,7 @@
 // surface (the dropped points are not counted), not an upper bound.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -34,6 +35,16 @@ class KeptPoints {
   struct FanFace {
     uint32_t face;
     Vec3 a, b, c;
+    // A sphere around it (make() sets it): a point farther than the nearest face so far
+    // plus the radius from the centre cannot be nearer, and is not measured.
+    Vec3 centre;
+    double radius2;  // squared
+    static FanFace make(uint32_t face, const Vec3& a, const Vec3& b, const Vec3& c) {
+      const Vec3 centre = (a + b + c) / 3.0;
+      const double r2 =
+          std::max({(a - centre).sqrnorm(), (b - centre).sqrnorm(), (c - centre).sqrnorm()});
+      return {face, a, b, c, centre, r2};
+    }
   };
 
   // n_faces faces, none holding a point yet; xyz, the input's positions (three per vertex),
