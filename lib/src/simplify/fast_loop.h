@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <set>
 #include <system_error>
 #include <thread>
@@ -530,7 +531,10 @@ class FastSimplifier {
     }
     c.moved_count = static_cast<uint32_t>(worker.moved_faces.size()) - c.moved_begin;
     // Its own, at least the kept points' distance; merge() makes it the running maximum.
-    c.bound = static_cast<float>(std::max<double>(std::sqrt(worker.key(v)), farthest));
+    // At most the largest float: no distance on a mesh encode() accepts (its diagonal is
+    // at most kMaxEncodeDiagonal, below that) is larger, where the key's square overflows.
+    c.bound = static_cast<float>(std::min<double>(
+        std::max<double>(std::sqrt(worker.key(v)), farthest), std::numeric_limits<float>::max()));
     worker.collapses.push_back(c);
 
     // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
