@@ -11,10 +11,6 @@
 namespace pm {
 namespace {
 
-using FaceHandle = HalfEdgeMesh::FaceHandle;
-using VertexHandle = HalfEdgeMesh::VertexHandle;
-using HalfedgeHandle = HalfEdgeMesh::HalfedgeHandle;
-
 constexpr uint32_t kNoWedge = 0xFFFFFFFFu;
 
 // A normal's deviation counts like a displacement of this fraction of the bounding-box
@@ -59,22 +55,28 @@ int sign(double x) { return (x > 0) - (x < 0); }
 
 }  // namespace
 
-CornerAttributes::CornerAttributes(const Mesh& input, const ManifoldMesh& repaired) {
-  const HalfEdgeMesh& mesh = repaired.mesh;
-  const std::size_t faces = mesh.n_faces();
+CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
+                                   std::size_t faces, const float* points,
+                                   std::size_t n_vertices, const uint32_t* input_face,
+                                   const uint32_t* input_vertex) {
   vertex_.resize(faces);
-  for (auto f : mesh.faces()) {
-    int k = 0;
-    for (auto w : mesh.fv_range(f)) vertex_[f.idx()][k++] = static_cast<uint32_t>(w.idx());
-  }
-  // The input corner each half-edge-mesh corner is: the face's vertices are distinct
-  // input vertices, so the input vertex of the corner's copy names it.
+  for (std::size_t f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) vertex_[f][k] = corners[3 * f + k];
+  auto input_face_of = [&](std::size_t f) {
+    return input_face ? input_face[f] : static_cast<uint32_t>(f);
+  };
+  // The input corner each corner is: the face's vertices are distinct input vertices, so
+  // the input vertex of the corner's copy names it.
   auto input_corner = [&](std::size_t f, int k) {
-    const uint32_t face = repaired.input_face[f];
-    const uint32_t w = repaired.input_vertex[vertex_[f][k]];
+    const uint32_t face = input_face_of(f);
+    const uint32_t w = input_vertex ? input_vertex[vertex_[f][k]] : vertex_[f][k];
     for (int j = 0; j < 3; ++j)
       if (input.triangles[3 * std::size_t{face} + j] == w) return 3 * std::size_t{face} + j;
     return 3 * std::size_t{face};  // unreachable for a face of distinct vertices
+  };
+  auto point = [&](uint32_t x) {
+    const float* p = points + 3 * std::size_t{x};
+    return Vec3(p[0], p[1], p[2]);
   };
 
   const std::vector<uint32_t>* input_ids[kKinds] = {&input.uv_indices, &input.normal_indices};
@@ -94,7 +96,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const ManifoldMesh& repair
   if (!input.face_materials.empty()) {
     has_materials_ = true;
     material_.resize(faces);
-    for (std::size_t f = 0; f < faces; ++f) material_[f] = input.face_materials[repaired.input_face[f]];
+    for (std::size_t f = 0; f < faces; ++f) material_[f] = input.face_materials[input_face_of(f)];
   }
 
   // Scales that make an attribute deviation comparable to a distance. Texture: the
@@ -102,12 +104,10 @@ CornerAttributes::CornerAttributes(const Mesh& input, const ManifoldMesh& repair
   // area to its area in texture space. Normals: a fixed share of the diagonal.
   if (has_uvs()) {
     double area = 0, uv_area = 0;
-    for (auto f : mesh.faces()) {
-      const auto& ids = kinds_[kUv].ids[f.idx()];
+    for (std::size_t f = 0; f < faces; ++f) {
+      const auto& ids = kinds_[kUv].ids[f];
       if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
-      const Vec3 a = point_of(mesh, mesh.vertex_handle(vertex_[f.idx()][0]));
-      const Vec3 b = point_of(mesh, mesh.vertex_handle(vertex_[f.idx()][1]));
-      const Vec3 c = point_of(mesh, mesh.vertex_handle(vertex_[f.idx()][2]));
+      const Vec3 a = point(vertex_[f][0]), b = point(vertex_[f][1]), c = point(vertex_[f][2]);
       area += 0.5 * area_vector(a, b, c).norm();
       uv_area += std::abs(uv_triangle_area(kinds_[kUv].value(ids[0]), kinds_[kUv].value(ids[1]),
                                            kinds_[kUv].value(ids[2])));
@@ -116,47 +116,60 @@ CornerAttributes::CornerAttributes(const Mesh& input, const ManifoldMesh& repair
   }
   if (has_normals()) {
     Vec3 lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
-    for (auto v : mesh.vertices()) {
-      lo.minimize(point_of(mesh, v));
-      hi.maximize(point_of(mesh, v));
+    for (std::size_t x = 0; x < n_vertices; ++x) {
+      lo.minimize(point(static_cast<uint32_t>(x)));
+      hi.maximize(point(static_cast<uint32_t>(x)));
     }
-    kinds_[kNormal].scale = mesh.n_vertices() ? kNormalScaleOfDiagonal * (hi - lo).norm() : 0;
+    kinds_[kNormal].scale = n_vertices ? kNormalScaleOfDiagonal * (hi - lo).norm() : 0;
   }
   for (int kind = 0; kind < kKinds; ++kind)
-    if (kinds_[kind].present) initialize_wedges(kind, mesh);
+    if (kinds_[kind].present) initialize_wedges(kind, points, n_vertices);
 }
 
 // One wedge per vertex and value; each face adds its quadric to its three corners' wedges.
-void CornerAttributes::initialize_wedges(int kind, const HalfEdgeMesh& mesh) {
+void CornerAttributes::initialize_wedges(int kind, const float* points, std::size_t n_vertices) {
   Kind& k = kinds_[kind];
-  k.wedge.assign(mesh.n_faces(), {kNoWedge, kNoWedge, kNoWedge});
+  const std::size_t faces = vertex_.size();
+  k.wedge.assign(faces, {kNoWedge, kNoWedge, kNoWedge});
+  // Each vertex's corners (face and corner index), in face order.
+  std::vector<uint32_t> begin(n_vertices + 1, 0), corners(3 * faces);
+  for (const auto& vs : vertex_)
+    for (uint32_t x : vs) ++begin[x + 1];
+  for (std::size_t x = 0; x < n_vertices; ++x) begin[x + 1] += begin[x];
+  {
+    std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+    for (std::size_t f = 0; f < faces; ++f)
+      for (int c = 0; c < 3; ++c) corners[fill[vertex_[f][c]]++] = static_cast<uint32_t>(3 * f + c);
+  }
   uint32_t wedges = 0;
   std::vector<std::pair<uint32_t, uint32_t>> seen;  // (class, wedge) around one vertex
-  for (auto v : mesh.vertices()) {
+  for (std::size_t x = 0; x < n_vertices; ++x) {
     seen.clear();
-    for (auto f : mesh.vf_range(v)) {
-      const int c = corner_of(f, v);
-      const uint32_t cls = k.class_of(k.ids[f.idx()][c]);
+    for (uint32_t i = begin[x]; i < begin[x + 1]; ++i) {
+      const uint32_t f = corners[i] / 3;
+      const int c = static_cast<int>(corners[i] % 3);
+      const uint32_t cls = k.class_of(k.ids[f][c]);
       if (cls == kNoAttribute) continue;
       auto it = std::find_if(seen.begin(), seen.end(), [&](auto& s) { return s.first == cls; });
       if (it == seen.end()) it = seen.insert(seen.end(), {cls, wedges++});
-      k.wedge[f.idx()][c] = it->second;
+      k.wedge[f][c] = it->second;
     }
   }
   if (kind == kUv) uv_quadrics_.assign(wedges, {});
   else normal_quadrics_.assign(wedges, {});
-  for (auto f : mesh.faces()) {
-    const auto& ids = k.ids[f.idx()];
+  for (std::size_t f = 0; f < faces; ++f) {
+    const auto& ids = k.ids[f];
     if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
     Vec3 p[3];
     const float* values[3];
     for (int c = 0; c < 3; ++c) {
-      p[c] = point_of(mesh, mesh.vertex_handle(vertex_[f.idx()][c]));
+      const float* q = points + 3 * std::size_t{vertex_[f][c]};
+      p[c] = Vec3(q[0], q[1], q[2]);
       values[c] = k.value(ids[c]);
     }
     const double area = 0.5 * area_vector(p[0], p[1], p[2]).norm();
     for (int c = 0; c < 3; ++c) {
-      const uint32_t w = k.wedge[f.idx()][c];
+      const uint32_t w = k.wedge[f][c];
       if (kind == kUv)
         uv_quadrics_[w] += AttributeQuadric<2>::from_face(p, values, area);
       else
@@ -165,91 +178,73 @@ void CornerAttributes::initialize_wedges(int kind, const HalfEdgeMesh& mesh) {
   }
 }
 
-int CornerAttributes::corner_of(FaceHandle f, VertexHandle w) const {
-  const auto& vs = vertex_[f.idx()];
-  const uint32_t x = static_cast<uint32_t>(w.idx());
-  return vs[0] == x ? 0 : vs[1] == x ? 1 : 2;
-}
-
-bool CornerAttributes::is_seam_of_kind(int kind, const HalfEdgeMesh& mesh, HalfedgeHandle h) const {
-  if (mesh.is_boundary(mesh.edge_handle(h))) return false;
-  const FaceHandle f = mesh.face_handle(h), g = mesh.opposite_face_handle(h);
-  if (kind == kKinds) return material_[f.idx()] != material_[g.idx()];
-  const VertexHandle a = mesh.from_vertex_handle(h), b = mesh.to_vertex_handle(h);
+bool CornerAttributes::is_seam_of_kind(int kind, uint32_t f, uint32_t g, uint32_t a,
+                                       uint32_t b) const {
+  if (g == CollapseStar::kNoFace || f == CollapseStar::kNoFace) return false;
+  if (kind == kKinds) return material_[f] != material_[g];
   return class_at(kind, f, a) != class_at(kind, g, a) || class_at(kind, f, b) != class_at(kind, g, b);
 }
 
-bool CornerAttributes::is_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const {
-  const HalfedgeHandle h = mesh.halfedge_handle(e, 0);
+bool CornerAttributes::is_seam(uint32_t f, uint32_t g, uint32_t a, uint32_t b) const {
   for (int kind = 0; kind < kKinds; ++kind)
-    if (kinds_[kind].present && is_seam_of_kind(kind, mesh, h)) return true;
-  return has_materials() && is_seam_of_kind(kKinds, mesh, h);
+    if (kinds_[kind].present && is_seam_of_kind(kind, f, g, a, b)) return true;
+  return has_materials() && is_seam_of_kind(kKinds, f, g, a, b);
 }
 
-bool CornerAttributes::is_uv_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const {
-  return has_uvs() && is_seam_of_kind(kUv, mesh, mesh.halfedge_handle(e, 0));
-}
-
-// kind kKinds stands for materials.
-bool CornerAttributes::kind_allows(int kind, const HalfEdgeMesh& mesh, HalfedgeHandle h) const {
-  const VertexHandle v = mesh.from_vertex_handle(h);
+bool CornerAttributes::kind_allows(int kind, const CollapseStar& c) const {
   int seams = 0;
   bool along = false;
-  for (auto out : mesh.voh_range(v)) {
-    if (!is_seam_of_kind(kind, mesh, out)) continue;
+  for (int i = 0; i < c.n_edges; ++i) {
+    const CollapseStar::Edge& e = c.edges[i];
+    if (!is_seam_of_kind(kind, e.f, e.g, c.v, e.w)) continue;
     ++seams;
-    along |= mesh.edge_handle(out) == mesh.edge_handle(h);
+    along |= e.w == c.u;
   }
   if (seams == 0) return true;  // v-u is no seam: u's two sides of it agree too
   if (seams != 2 || !along) return false;
   if (kind == kKinds) return true;
   // v's two sides must differ, so that its corners split between u's two sides; a seam
   // that differs only at u would open a new seam there.
-  const VertexHandle u = mesh.to_vertex_handle(h);
-  const FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
-  return class_at(kind, fl, v) != class_at(kind, fr, v) || class_at(kind, fl, u) == class_at(kind, fr, u);
+  return class_at(kind, c.fl, c.v) != class_at(kind, c.fr, c.v) ||
+         class_at(kind, c.fl, c.u) == class_at(kind, c.fr, c.u);
 }
 
-std::pair<FaceHandle, int> CornerAttributes::target_corner(int kind, const HalfEdgeMesh& mesh,
-                                                           HalfedgeHandle h, uint32_t v_class) const {
-  const VertexHandle v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
-  const FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
-  const bool left = fl.is_valid() && (!fr.is_valid() || class_at(kind, fl, v) == v_class);
-  const FaceHandle f = left ? fl : fr;
-  return {f, corner_of(f, u)};
+std::pair<uint32_t, int> CornerAttributes::target_corner(int kind, const CollapseStar& c,
+                                                         uint32_t v_class) const {
+  const bool has_l = c.fl != CollapseStar::kNoFace, has_r = c.fr != CollapseStar::kNoFace;
+  const bool left = has_l && (!has_r || class_at(kind, c.fl, c.v) == v_class);
+  const uint32_t f = left ? c.fl : c.fr;
+  return {f, corner_of(f, c.u)};
 }
 
-bool CornerAttributes::keeps_uv_winding(const HalfEdgeMesh& mesh, HalfedgeHandle h) const {
+bool CornerAttributes::keeps_uv_winding(const CollapseStar& c) const {
   const Kind& k = kinds_[kUv];
-  const VertexHandle v = mesh.from_vertex_handle(h);
-  const FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
-  for (auto g : mesh.vf_range(v)) {
-    if (g == fl || g == fr) continue;
-    const auto& ids = k.ids[g.idx()];
+  for (int i = 0; i < c.n_faces; ++i) {
+    const uint32_t g = c.faces[i];
+    if (g == c.fl || g == c.fr) continue;
+    const auto& ids = k.ids[g];
     if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
-    const int c = corner_of(g, v);
-    const auto [tf, tc] = target_corner(kUv, mesh, h, k.class_of(ids[c]));
-    const uint32_t target = k.ids[tf.idx()][tc];
+    const int corner = corner_of(g, c.v);
+    const auto [tf, tc] = target_corner(kUv, c, k.class_of(ids[corner]));
+    const uint32_t target = k.ids[tf][tc];
     if (target == kNoAttribute) return false;
     const float* value[3] = {k.value(ids[0]), k.value(ids[1]), k.value(ids[2])};
     const int before = sign(uv_triangle_area(value[0], value[1], value[2]));
-    value[c] = k.value(target);
+    value[corner] = k.value(target);
     const int after = sign(uv_triangle_area(value[0], value[1], value[2]));
     if (before != 0 && after != before) return false;
   }
   return true;
 }
 
-bool CornerAttributes::collapse_keeps_attributes(const HalfEdgeMesh& mesh, HalfedgeHandle h) const {
+bool CornerAttributes::collapse_keeps_attributes(const CollapseStar& c) const {
   for (int kind = 0; kind < kKinds; ++kind)
-    if (kinds_[kind].present && !kind_allows(kind, mesh, h)) return false;
-  if (has_materials() && !kind_allows(kKinds, mesh, h)) return false;
-  return !has_uvs() || keeps_uv_winding(mesh, h);
+    if (kinds_[kind].present && !kind_allows(kind, c)) return false;
+  if (has_materials() && !kind_allows(kKinds, c)) return false;
+  return !has_uvs() || keeps_uv_winding(c);
 }
 
-double CornerAttributes::collapse_cost(const HalfEdgeMesh& mesh, HalfedgeHandle h) const {
-  const VertexHandle v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
-  const Vec3 pu = point_of(mesh, u);
+double CornerAttributes::collapse_cost(const CollapseStar& c) const {
   double cost = 0;
   uint32_t seen[64];
   for (int kind = 0; kind < kKinds; ++kind) {
@@ -257,19 +252,20 @@ double CornerAttributes::collapse_cost(const HalfEdgeMesh& mesh, HalfedgeHandle 
     if (!k.present || k.scale == 0) continue;
     double error = 0, weight = 0;
     int seen_count = 0;
-    for (auto g : mesh.vf_range(v)) {
-      const int c = corner_of(g, v);
-      const uint32_t w = k.wedge[g.idx()][c];
+    for (int i = 0; i < c.n_faces; ++i) {
+      const uint32_t g = c.faces[i];
+      const int corner = corner_of(g, c.v);
+      const uint32_t w = k.wedge[g][corner];
       if (w == kNoWedge || std::find(seen, seen + seen_count, w) != seen + seen_count) continue;
       if (seen_count < 64) seen[seen_count++] = w;
-      const auto [tf, tc] = target_corner(kind, mesh, h, k.class_of(k.ids[g.idx()][c]));
-      const uint32_t target = k.ids[tf.idx()][tc];
+      const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
+      const uint32_t target = k.ids[tf][tc];
       if (target == kNoAttribute) continue;
       if (kind == kUv) {
-        error += uv_quadrics_[w].error(pu, k.value(target));
+        error += uv_quadrics_[w].error(c.pu, k.value(target));
         weight += uv_quadrics_[w].weight;
       } else {
-        error += normal_quadrics_[w].error(pu, k.value(target));
+        error += normal_quadrics_[w].error(c.pu, k.value(target));
         weight += normal_quadrics_[w].weight;
       }
     }
@@ -278,22 +274,16 @@ double CornerAttributes::collapse_cost(const HalfEdgeMesh& mesh, HalfedgeHandle 
   return cost;
 }
 
-void CornerAttributes::collapse(const HalfEdgeMesh& mesh, HalfedgeHandle h,
-                                CollapseAttributes& record) {
-  const VertexHandle v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
-  const FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
+void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& record) {
   // The removed faces as the split re-creates them.
-  auto record_face = [&](FaceHandle f, VertexHandle a, VertexHandle b, VertexHandle c) {
+  auto record_face = [&](uint32_t f, uint32_t a, uint32_t b, uint32_t d) {
     uint32_t uvs[3], normals[3];
-    corner_ids(f, {a, b, c}, uvs, normals);
+    corner_ids(f, {a, b, d}, uvs, normals);
     if (has_uvs()) record.new_face_uvs.insert(record.new_face_uvs.end(), uvs, uvs + 3);
     if (has_normals()) record.new_face_normals.insert(record.new_face_normals.end(), normals, normals + 3);
   };
-  if (fl.is_valid()) record_face(fl, v, u, mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
-  if (fr.is_valid()) {
-    const HalfedgeHandle o = mesh.opposite_halfedge_handle(h);
-    record_face(fr, u, v, mesh.to_vertex_handle(mesh.next_halfedge_handle(o)));
-  }
+  if (c.fl != CollapseStar::kNoFace) record_face(c.fl, c.v, c.u, c.vl);
+  if (c.fr != CollapseStar::kNoFace) record_face(c.fr, c.u, c.v, c.vr);
 
   // v's wedges merge into u's (their quadrics add, Garland and Heckbert 1997 §4), then
   // the moved corners take u's ids. Targets are read from fl and fr, which do not move.
@@ -302,42 +292,62 @@ void CornerAttributes::collapse(const HalfEdgeMesh& mesh, HalfedgeHandle h,
     if (!k.present) continue;
     uint32_t merged[64];
     int merged_count = 0;
-    for (auto g : mesh.vf_range(v)) {
-      const int c = corner_of(g, v);
-      const uint32_t w = k.wedge[g.idx()][c];
+    for (int i = 0; i < c.n_faces; ++i) {
+      const uint32_t g = c.faces[i];
+      const int corner = corner_of(g, c.v);
+      const uint32_t w = k.wedge[g][corner];
       if (w == kNoWedge || std::find(merged, merged + merged_count, w) != merged + merged_count)
         continue;
       if (merged_count < 64) merged[merged_count++] = w;
-      const auto [tf, tc] = target_corner(kind, mesh, h, k.class_of(k.ids[g.idx()][c]));
-      const uint32_t target = k.wedge[tf.idx()][tc];
+      const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
+      const uint32_t target = k.wedge[tf][tc];
       if (target == kNoWedge || target == w) continue;
       if (kind == kUv) uv_quadrics_[target] += uv_quadrics_[w];
       else normal_quadrics_[target] += normal_quadrics_[w];
     }
   }
-  for (auto g : mesh.vf_range(v)) {
-    if (g == fl || g == fr) continue;
-    const int c = corner_of(g, v);
+  for (int i = 0; i < c.n_faces; ++i) {
+    const uint32_t g = c.faces[i];
+    if (g == c.fl || g == c.fr) continue;
+    const int corner = corner_of(g, c.v);
     for (int kind = 0; kind < kKinds; ++kind) {
       Kind& k = kinds_[kind];
       if (!k.present) continue;
       std::vector<uint32_t>& moved = kind == kUv ? record.moved_uvs : record.moved_normals;
-      moved.push_back(k.ids[g.idx()][c]);
-      const auto [tf, tc] = target_corner(kind, mesh, h, k.class_of(k.ids[g.idx()][c]));
-      k.ids[g.idx()][c] = k.ids[tf.idx()][tc];
-      k.wedge[g.idx()][c] = k.wedge[tf.idx()][tc];
+      moved.push_back(k.ids[g][corner]);
+      const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
+      k.ids[g][corner] = k.ids[tf][tc];
+      k.wedge[g][corner] = k.wedge[tf][tc];
     }
-    vertex_[g.idx()][c] = static_cast<uint32_t>(u.idx());
+    vertex_[g][corner] = c.u;
   }
 }
 
-void CornerAttributes::corner_ids(FaceHandle f, const VertexHandle (&at)[3], uint32_t (&uvs)[3],
+void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t (&uvs)[3],
                                   uint32_t (&normals)[3]) const {
   for (int i = 0; i < 3; ++i) {
     const int c = corner_of(f, at[i]);
-    uvs[i] = has_uvs() ? kinds_[kUv].ids[f.idx()][c] : kNoAttribute;
-    normals[i] = has_normals() ? kinds_[kNormal].ids[f.idx()][c] : kNoAttribute;
+    uvs[i] = has_uvs() ? kinds_[kUv].ids[f][c] : kNoAttribute;
+    normals[i] = has_normals() ? kinds_[kNormal].ids[f][c] : kNoAttribute;
   }
+}
+
+void CornerAttributes::rename(const std::vector<uint32_t>& face_of,
+                              const std::vector<uint32_t>& vertex_of) {
+  auto permute = [&](auto& per_face) {
+    if (per_face.empty()) return;
+    std::remove_reference_t<decltype(per_face)> renamed(per_face.size());
+    for (std::size_t f = 0; f < per_face.size(); ++f) renamed[face_of[f]] = per_face[f];
+    per_face.swap(renamed);
+  };
+  for (auto& vs : vertex_)
+    for (uint32_t& x : vs) x = vertex_of[x];
+  permute(vertex_);
+  for (Kind& k : kinds_) {
+    permute(k.ids);
+    permute(k.wedge);
+  }
+  permute(material_);
 }
 
 }  // namespace pm

@@ -15,8 +15,6 @@
 #include <vector>
 
 #include "simplify/attribute_quadric.h"
-#include "simplify/half_edge_mesh.h"
-#include "simplify/manifold_repair.h"
 #include "pm/mesh.h"
 
 namespace pm {
@@ -30,10 +28,35 @@ struct CollapseAttributes {
   std::vector<uint32_t> new_face_uvs, new_face_normals;
 };
 
+// A half-edge collapse v -> u as a collapse loop describes it, in the face and vertex ids
+// the CornerAttributes were built with: what the attribute rules read, so that any loop
+// (OpenMesh's half-edge mesh, the fast loop's directed edges) shares them.
+struct CollapseStar {
+  static constexpr uint32_t kNoFace = 0xFFFFFFFFu;
+  // An edge v-w and its faces: f holds the half-edge v -> w or w -> v, g the other (kNoFace
+  // on a boundary).
+  struct Edge {
+    uint32_t w, f, g;
+  };
+  uint32_t v, u;
+  uint32_t fl, fr;  // the faces (v, u, vl) and (u, v, vr), kNoFace where there is none
+  uint32_t vl, vr;  // their third vertices (anything where the face is absent)
+  Vec3 pu;          // u's position
+  // v's faces, fl and fr among them, in the order the loop lists the faces that move.
+  const uint32_t* faces;
+  int n_faces;
+  const Edge* edges;  // v's edges, each once
+  int n_edges;
+};
+
 class CornerAttributes {
  public:
-  // Takes the input's corner ids for each half-edge-mesh face (repaired.input_face).
-  CornerAttributes(const Mesh& input, const ManifoldMesh& repaired);
+  // The input's corner ids for each face of the loop's mesh: face f has vertices
+  // corners[3f..3f+2] (distinct), at points (three floats per vertex); input_face[f] is its
+  // input triangle and input_vertex[x] the input vertex of x (null: the identity).
+  CornerAttributes(const Mesh& input, const uint32_t* corners, std::size_t n_faces,
+                   const float* points, std::size_t n_vertices, const uint32_t* input_face,
+                   const uint32_t* input_vertex);
 
   bool has_uvs() const { return kinds_[kUv].present; }
   bool has_normals() const { return kinds_[kNormal].present; }
@@ -41,36 +64,40 @@ class CornerAttributes {
   bool has_materials() const { return has_materials_; }
   bool any() const { return has_uvs() || has_normals() || has_materials(); }
 
-  // An interior edge whose two faces differ in material, or in a corner's texture
-  // coordinates or normal at either end (compared by value, bit for bit).
-  bool is_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const;
+  // The interior edge a-b between faces f and g: whether they differ in material, or in a
+  // corner's texture coordinates or normal at either end (compared by value, bit for bit).
+  // False when g is kNoFace (a boundary).
+  bool is_seam(uint32_t f, uint32_t g, uint32_t a, uint32_t b) const;
   // Texture-coordinate seams only (SeamDrift follows them).
-  bool is_uv_seam(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e) const;
+  bool is_uv_seam(uint32_t f, uint32_t g, uint32_t a, uint32_t b) const {
+    return has_uvs() && is_seam_of_kind(kUv, f, g, a, b);
+  }
 
-  // For each kind, the collapse h = (v -> u) is legal when v is on no seam of that kind,
-  // or on exactly two of its seam edges, one of them v-u (v slides along the seam), and
-  // when u's two sides of v-u differ only if v's do. And no face that moves turns its
-  // texture-space winding over or flat (Hoppe 1996, §3 keeps attributes; this keeps the
-  // texture from folding).
-  bool collapse_keeps_attributes(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) const;
+  // For each kind, the collapse v -> u is legal when v is on no seam of that kind, or on
+  // exactly two of its seam edges, one of them v-u (v slides along the seam), and when u's
+  // two sides of v-u differ only if v's do. And no face that moves turns its texture-space
+  // winding over or flat (Hoppe 1996, §3 keeps attributes; this keeps the texture from
+  // folding).
+  bool collapse_keeps_attributes(const CollapseStar& c) const;
 
   // The attribute error of the collapse in squared model units: for each kind, v's wedges'
   // quadrics at u's position and at the values the corners take, as a mean over their
   // area, times the kind's scale squared.
-  double collapse_cost(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) const;
+  double collapse_cost(const CollapseStar& c) const;
 
-  // Applies the collapse to the corners (call before mesh.collapse(h), once the collapse
-  // is decided): appends what the split needs to `record`; the moved faces are v's faces
-  // other than fl and fr, in vf_range order.
-  void collapse(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h,
-                CollapseAttributes& record);
+  // Applies the collapse to the corners (call before the loop changes its mesh, once the
+  // collapse is decided): appends what the split needs to `record`; the moved faces are
+  // c.faces but fl and fr, in that order.
+  void collapse(const CollapseStar& c, CollapseAttributes& record);
 
   // The current corner ids of face f at the given vertices (in that order).
-  void corner_ids(HalfEdgeMesh::FaceHandle f, const HalfEdgeMesh::VertexHandle (&at)[3],
-                  uint32_t (&uvs)[3], uint32_t (&normals)[3]) const;
-  uint32_t material(HalfEdgeMesh::FaceHandle f) const {
-    return material_.empty() ? kNoAttribute : material_[f.idx()];
-  }
+  void corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t (&uvs)[3],
+                  uint32_t (&normals)[3]) const;
+  uint32_t material(uint32_t f) const { return material_.empty() ? kNoAttribute : material_[f]; }
+
+  // Renames the faces and vertices: face f becomes face_of[f], vertex x vertex_of[x] (a
+  // loop that works in its own ids hands the result back in the caller's).
+  void rename(const std::vector<uint32_t>& face_of, const std::vector<uint32_t>& vertex_of);
 
  private:
   static constexpr int kUv = 0, kNormal = 1, kKinds = 2;
@@ -86,19 +113,21 @@ class CornerAttributes {
     const float* value(uint32_t id) const { return values->data() + std::size_t{id} * dims; }
   };
   // Which corner of face f holds vertex w (0, 1 or 2).
-  int corner_of(HalfEdgeMesh::FaceHandle f, HalfEdgeMesh::VertexHandle w) const;
-  uint32_t class_at(int kind, HalfEdgeMesh::FaceHandle f, HalfEdgeMesh::VertexHandle w) const {
-    return kinds_[kind].class_of(kinds_[kind].ids[f.idx()][corner_of(f, w)]);
+  int corner_of(uint32_t f, uint32_t w) const {
+    const auto& vs = vertex_[f];
+    return vs[0] == w ? 0 : vs[1] == w ? 1 : 2;
   }
-  bool is_seam_of_kind(int kind, const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) const;
-  bool kind_allows(int kind, const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) const;
-  bool keeps_uv_winding(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h) const;
+  uint32_t class_at(int kind, uint32_t f, uint32_t w) const {
+    return kinds_[kind].class_of(kinds_[kind].ids[f][corner_of(f, w)]);
+  }
+  // kind kKinds stands for materials.
+  bool is_seam_of_kind(int kind, uint32_t f, uint32_t g, uint32_t a, uint32_t b) const;
+  bool kind_allows(int kind, const CollapseStar& c) const;
+  bool keeps_uv_winding(const CollapseStar& c) const;
   // The corner of u whose wedge a corner of v with class c takes: u's corner in fl when c
   // is v's class in fl, else in fr. Returns {face, corner index}.
-  std::pair<HalfEdgeMesh::FaceHandle, int> target_corner(int kind, const HalfEdgeMesh& mesh,
-                                                        HalfEdgeMesh::HalfedgeHandle h,
-                                                        uint32_t v_class) const;
-  void initialize_wedges(int kind, const HalfEdgeMesh& mesh);
+  std::pair<uint32_t, int> target_corner(int kind, const CollapseStar& c, uint32_t v_class) const;
+  void initialize_wedges(int kind, const float* points, std::size_t n_vertices);
 
   std::vector<std::array<uint32_t, 3>> vertex_;  // per face: the vertex of each corner
   Kind kinds_[kKinds];

@@ -20,31 +20,32 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-SeamDrift::SeamDrift(const HalfEdgeMesh& mesh, const CornerAttributes& attributes)
-    : mesh_(mesh), attributes_(attributes) {}
+SeamDrift::SeamDrift(const float* points, const CornerAttributes& attributes)
+    : points_xyz_(points), attributes_(attributes) {}
 
-uint32_t SeamDrift::other_seam_end(HalfEdgeMesh::HalfedgeHandle h) const {
-  const auto v = mesh_.from_vertex_handle(h), u = mesh_.to_vertex_handle(h);
-  if (!attributes_.is_uv_seam(mesh_, mesh_.edge_handle(h))) return kNone;
+uint32_t SeamDrift::other_seam_end(const CollapseStar& c) const {
   uint32_t other = kNone;
   int seams = 0;
-  for (auto out : mesh_.voh_range(v)) {
-    if (!attributes_.is_uv_seam(mesh_, mesh_.edge_handle(out))) continue;
+  bool along = false;
+  for (int i = 0; i < c.n_edges; ++i) {
+    const CollapseStar::Edge& e = c.edges[i];
+    if (!attributes_.is_uv_seam(e.f, e.g, c.v, e.w)) continue;
     ++seams;
-    const auto w = mesh_.to_vertex_handle(out);
-    if (w != u) other = static_cast<uint32_t>(w.idx());
+    if (e.w == c.u)
+      along = true;
+    else
+      other = e.w;
   }
-  return seams == 2 ? other : kNone;
+  return along && seams == 2 ? other : kNone;
 }
 
-double SeamDrift::collapse_drift(HalfEdgeMesh::HalfedgeHandle h) const {
-  const uint32_t w = other_seam_end(h);
+double SeamDrift::collapse_drift(const CollapseStar& c) const {
+  const uint32_t w = other_seam_end(c);
   if (w == kNone) return 0;
-  const uint32_t v = mesh_.from_vertex_handle(h).idx(), u = mesh_.to_vertex_handle(h).idx();
-  const Vec3 a = point_of(mesh_, mesh_.vertex_handle(u));
-  const Vec3 b = point_of(mesh_, mesh_.vertex_handle(w));
-  double worst = distance_to_segment(point_of(mesh_, mesh_.vertex_handle(v)), a, b);
-  for (const uint64_t edge : {key(v, u), key(v, w)}) {
+  const Vec3 a = point(c.u), b = point(w);
+  double worst = distance_to_segment(point(c.v), a, b);
+  const std::lock_guard<std::mutex> hold(lock_);
+  for (const uint64_t edge : {key(c.v, c.u), key(c.v, w)}) {
     const auto it = points_.find(edge);
     if (it == points_.end()) continue;
     // Near the base mesh a seam edge stands for a long stretch of the input's seam; an
@@ -52,24 +53,23 @@ double SeamDrift::collapse_drift(HalfEdgeMesh::HalfedgeHandle h) const {
     const std::vector<uint32_t>& points = it->second;
     const std::size_t stride = points.size() / kMeasuredPoints + 1;
     for (std::size_t i = 0; i < points.size(); i += stride)
-      worst = std::max(worst,
-                       distance_to_segment(point_of(mesh_, mesh_.vertex_handle(points[i])), a, b));
+      worst = std::max(worst, distance_to_segment(point(points[i]), a, b));
   }
   return worst;
 }
 
-void SeamDrift::collapse(HalfEdgeMesh::HalfedgeHandle h) {
-  const uint32_t w = other_seam_end(h);
+void SeamDrift::collapse(const CollapseStar& c) {
+  const uint32_t w = other_seam_end(c);
   if (w == kNone) return;
-  const uint32_t v = mesh_.from_vertex_handle(h).idx(), u = mesh_.to_vertex_handle(h).idx();
-  std::vector<uint32_t> merged{v};
-  for (const uint64_t edge : {key(v, u), key(v, w)}) {
+  std::vector<uint32_t> merged{c.v};
+  const std::lock_guard<std::mutex> hold(lock_);
+  for (const uint64_t edge : {key(c.v, c.u), key(c.v, w)}) {
     const auto it = points_.find(edge);
     if (it == points_.end()) continue;
     merged.insert(merged.end(), it->second.begin(), it->second.end());
     points_.erase(it);
   }
-  std::vector<uint32_t>& target = points_[key(u, w)];
+  std::vector<uint32_t>& target = points_[key(c.u, w)];
   target.insert(target.end(), merged.begin(), merged.end());
 }
 

@@ -61,6 +61,55 @@ struct Candidate {
   }
 };
 
+// The collapse h as CornerAttributes and SeamDrift read it (corner_attributes.h), in the
+// half-edge mesh's ids: v's faces in vf_range order (the order of the moved faces), its
+// edges in voh_range order.
+class HalfEdgeStar {
+ public:
+  HalfEdgeStar(const HalfEdgeMesh& mesh, HalfedgeHandle h) {
+    const VertexHandle v = mesh.from_vertex_handle(h), u = mesh.to_vertex_handle(h);
+    const FaceHandle fl = mesh.face_handle(h), fr = mesh.opposite_face_handle(h);
+    auto id = [](FaceHandle f) {
+      return f.is_valid() ? static_cast<uint32_t>(f.idx()) : CollapseStar::kNoFace;
+    };
+    star_.v = static_cast<uint32_t>(v.idx());
+    star_.u = static_cast<uint32_t>(u.idx());
+    star_.fl = id(fl);
+    star_.fr = id(fr);
+    star_.vl = fl.is_valid() ? mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx() : 0;
+    star_.vr = fr.is_valid()
+                   ? mesh.to_vertex_handle(mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(h))).idx()
+                   : 0;
+    star_.pu = point_of(mesh, u);
+    int n_faces = 0, n_edges = 0;
+    for (auto f : mesh.vf_range(v)) {
+      if (n_faces == kMost) return;  // complete() stays false
+      faces_[n_faces++] = static_cast<uint32_t>(f.idx());
+    }
+    for (auto out : mesh.voh_range(v)) {
+      if (n_edges == kMost) return;
+      edges_[n_edges++] = {static_cast<uint32_t>(mesh.to_vertex_handle(out).idx()),
+                           id(mesh.face_handle(out)), id(mesh.opposite_face_handle(out))};
+    }
+    star_.faces = faces_;
+    star_.n_faces = n_faces;
+    star_.edges = edges_;
+    star_.n_edges = n_edges;
+    complete_ = true;
+  }
+  // False for a vertex of more than kMost faces, which no attribute rule then allows
+  // (the loop never evaluates one of more than 64).
+  bool complete() const { return complete_; }
+  const CollapseStar& operator*() const { return star_; }
+
+ private:
+  static constexpr int kMost = 256;
+  uint32_t faces_[kMost];
+  CollapseStar::Edge edges_[kMost];
+  CollapseStar star_{};
+  bool complete_ = false;
+};
+
 class SchroederSimplifier {
  public:
   // A corner with an edge sharper than this is a corner of the shape (a fandisk's, a
@@ -72,11 +121,6 @@ class SchroederSimplifier {
   // The removed points' worst squared distance counts as much as the quadric's mean
   // squared distance: on the benchmark meshes, 0.5 and 2 were each worse on some mesh.
   static constexpr double kWorstCaseWeight = 1.0;
-  // A texture seam's drift within the surface (SeamDrift) counts this many times a distance
-  // off the surface. Tuned on tests/bench/uv.md (spot, and the vase sample with three charts
-  // at 10%, 2% and 1%): at 2.8 (x^2 = 8) spot's seams still slid at 10%; at 4 (x^2 = 16) the
-  // vase's interior at 2% paid for the seams it kept. 3.5 holds both.
-  static constexpr double kSeamDriftScale = 3.5;
   SchroederSimplifier(const Mesh& original, ManifoldMesh& input, const EncodeOptions& options)
       : mesh_(input.mesh),
         pinned_(input.pinned),
@@ -86,7 +130,15 @@ class SchroederSimplifier {
         cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)) {
     if (!options.drop_attributes) {
-      attributes_ = std::make_unique<CornerAttributes>(original, input);
+      std::vector<uint32_t> corners;
+      corners.reserve(3 * input.mesh.n_faces());
+      for (auto f : input.mesh.faces())
+        for (auto w : input.mesh.fv_range(f)) corners.push_back(static_cast<uint32_t>(w.idx()));
+      static_assert(sizeof(HalfEdgeMesh::Point) == 3 * sizeof(float));
+      attributes_ = std::make_unique<CornerAttributes>(
+          original, corners.data(), input.mesh.n_faces(),
+          reinterpret_cast<const float*>(input.mesh.points()), input.mesh.n_vertices(),
+          input.input_face.data(), input.input_vertex.data());
       if (!attributes_->any()) attributes_.reset();
     }
   }
@@ -100,7 +152,8 @@ class SchroederSimplifier {
     if (options_.metric == Metric::kQuadric) initialize_quadrics();
     removed_ = std::make_unique<RemovedPoints>(mesh_);
     if (attributes_ && attributes_->has_uvs())
-      seam_drift_ = std::make_unique<SeamDrift>(mesh_, *attributes_);
+      seam_drift_ = std::make_unique<SeamDrift>(reinterpret_cast<const float*>(mesh_.points()),
+                                                *attributes_);
     input_corner_.assign(n_vertices, 0);
     sharp_corner_.assign(n_vertices, 0);
     const double cos_sharp = std::cos(kSharpCornerDeg * M_PI / 180.0);
@@ -163,8 +216,13 @@ class SchroederSimplifier {
   bool legal(HalfedgeHandle h) {
     return collapse_keeps_topology(mesh_, h) && collapse_keeps_welds(mesh_, h, welds_) &&
            collapse_keeps_geometry(mesh_, h, cos_max_flip_) &&
-           (!attributes_ || attributes_->collapse_keeps_attributes(mesh_, h)) &&
+           (!attributes_ || keeps_attributes(h)) &&
            keeps_carried_edges_apart(h);
+  }
+
+  bool keeps_attributes(HalfedgeHandle h) const {
+    const HalfEdgeStar star(mesh_, h);
+    return star.complete() && attributes_->collapse_keeps_attributes(*star);
   }
 
   // A carried face (a, a, b) joins a and b by an edge of no surface; were a collapse to make
@@ -318,7 +376,7 @@ class SchroederSimplifier {
   }
 
   double attribute_cost(HalfedgeHandle h) const {
-    return attributes_ ? attributes_->collapse_cost(mesh_, h) : 0.0;
+    return attributes_ ? attributes_->collapse_cost(*HalfEdgeStar(mesh_, h)) : 0.0;
   }
 
   // The mean squared distance of q's planes to p. Area-weighted quadrics summed over
@@ -343,7 +401,7 @@ class SchroederSimplifier {
   // meshes that beats both summing them and carrying the maximum as an accumulation.
   //
   // A texture seam that slides within the surface is charged too (SeamDrift), scaled by
-  // kSeamDriftScale: the surface distance cannot see it, and the texture shows it at once.
+  // SeamDrift::kDriftScale: the surface distance cannot see it, and the texture shows it at once.
   bool remeasure(const Candidate& top) {
     const HalfedgeHandle h = mesh_.halfedge_handle(top.halfedge);
     if (mesh_.status(h).deleted()) return false;  // apply() re-evaluates it
@@ -353,7 +411,8 @@ class SchroederSimplifier {
     // key, which keeps the greedy order exact (a key never exceeds the cost) and skips the
     // dearer half of the measure, often for good: most candidates sent back are
     // re-evaluated before they come up again.
-    const double drift = seam_drift_ ? kSeamDriftScale * seam_drift_->collapse_drift(h) : 0.0;
+    const double drift =
+        seam_drift_ ? SeamDrift::kDriftScale * seam_drift_->collapse_drift(*HalfEdgeStar(mesh_, h)) : 0.0;
     const double lower = removed_->removed_distance(h);
     const double bound = std::max(lower, drift);
     if (bound > 0) {
@@ -413,13 +472,20 @@ class SchroederSimplifier {
     c.moved_count = static_cast<uint32_t>(moved_faces.size()) - c.moved_begin;
     c.new_faces_begin = new_faces_recorded_;
     new_faces_recorded_ += static_cast<uint32_t>(removed_faces);
-    if (attributes_) attributes_->collapse(mesh_, h, attribute_record);
+    if (attributes_) {
+      // The drift first: it finds the seams on the corners as they are before the collapse.
+      const HalfEdgeStar star(mesh_, h);
+      attributes_->collapse(*star, attribute_record);
+      // After the corners moved, as this loop always did (its levels stay as measured in
+      // tests/bench): the drift then misreads the seams at v's moved corners and attaches
+      // fewer points.
+      if (seam_drift_) seam_drift_->collapse(*star);
+    }
     // The record's error: the largest so far of the candidates' errors and of the removed
     // points' distances to their faces, so non-increasing from base to full detail, and
     // at least the distance of every input vertex to the level's surface.
     bound_ = std::max(bound_, double(candidate.distance));
     bound_ = std::max(bound_, removed_->collapse(h));  // before mesh_ changes
-    if (seam_drift_) seam_drift_->collapse(h);
     c.bound = static_cast<float>(bound_);
     collapses.push_back(c);
 
@@ -611,13 +677,13 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
   const bool normals = attributes && attributes->has_normals();
   const bool materials = attributes && attributes->has_materials();
   for (std::size_t i = 0; i < run.base.faces.size(); ++i) {
-    const FaceHandle f(static_cast<int>(run.base.faces[i]));
-    face_id[f.idx()] = next_face++;
-    VertexHandle at[3];
+    const uint32_t f = run.base.faces[i];
+    face_id[f] = next_face++;
+    uint32_t at[3];
     for (int k = 0; k < 3; ++k) {
       const uint32_t w = run.base.corners[3 * i + k];
       out.base_faces.push_back(vertex_id[w]);
-      at[k] = VertexHandle(static_cast<int>(w));
+      at[k] = w;
     }
     if (!attributes) continue;
     uint32_t uv[3], normal[3];
@@ -677,8 +743,8 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
            out.face_normals);
     }
     if (materials) {
-      if (c->fl >= 0) out.face_materials.push_back(attributes->material(FaceHandle(c->fl)));
-      if (c->fr >= 0) out.face_materials.push_back(attributes->material(FaceHandle(c->fr)));
+      if (c->fl >= 0) out.face_materials.push_back(attributes->material(static_cast<uint32_t>(c->fl)));
+      if (c->fr >= 0) out.face_materials.push_back(attributes->material(static_cast<uint32_t>(c->fr)));
     }
   }
 

@@ -30,7 +30,10 @@ bool is_feature_edge(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
   // A degenerate face has no normal; its edges count as features so that nothing
   // is collapsed across it on a guess.
   return (faces.normal[f0.idx()] | faces.normal[f1.idx()]) < cos_feature_angle ||
-         (faces.attributes && faces.attributes->is_seam(mesh, e));
+         (faces.attributes &&
+          faces.attributes->is_seam(static_cast<uint32_t>(f0.idx()), static_cast<uint32_t>(f1.idx()),
+                                    static_cast<uint32_t>(mesh.from_vertex_handle(mesh.halfedge_handle(e, 0)).idx()),
+                                    static_cast<uint32_t>(mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx())));
 }
 
 VertexClass classify_vertex(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
