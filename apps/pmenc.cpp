@@ -137,12 +137,7 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                   std::to_string(settings.fast_from) +
                   ": the fast loop ran (--fast-from 0 for the default loop and its measured errors)");
   if (settings.encode.fast && !stats.fast)
-    progress.note(input + ": --fast: " +
-                  (options.metric != pm::Metric::kQuadric
-                       ? std::string("the schroeder metric has no fast loop")
-                       : std::string("the mesh has texture coordinates, normals or materials "
-                                     "(--drop-attributes to encode geometry only)")) +
-                  "; the default loop ran");
+    progress.note(input + ": --fast: the schroeder metric has no fast loop; the default loop ran");
 
   std::string encoded;
   if (pm::Status s = pm::write_pm(progressive, settings.write, encoded); !s) return failed(s);
@@ -205,8 +200,9 @@ int main(int argc, char** argv) {
   app.add_flag("--fast", settings.encode.fast,
                "Fast collapse loop: quadric metric on flat arrays, with a cheaper measured error "
                "(many times faster; levels about as close to the input, "
-               "recorded errors estimated). Geometry only: with texture coordinates, normals or "
-               "materials kept, or --metric schroeder, the default loop runs");
+               "recorded errors estimated). Keeps texture coordinates, normals, colours and materials "
+               "with their seams as the default loop does; with --metric schroeder, the default "
+               "loop runs");
   app.add_option("--fast-from", settings.fast_from,
                  "Take the fast loop (as --fast) on meshes of at least this many faces, where "
                  "the default loop's measured error takes minutes; 0: only with --fast")

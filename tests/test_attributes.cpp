@@ -15,6 +15,7 @@
 #include "pm/encoder.h"
 #include "pm/lod.h"
 #include "pm/mesh_io.h"
+#include "pm/pm_codec.h"
 #include "test_util.h"
 
 namespace pm {
@@ -26,16 +27,42 @@ uint32_t bits(float x) {
   return b;
 }
 
-ProgressiveMesh encode_ok(const Mesh& mesh, Metric metric, bool drop = false) {
+// The collapse loops: the default one with either metric, and the fast one (quadric),
+// with one heap or in regions on two threads (forced here; by default on meshes of more
+// than 131072 vertices). Each keeps the attributes the same way.
+enum class Loop { kSchroeder, kQuadric, kFast, kFastRegions };
+
+std::string loop_name(Loop loop) {
+  switch (loop) {
+    case Loop::kSchroeder: return "Schroeder";
+    case Loop::kQuadric: return "Quadric";
+    case Loop::kFast: return "Fast";
+    case Loop::kFastRegions: return "FastRegions";
+  }
+  return "";
+}
+
+EncodeOptions options_for(Loop loop) {
   EncodeOptions options;
-  options.metric = metric;
+  options.metric = loop == Loop::kSchroeder ? Metric::kSchroeder : Metric::kQuadric;
+  options.fast = loop == Loop::kFast || loop == Loop::kFastRegions;
+  options.fast_partition_vertices = loop == Loop::kFastRegions ? 1 : 0;
+  options.threads = loop == Loop::kFastRegions ? 2 : 1;
+  return options;
+}
+
+ProgressiveMesh encode_ok(const Mesh& mesh, Loop loop, bool drop = false) {
+  EncodeOptions options = options_for(loop);
   options.drop_attributes = drop;
   ProgressiveMesh pm;
-  const Status status = encode(mesh, options, pm);
+  EncodeStats stats;
+  const Status status = encode(mesh, options, pm, &stats);
   EXPECT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(stats.fast, options.fast);  // the loop asked for ran
   EXPECT_TRUE(test::ok(validate(pm)));
   return pm;
 }
+
 
 // The corner values of face f at vertex slot k, for seam tests on the output.
 struct EdgeKey {
@@ -74,7 +101,7 @@ std::vector<EdgeKey> seam_edges(const Mesh& m, const std::vector<uint32_t>* ids,
   return seams;
 }
 
-class AttributesByMetric : public ::testing::TestWithParam<Metric> {};
+class AttributesByLoop : public ::testing::TestWithParam<Loop> {};
 
 // A square bulged into a dome, its texture cut along a gentle arc: the middle row of
 // vertices bends within the square (the rows between follow), and the faces below that
@@ -136,7 +163,7 @@ double seam_drift(const Mesh& input, const Mesh& level) {
   return worst;
 }
 
-TEST_P(AttributesByMetric, ATextureSeamSlidesWithinTheSurfaceLessThanTheSurfaceMoves) {
+TEST_P(AttributesByLoop, ATextureSeamSlidesWithinTheSurfaceLessThanTheSurfaceMoves) {
   const Mesh dome = curved_square_with_arced_seam(24, 0.1, 0.2);
   const ProgressiveMesh pm = encode_ok(dome, GetParam());
   // Each level's seams stay closer to the input's seam than half the level's error bound
@@ -154,7 +181,7 @@ TEST_P(AttributesByMetric, ATextureSeamSlidesWithinTheSurfaceLessThanTheSurfaceM
   EXPECT_GT(checked, 250u);
 }
 
-TEST_P(AttributesByMetric, FullDetailGivesEveryFacesCornerAttributesBitForBit) {
+TEST_P(AttributesByLoop, FullDetailGivesEveryFacesCornerAttributesBitForBit) {
   const Mesh grid = test::seamed_grid(24);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   const Mesh full = extract_level(pm, pm.split_count());
@@ -174,7 +201,7 @@ TEST_P(AttributesByMetric, FullDetailGivesEveryFacesCornerAttributesBitForBit) {
   EXPECT_EQ(full.material_libraries, grid.material_libraries);
 }
 
-TEST_P(AttributesByMetric, SeamsAndBordersStayOnTheInputsAtEveryCoarserLevel) {
+TEST_P(AttributesByLoop, SeamsAndBordersStayOnTheInputsAtEveryCoarserLevel) {
   const Mesh grid = test::seamed_grid(24);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   // The discontinuities pin little: the grid still simplifies far.
@@ -199,7 +226,7 @@ TEST_P(AttributesByMetric, SeamsAndBordersStayOnTheInputsAtEveryCoarserLevel) {
   }
 }
 
-TEST_P(AttributesByMetric, NoTextureTriangleTurnsOverAtAnyLevel) {
+TEST_P(AttributesByLoop, NoTextureTriangleTurnsOverAtAnyLevel) {
   const Mesh grid = test::seamed_grid(24);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   const Mesh full = extract_level(pm, pm.split_count());
@@ -221,7 +248,7 @@ TEST_P(AttributesByMetric, NoTextureTriangleTurnsOverAtAnyLevel) {
   }
 }
 
-TEST_P(AttributesByMetric, ColoursTravelWithTheirVertices) {
+TEST_P(AttributesByLoop, ColoursTravelWithTheirVertices) {
   const Mesh grid = test::seamed_grid(16);
   const ProgressiveMesh pm = encode_ok(grid, GetParam());
   for (std::size_t level : {std::size_t{0}, pm.split_count() / 3, pm.split_count()}) {
@@ -235,7 +262,7 @@ TEST_P(AttributesByMetric, ColoursTravelWithTheirVertices) {
   }
 }
 
-TEST_P(AttributesByMetric, DropAttributesKeepsGeometryOnly) {
+TEST_P(AttributesByLoop, DropAttributesKeepsGeometryOnly) {
   const Mesh grid = test::seamed_grid(16);
   const ProgressiveMesh pm = encode_ok(grid, GetParam(), /*drop=*/true);
   EXPECT_FALSE(pm.has_uvs() || pm.has_normals() || pm.has_materials());
@@ -249,12 +276,10 @@ TEST_P(AttributesByMetric, DropAttributesKeepsGeometryOnly) {
   EXPECT_LE(pm.base_face_count(), with.base_face_count());
 }
 
-INSTANTIATE_TEST_SUITE_P(Metrics, AttributesByMetric,
-                         ::testing::Values(Metric::kSchroeder, Metric::kQuadric),
-                         [](const auto& info) {
-                           return std::string(info.param == Metric::kQuadric ? "Quadric"
-                                                                             : "Schroeder");
-                         });
+INSTANTIATE_TEST_SUITE_P(Loops, AttributesByLoop,
+                         ::testing::Values(Loop::kSchroeder, Loop::kQuadric, Loop::kFast,
+                                           Loop::kFastRegions),
+                         [](const auto& info) { return loop_name(info.param); });
 
 TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
   Mesh grid = test::seamed_grid(12);
@@ -262,8 +287,87 @@ TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
   for (std::size_t f = 0; f < grid.face_count(); f += 3)
     for (int k = 0; k < 3; ++k) grid.uv_indices[3 * f + k] = kNoAttribute;
   for (std::size_t f = 0; f < grid.face_count(); f += 5) grid.face_materials[f] = kNoAttribute;
-  const ProgressiveMesh pm = encode_ok(grid, Metric::kQuadric);
-  EXPECT_TRUE(test::same_attributed_faces(grid, extract_level(pm, pm.split_count())));
+  for (const Loop loop : {Loop::kQuadric, Loop::kFast}) {
+    const ProgressiveMesh pm = encode_ok(grid, loop);
+    EXPECT_TRUE(test::same_attributed_faces(grid, extract_level(pm, pm.split_count())))
+        << loop_name(loop);
+  }
+}
+
+// A strip of 4 x 2 squares, its texture cut at x = 2: the corners left of the cut take
+// chart 0 (u = x), those right of it chart 1 (u = x + 10), so the vertices at x = 2 carry
+// two texture coordinates. The fast loop slides the cut's vertices along it only, as the
+// default loop does: at every level the seam runs along x = 2, whole (from y = 0 to y = 2)
+// while faces of both charts are left, and every face keeps its chart.
+TEST(Attributes, TheFastLoopKeepsAUvSeamWholeAtEveryLevel) {
+  Mesh m;
+  for (int y = 0; y <= 2; ++y)
+    for (int x = 0; x <= 4; ++x)
+      m.positions.insert(m.positions.end(), {float(x), float(y), 0.05f * float(x * (4 - x) * y * (2 - y))});
+  // Chart 0: ids 0-14 (u = x, v = y); chart 1: ids 15-29 (u = x + 10).
+  for (int chart = 0; chart < 2; ++chart)
+    for (int y = 0; y <= 2; ++y)
+      for (int x = 0; x <= 4; ++x) m.uvs.insert(m.uvs.end(), {float(x + 10 * chart), float(y)});
+  m.triangles = {0, 1, 6,  0, 6, 5,  1, 2, 7,  1, 7, 6,  2, 3, 8,  2, 8, 7,  3, 4, 9,  3, 9, 8,
+                 5, 6, 11, 5, 11, 10, 6, 7, 12, 6, 12, 11, 7, 8, 13, 7, 13, 12, 8, 9, 14, 8, 14, 13};
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    const bool right = (f / 2) % 4 >= 2;
+    for (int k = 0; k < 3; ++k) m.uv_indices.push_back(m.triangles[3 * f + k] + (right ? 15 : 0));
+  }
+  for (const Loop loop : {Loop::kQuadric, Loop::kFast, Loop::kFastRegions}) {
+    SCOPED_TRACE(loop_name(loop));
+    const ProgressiveMesh pm = encode_ok(m, loop);
+    EXPECT_GT(pm.split_count(), 4u);
+    const Mesh full = extract_level(pm, pm.split_count());
+    EXPECT_TRUE(test::same_attributed_faces(m, full));
+    std::size_t with_both = 0;
+    for (std::size_t level = 0; level <= pm.split_count(); ++level) {
+      const Mesh lod = extract_level(pm, level);
+      double length = 0;
+      for (const EdgeKey& e : seam_edges(lod, &lod.uv_indices, &lod.uvs, 2)) {
+        EXPECT_EQ(lod.positions[3 * e.a], 2.0f) << "level " << level;
+        EXPECT_EQ(lod.positions[3 * e.b], 2.0f) << "level " << level;
+        length += std::abs(lod.positions[3 * e.a + 1] - lod.positions[3 * e.b + 1]);
+      }
+      // Face k of a level is face k of full detail: its corners' chart is the input's.
+      bool charts[2] = {false, false};
+      for (std::size_t f = 0; f < lod.face_count(); ++f) {
+        const bool right = full.uvs[2 * full.uv_indices[3 * f]] >= 10.0f;
+        charts[right] = true;
+        for (int k = 0; k < 3; ++k)
+          EXPECT_EQ(lod.uvs[2 * lod.uv_indices[3 * f + k]] >= 10.0f, right)
+              << "level " << level << " face " << f;
+      }
+      // Whole while both charts have faces (near the base, one side may be gone: a single
+      // triangle is left of the strip).
+      if (charts[0] && charts[1]) {
+        EXPECT_EQ(length, 2.0) << "level " << level;
+        ++with_both;
+      }
+    }
+    EXPECT_GE(with_both, 4u);
+  }
+}
+
+// In regions, the fast loop's attribute state is each region's own: the same stream for
+// any number of threads.
+TEST(Attributes, TheFastLoopInRegionsGivesTheSameStreamForAnyThreadCount) {
+  const Mesh grid = test::seamed_grid(32);
+  std::string first;
+  for (const unsigned threads : {1u, 2u, 4u}) {
+    EncodeOptions options = options_for(Loop::kFastRegions);
+    options.threads = threads;
+    ProgressiveMesh pm;
+    EncodeStats stats;
+    ASSERT_TRUE(encode(grid, options, pm, &stats).ok());
+    EXPECT_TRUE(stats.fast);
+    std::string bytes;
+    ASSERT_TRUE(write_pm(pm, WriteOptions{}, bytes).ok());
+    if (first.empty())
+      first = bytes;
+    else
+      EXPECT_EQ(bytes, first) << threads << " threads";
+  }
 }
 
 TEST(Attributes, MaterialNamesTheStreamCannotHoldFailBeforeTheWork) {
@@ -315,7 +419,7 @@ std::vector<std::pair<PositionKey, PositionKey>> uv_seams_by_position(const Mesh
   return out;
 }
 
-class SpotByMetric : public ::testing::TestWithParam<Metric> {
+class SpotByLoop : public ::testing::TestWithParam<Loop> {
  protected:
   void SetUp() override {
     if (!test::shared_meshes_available()) {
@@ -330,11 +434,11 @@ class SpotByMetric : public ::testing::TestWithParam<Metric> {
   ProgressiveMesh pm_;
 };
 
-TEST_P(SpotByMetric, FullDetailGivesEveryFacesTextureCoordinatesBitForBit) {
+TEST_P(SpotByLoop, FullDetailGivesEveryFacesTextureCoordinatesBitForBit) {
   EXPECT_TRUE(test::same_attributed_faces(spot_, extract_level(pm_, pm_.split_count())));
 }
 
-TEST_P(SpotByMetric, SeamsOfTheLevelsLieOnTheInputsSeamsAndNoTextureTriangleTurnsOver) {
+TEST_P(SpotByLoop, SeamsOfTheLevelsLieOnTheInputsSeamsAndNoTextureTriangleTurnsOver) {
   // The input's seam graph, on positions.
   std::map<PositionKey, std::vector<PositionKey>> seam_graph;
   for (const auto& [a, b] : uv_seams_by_position(spot_)) {
@@ -384,12 +488,10 @@ TEST_P(SpotByMetric, SeamsOfTheLevelsLieOnTheInputsSeamsAndNoTextureTriangleTurn
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Metrics, SpotByMetric,
-                         ::testing::Values(Metric::kSchroeder, Metric::kQuadric),
-                         [](const auto& info) {
-                           return std::string(info.param == Metric::kQuadric ? "Quadric"
-                                                                             : "Schroeder");
-                         });
+INSTANTIATE_TEST_SUITE_P(Loops, SpotByLoop,
+                         ::testing::Values(Loop::kSchroeder, Loop::kQuadric, Loop::kFast,
+                                           Loop::kFastRegions),
+                         [](const auto& info) { return loop_name(info.param); });
 
 }  // namespace
 }  // namespace pm

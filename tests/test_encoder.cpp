@@ -60,12 +60,6 @@ class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
     if (loop == Loop::kFast || loop == Loop::kFastRegions) {
       o.fast = true;
       o.fast_partition_vertices = loop == Loop::kFastRegions ? 1 : 0;
-      // The fast loop is geometry only: on a mesh with texture coordinates, normals or
-      // materials, the encoder would run the default loop instead.
-      Mesh input;
-      if (read_mesh(mesh().path, input) &&
-          (input.has_uvs() || input.has_normals() || input.has_materials()))
-        o.drop_attributes = true;
     }
     return o;
   }
@@ -354,8 +348,7 @@ TEST(Robustness, AssimpModelsThatParseRoundTripExactly) {
     ++parsed;
     for (const bool fast : {false, true}) {  // the default loop and the fast one
       EncodeOptions options;
-      options.fast = fast;
-      options.drop_attributes = fast;  // so that the fast loop runs on every model
+      options.fast = fast;  // attributes and all
       ProgressiveMesh pm;
       const Status s = encode(input, options, pm);
       if (!s) {  // a mesh with vertices but no face is the only thing that may not encode
@@ -364,6 +357,7 @@ TEST(Robustness, AssimpModelsThatParseRoundTripExactly) {
       }
       const Mesh full = extract_level(pm, pm.split_count());
       EXPECT_TRUE(test::same_faces(input, full)) << path << (fast ? " (fast)" : "");
+      EXPECT_TRUE(test::same_attributed_faces(input, full)) << path << (fast ? " (fast)" : "");
       EXPECT_EQ(full.vertex_count(), input.vertex_count()) << path << (fast ? " (fast)" : "");
     }
   }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <limits>
 #include <string>
 
@@ -39,9 +40,9 @@ void add_grid(Mesh& m, int n, float dx) {
 // Encodes (through the .pm codec, as pmenc | pmdec) and checks what every hostile input
 // that is accepted must give: full detail is the input exactly, and every level has the
 // input's topology.
-ProgressiveMesh encode_and_check(const Mesh& input) {
+ProgressiveMesh encode_and_check(const Mesh& input, const EncodeOptions& options = {}) {
   ProgressiveMesh direct, pm;
-  Status s = encode(input, EncodeOptions{}, direct);
+  Status s = encode(input, options, direct);
   EXPECT_TRUE(s.ok()) << s.message();
   std::string bytes;
   EXPECT_TRUE(write_pm(direct, WriteOptions{}, bytes).ok());
@@ -142,6 +143,59 @@ TEST(Hostile, ANonManifoldFanIsCutAndWeldedBack) {
   m.triangles.insert(m.triangles.end(), {0, 1, static_cast<uint32_t>(m.vertex_count() - 1)});
   const ProgressiveMesh pm = encode_and_check(m);
   EXPECT_FALSE(pm.welds.empty());
+}
+
+// The same pinched fan and fin with materials and texture coordinates, through the fast
+// loop: the repair cuts and welds, the fast loop keeps the corners and the material border.
+TEST(Hostile, MaterialsOnANonManifoldInputGoThroughTheRepairAndTheFastLoop) {
+  Mesh m;
+  add_grid(m, 6, 0);
+  add_grid(m, 6, 1);
+  const uint32_t shared = 6, other = 49;
+  for (uint32_t& v : m.triangles)
+    if (v == other) v = shared;
+  m.positions.insert(m.positions.end(), {0.5f, 0.5f, 1.0f});
+  m.triangles.insert(m.triangles.end(), {0, 1, static_cast<uint32_t>(m.vertex_count() - 1)});
+  // Grid 0 is two materials, split along x = 0.5 (its faces of columns 0-2 and 3-5); grid 1
+  // a third, the fin a fourth. Texture coordinates: each corner its vertex's x and y.
+  m.material_names = {"left", "right", "far", "fin"};
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    const std::size_t grid_faces = 2 * 6 * 6;
+    m.face_materials.push_back(f >= 2 * grid_faces ? 3 : f >= grid_faces ? 2 : (f / 2) % 6 < 3 ? 0 : 1);
+  }
+  for (std::size_t v = 0; v < m.vertex_count(); ++v)
+    m.uvs.insert(m.uvs.end(), {m.positions[3 * v], m.positions[3 * v + 1]});
+  m.uv_indices = m.triangles;
+  EncodeOptions fast;
+  fast.fast = true;
+  EncodeStats stats;
+  ProgressiveMesh direct;
+  ASSERT_TRUE(encode(m, fast, direct, &stats).ok());
+  EXPECT_TRUE(stats.fast);
+  EXPECT_TRUE(stats.repair.any());
+  const ProgressiveMesh pm = encode_and_check(m, fast);
+  EXPECT_FALSE(pm.welds.empty());
+  EXPECT_TRUE(test::same_attributed_faces(m, extract_level(pm, pm.split_count())));
+  // At every level, the border of the two materials of grid 0 stays on x = 0.5.
+  for (std::size_t level = 0; level <= pm.split_count(); ++level) {
+    const Mesh lod = extract_level(pm, level);
+    std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edge_materials;
+    for (std::size_t f = 0; f < lod.face_count(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t a = lod.triangles[3 * f + k], b = lod.triangles[3 * f + (k + 1) % 3];
+        edge_materials[{std::min(a, b), std::max(a, b)}].push_back(lod.face_materials[f]);
+      }
+    int border = 0;
+    for (const auto& [edge, materials] : edge_materials) {
+      if (materials.size() != 2 || materials[0] == materials[1] || materials[0] > 1 ||
+          materials[1] > 1)
+        continue;
+      ++border;
+      EXPECT_EQ(lod.positions[3 * edge.first], 0.5f) << "level " << level;
+      EXPECT_EQ(lod.positions[3 * edge.second], 0.5f) << "level " << level;
+    }
+    EXPECT_GT(border, 0) << "level " << level;
+  }
 }
 
 TEST(Hostile, IsolatedVerticesComeBackAtFullDetailOnly) {

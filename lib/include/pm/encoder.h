@@ -58,9 +58,9 @@ struct EncodeOptions {
   // replace, not against the input). Many times faster (tests/bench/fast.md, scale.md);
   // the levels keep the same topology rules and about the default loop's distance to the
   // input (tests/bench/fast.md), but their recorded errors are estimates (the quadric's
-  // and the kept points' distance), not measured bounds. Geometry only: with texture coordinates, normals
-  // or materials to keep, or with the Schroeder metric, the default loop runs instead
-  // (EncodeStats::fast tells which ran).
+  // and the kept points' distance), not measured bounds. Texture coordinates, normals,
+  // colours and materials are kept as the default loop keeps them (the same code). With the
+  // Schroeder metric the default loop runs instead (EncodeStats::fast tells which ran).
   bool fast = false;
   // The fast loop on a mesh of at least this many vertices, without welds or faces carried
   // by the repair: its collapses run in rounds, each in eight regions of the mesh at once

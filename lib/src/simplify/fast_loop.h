@@ -16,11 +16,13 @@
 
 #include "core/in_turn.h"
 #include "simplify/collapse_legality.h"
+#include "simplify/corner_attributes.h"
 #include "simplify/fast_simplifier.h"
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
 #include "simplify/kept_points.h"
 #include "simplify/local_quadric.h"
+#include "simplify/seam_drift.h"
 #include "simplify/vertex_classification.h"
 
 namespace pm::fast_loop {
@@ -54,6 +56,10 @@ class FastSimplifier {
     IndexedHeap heap{0};              // of ranks - lo
     std::vector<Collapse> collapses;  // bound: the collapse's own cost, until merge()
     std::vector<uint32_t> moved_faces;
+    // With attributes: what its collapses did to them (Collapse::new_faces_begin counts
+    // this worker's removed faces until merge()).
+    CollapseAttributes record;
+    uint32_t new_faces = 0;
     uint32_t rank_of(uint32_t v) const { return rank ? rank[v] : v; }
     uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
     bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }
@@ -82,9 +88,16 @@ class FastSimplifier {
         cos_feature_angle_(std::cos(effective_feature_angle(options) * M_PI / 180.0)),
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)),
         features_(cos_feature_angle_ > -1.0),
+        angle_features_(features_),
         threads_(thread_count(options.threads)) {}
 
   void run();
+
+  // Keeps the input's texture coordinates, normals and materials through the loop (unless
+  // options.drop_attributes): call after build(). input_face[f] is the input triangle of
+  // given face f, input_vertex[x] the input vertex of given vertex x (null: the identity).
+  void attach_attributes(const Mesh& input, const uint32_t* input_face,
+                         const uint32_t* input_vertex);
 
   // Rounds of collapses in regions of the mesh at once, two threads taking the regions in
   // turn (fast_partition_vertices in encoder.h). A collapse v -> u rewrites only faces
@@ -186,9 +199,46 @@ class FastSimplifier {
 
   // Schroeder, Zarge and Lorensen 1992, §3.1: an edge is a feature when its faces' normals
   // differ by more than the feature angle (a degenerate face's edges are features).
+  // Attribute seams and material borders are features too, as in the default loop
+  // (vertex_classification.h; Garland and Heckbert 1998, §4).
   bool is_feature(uint32_t h) const {
     if (!features_ || half_[h].twin == kNone) return false;
-    return (face_normal(h / 3) | face_normal(half_[h].twin / 3)) < cos_feature_angle_;
+    if (attributes_ && attributes_->is_seam(h / 3, half_[h].twin / 3, half_[h].vertex,
+                                            half_[next_of(h)].vertex))
+      return true;
+    return angle_features_ &&
+           (face_normal(h / 3) | face_normal(half_[h].twin / 3)) < cos_feature_angle_;
+  }
+
+  // The collapse v -> u as CornerAttributes and SeamDrift read it (corner_attributes.h):
+  // v's faces in ring order (the order apply() lists the moved faces), its edges, then
+  // aim() at one target. On the stack: regions on other threads have their own.
+  struct Star {
+    uint32_t faces[kMaxValence];
+    CollapseStar::Edge edges[kMaxValence];
+    CollapseStar c{};
+  };
+  void make_star(uint32_t v, const Neighbour* ring_v, int n_v, Star& star) const {
+    int n_faces = 0;
+    for (int i = 0; i < n_v; ++i) {
+      const uint32_t e = ring_v[i].edge, t = half_[e].twin;
+      if (half_[e].vertex == v) star.faces[n_faces++] = e / 3;
+      star.edges[i] = {ring_v[i].vertex, e / 3, t == kNone ? CollapseStar::kNoFace : t / 3};
+    }
+    star.c.v = v;
+    star.c.faces = star.faces;
+    star.c.n_faces = n_faces;
+    star.c.edges = star.edges;
+    star.c.n_edges = n_v;
+  }
+  void aim(Star& star, uint32_t u, uint32_t edge) const {
+    const Sides s = sides(star.c.v, edge);
+    star.c.u = u;
+    star.c.fl = s.h == kNone ? CollapseStar::kNoFace : s.h / 3;
+    star.c.fr = s.t == kNone ? CollapseStar::kNoFace : s.t / 3;
+    star.c.vl = s.h == kNone ? 0 : half_[prev_of(s.h)].vertex;
+    star.c.vr = s.t == kNone ? 0 : half_[prev_of(s.t)].vertex;
+    star.c.pu = point(u);
   }
   bool is_special(uint32_t h) const { return half_[h].twin == kNone || is_feature(h); }
 
@@ -372,7 +422,19 @@ class FastSimplifier {
              bool boundary_v) const {
     const Sides s = sides(v, edge);
     return keeps_topology(u, s, ring_v, n_v, boundary_v) && keeps_welds(u, ring_v, n_v) &&
-           keeps_geometry(v, u, s, ring_v, n_v) && keeps_carried_edges_apart(u, ring_v, n_v);
+           keeps_geometry(v, u, s, ring_v, n_v) && keeps_carried_edges_apart(u, ring_v, n_v) &&
+           keeps_attributes(v, u, edge, ring_v, n_v);
+  }
+
+  // As the default loop: seams and material borders slide, never open or close, and no
+  // texture triangle turns over (CornerAttributes::collapse_keeps_attributes).
+  bool keeps_attributes(uint32_t v, uint32_t u, uint32_t edge, const Neighbour* ring_v,
+                        int n_v) const {
+    if (!attributes_) return true;
+    Star star;
+    make_star(v, ring_v, n_v, star);
+    aim(star, u, edge);
+    return attributes_->collapse_keeps_attributes(star.c);
   }
 
   // Queues v's cheapest collapse in best_[v] and heap_, or takes v out of the heap when it
@@ -421,10 +483,17 @@ class FastSimplifier {
     // (u stays where it is), v's planes at u as a mean over their area.
     const LocalQuadric& q = vertex_[v].quadric;
     const Vec3 pv = point(v);
+    // Plus the attributes' error in the same units (Hoppe 1999, §4), as the default loop.
+    Star star;
+    if (attributes_) make_star(v, ring_v, n, star);
     for (int i = 0; i < count; ++i) {
       const Vec3 pu = point(ring_v[options[i].index].vertex);
       options[i].cost = q.weight > 0 ? q.error_at(pu - pv) / q.weight : 0.0;
       options[i].length = (pu - pv).sqrnorm();
+      if (attributes_) {
+        aim(star, ring_v[options[i].index].vertex, ring_v[options[i].index].edge);
+        options[i].cost += attributes_->collapse_cost(star.c);
+      }
     }
     count = static_cast<int>(std::remove_if(options, options + count,
                                             [](const Option& o) {
@@ -494,7 +563,14 @@ class FastSimplifier {
     // 1996 measure the distance of the removed points, kept_points.h).
     if (!measured_[v]) {
       measured_[v] = 1;
-      const double worst = kept_.collapse_distance(v, old_faces, old_fan, n_old, fan, moved, n_fan);
+      double worst = kept_.collapse_distance(v, old_faces, old_fan, n_old, fan, moved, n_fan);
+      // A texture seam that slides within the surface, as the default loop's remeasure().
+      if (seam_drift_) {
+        Star star;
+        make_star(v, ring_v, n, star);
+        aim(star, u, edge);
+        worst = std::max(worst, SeamDrift::kDriftScale * seam_drift_->collapse_drift(star.c));
+      }
       const float key = static_cast<float>(best_[v].key + kWorstCaseWeight * worst * worst);
       if (key != worker.key(v)) {
         worker.queue(v, key);
@@ -519,6 +595,16 @@ class FastSimplifier {
     c.vl = vl == kNone ? kNoVertex : vl;
     c.vr = vr == kNone ? kNoVertex : vr;
     c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
+    c.new_faces_begin = worker.new_faces;  // merge() places it in the sequence
+    worker.new_faces += static_cast<uint32_t>(removed_faces);
+    if (attributes_) {
+      // In the order of the moved faces below (v's ring), before the corners change.
+      Star star;
+      make_star(v, ring_v, n, star);
+      aim(star, u, edge);
+      if (seam_drift_) seam_drift_->collapse(star.c);
+      attributes_->collapse(star.c, worker.record);
+    }
     const double farthest = kept_.collapse(v, old_faces, n_old, fan, n_fan);
     for (int i = 0; i < n; ++i) {
       const uint32_t e = ring_v[i].edge;
@@ -689,7 +775,8 @@ class FastSimplifier {
   const WeldGroups welds_;
   const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;
   const double cos_feature_angle_, cos_max_flip_;
-  const bool features_;     // some edge can be a feature (the angle is below 180 degrees)
+  bool features_;             // some edge can be a feature (by angle, or a seam)
+  const bool angle_features_;  // the angle is below 180 degrees
   const unsigned threads_;  // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
@@ -730,6 +817,10 @@ class FastSimplifier {
   static constexpr double kWorstCaseWeight = 1.0;
   KeptPoints kept_;
   std::vector<uint8_t> measured_;
+  // Attributes kept (attach_attributes()), in local ids until run() ends; null: geometry
+  // only. The drift of texture seams, null without texture coordinates.
+  std::unique_ptr<CornerAttributes> attributes_;
+  std::unique_ptr<SeamDrift> seam_drift_;
   bool partitioned_ = false;   // rounds first (run_rounds())
   bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap
   std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())

@@ -57,6 +57,7 @@ void FastSimplifier::run() {
   std::vector<Best>().swap(best_);
   std::vector<uint8_t>().swap(measured_);
   kept_.reset(0, nullptr);
+  seam_drift_.reset();  // it reads xyz_
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
     for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
@@ -66,6 +67,32 @@ void FastSimplifier::run() {
   std::vector<VertexRecord>().swap(vertex_);
   to_given_ids();
   write_base();
+  if (attributes_) {
+    attributes_->rename(face_of_, vertex_of_);
+    out_.attributes = std::move(attributes_);
+  }
+}
+
+void FastSimplifier::attach_attributes(const Mesh& input, const uint32_t* input_face,
+                                       const uint32_t* input_vertex) {
+  if (options_.drop_attributes || !(input.has_uvs() || input.has_normals() || input.has_materials()))
+    return;
+  // In local ids: each local face's and vertex's input one.
+  const std::size_t n_faces = half_.size() / 3, n_vertices = vertex_of_.size();
+  std::vector<uint32_t> corners(3 * n_faces), faces(n_faces), vertices(n_vertices);
+  for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
+  for (std::size_t f = 0; f < n_faces; ++f)
+    faces[f] = input_face ? input_face[face_of_[f]] : face_of_[f];
+  for (std::size_t x = 0; x < n_vertices; ++x)
+    vertices[x] = input_vertex ? input_vertex[vertex_of_[x]] : vertex_of_[x];
+  attributes_ = std::make_unique<CornerAttributes>(input, corners.data(), n_faces, xyz_.data(),
+                                                   n_vertices, faces.data(), vertices.data());
+  if (!attributes_->any()) {
+    attributes_.reset();
+    return;
+  }
+  if (attributes_->has_uvs()) seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), *attributes_);
+  features_ = true;  // seams and material borders are feature edges
 }
 
 void FastSimplifier::run_rounds() {
@@ -169,6 +196,21 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
     const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
     out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
                             from->moved_faces.begin() + c.moved_begin + c.moved_count);
+    if (attributes_) {
+      // The worker's record of this collapse, at the places the merged sequence gives it.
+      const CollapseAttributes& from_record = from->record;
+      CollapseAttributes& to = out_.attribute_record;
+      const std::size_t added = 3 * std::size_t((c.fl >= 0) + (c.fr >= 0));
+      auto copy = [](const std::vector<uint32_t>& a, std::size_t at, std::size_t count,
+                     std::vector<uint32_t>& b) {
+        if (!a.empty()) b.insert(b.end(), a.begin() + at, a.begin() + at + count);
+      };
+      copy(from_record.moved_uvs, c.moved_begin, c.moved_count, to.moved_uvs);
+      copy(from_record.moved_normals, c.moved_begin, c.moved_count, to.moved_normals);
+      copy(from_record.new_face_uvs, 3 * std::size_t{c.new_faces_begin}, added, to.new_face_uvs);
+      copy(from_record.new_face_normals, 3 * std::size_t{c.new_faces_begin}, added,
+           to.new_face_normals);
+    }
     c.moved_begin = begin;
     c.new_faces_begin = new_faces_recorded_;
     new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
@@ -186,6 +228,8 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
     w.removed_faces = w.removed_vertices = 0;
     w.collapses.clear();
     w.moved_faces.clear();
+    w.record = CollapseAttributes{};
+    w.new_faces = 0;
   }
 }
 
@@ -265,7 +309,7 @@ void FastSimplifier::write_base() {
 
 using fast_loop::FastSimplifier;
 
-Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options,
+Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
                      FastSimplification& out) {
   // The triangles and points of the repaired mesh, then its memory goes back.
   HalfEdgeMesh& mesh = repaired.mesh;
@@ -285,6 +329,7 @@ Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options,
   if (!simplifier.build(triangles.data(), n_faces, points.data(), n_vertices, &repaired.pinned,
                         /*faceless_allowed=*/true))
     return Status(ErrorCode::kInternal, "the repaired mesh is not a manifold");
+  simplifier.attach_attributes(input, repaired.input_face.data(), repaired.input_vertex.data());
   std::vector<uint32_t>().swap(triangles);
   std::vector<float>().swap(points);
   simplifier.run();
@@ -297,6 +342,7 @@ bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options,
   if (!simplifier.build(input.triangles.data(), input.face_count(), input.positions.data(),
                         input.vertex_count(), nullptr, /*faceless_allowed=*/false))
     return false;
+  simplifier.attach_attributes(input, nullptr, nullptr);
   simplifier.run();
   return true;
 }

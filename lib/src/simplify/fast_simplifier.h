@@ -4,14 +4,18 @@
 // loop charges removed_points.h's. It
 // keeps every rule that makes the result a valid progressive mesh of the same topology:
 // the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
-// carried faces, boundaries and feature edges. Geometry only: the encoder takes the default
-// loop when texture coordinates, normals or materials are to be kept.
+// carried faces, boundaries and feature edges; and the attributes as the default loop keeps
+// them (corner_attributes.h, seam_drift.h: the same code): seams and material borders kept,
+// attribute quadrics in the cost, texture-seam drift in the measured key.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include <memory>
+
 #include "simplify/collapse_sequence.h"
+#include "simplify/corner_attributes.h"
 #include "simplify/manifold_repair.h"
 #include "pm/encoder.h"
 #include "pm/mesh.h"
@@ -24,6 +28,11 @@ struct FastSimplification {
   std::vector<uint32_t> moved_faces;  // half-edge-mesh face ids, Collapse::moved_begin
   BaseMesh base;
   std::vector<float> points;  // three per half-edge-mesh vertex
+  // With attributes kept (the input has some, and not EncodeOptions::drop_attributes): the
+  // corners as the base mesh has them, in half-edge-mesh ids, and what each split restores
+  // (Collapse::moved_begin, new_faces_begin). Null otherwise.
+  std::unique_ptr<CornerAttributes> attributes;
+  CollapseAttributes attribute_record;
 };
 
 // Runs the whole collapse sequence on repaired.mesh, in its ids. Its triangles and points
@@ -31,7 +40,9 @@ struct FastSimplification {
 // back: afterwards only repaired's per-vertex and per-face tables remain, and out.points
 // replaces its points. Requires options.metric == Metric::kQuadric. kInternal if the mesh
 // is not the manifold build_manifold_mesh makes.
-Status simplify_fast(ManifoldMesh& repaired, const EncodeOptions& options, FastSimplification& out);
+// `input` is the mesh repaired was built from (its attributes).
+Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
+                     FastSimplification& out);
 
 // The same on the input as it is, in its ids, when it is a manifold that needs no repair (see
 // build_manifold_mesh: no face with a repeated vertex, no vertex without faces, every edge

@@ -478,7 +478,7 @@ class SchroederSimplifier {
       attributes_->collapse(*star, attribute_record);
       // After the corners moved, as this loop always did (its levels stay as measured in
       // tests/bench): the drift then misreads the seams at v's moved corners and attaches
-      // fewer points.
+      // fewer points. The fast loop attaches them first (fast_loop.h, apply()).
       if (seam_drift_) seam_drift_->collapse(*star);
     }
     // The record's error: the largest so far of the candidates' errors and of the removed
@@ -836,9 +836,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
 
   // Stage 1: a manifold half-edge mesh, so that collapses can keep topology exactly.
   // Stage 2: the collapse sequence. Stage 3: the progressive mesh.
-  const bool corner_attributes =
-      !options.drop_attributes && (input.has_uvs() || input.has_normals() || input.has_materials());
-  const bool fast = options.fast && options.metric == Metric::kQuadric && !corner_attributes;
+  const bool fast = options.fast && options.metric == Metric::kQuadric;
   ManifoldMesh repaired;
   if (fast) {
     // The fast loop takes a manifold input as it is, with no OpenMesh mesh built for it;
@@ -855,12 +853,12 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
       std::iota(repaired.input_face.begin(), repaired.input_face.end(), uint32_t{0});
     } else {
       if (Status s = build_manifold_mesh(input, repaired); !s) return s;
-      if (Status s = simplify_fast(repaired, options, run); !s) return s;
+      if (Status s = simplify_fast(input, repaired, options, run); !s) return s;
     }
-    const CollapseAttributes no_attributes;
     assemble(input, repaired,
-             Simplified{run.collapses, run.moved_faces, no_attributes, nullptr, run.base,
-                        run.points.data(), run.points.size() / 3, repaired.input_face.size()},
+             Simplified{run.collapses, run.moved_faces, run.attribute_record,
+                        run.attributes.get(), run.base, run.points.data(),
+                        run.points.size() / 3, repaired.input_face.size()},
              !options.drop_attributes, options.keep_order, out);
   } else {
     if (Status s = build_manifold_mesh(input, repaired); !s) return s;
