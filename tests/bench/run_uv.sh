@@ -3,13 +3,20 @@
 # pm_bench_uv in build-bench/, runs it on the meshes with texture coordinates among
 # ../shared/meshes and samples/textured.obj, writes tests/bench/uv.md and prints it. Extra
 # arguments go to pm_bench_uv (e.g. --targets 0.1,0.02). run_quality.sh runs this too.
+# --fast (first): pmenc's rows from the fast loop (EncodeOptions::fast), into uv_fast.md.
 # See tests/bench/README.md, "Texture coordinates".
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${PM_BENCH_BUILD:-$repo/build-bench}"
-meshes="$repo/../shared/meshes"
+meshes="${PM_SHARED_MESHES_DIR:-$repo/../shared/meshes}"
 report="$repo/tests/bench/uv.md"
+fast=()
+if [[ "${1:-}" == "--fast" ]]; then
+  shift
+  fast=(--fast)
+  report="$repo/tests/bench/uv_fast.md"
+fi
 
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
@@ -30,6 +37,6 @@ cmake --build "$build" -j"$(nproc)" --target pm_bench_uv
 # Written to a temporary file first, so a failed run leaves the committed table in place.
 trap 'rm -f "$report.tmp"' EXIT
 nice "$build/tests/bench/pm_bench_uv" "$meshes" "$repo/samples/textured.obj" \
-  --out "$report.tmp" "$@" >/dev/null
+  --out "$report.tmp" ${fast[@]+"${fast[@]}"} "$@" >/dev/null
 mv "$report.tmp" "$report"
 cat "$report"
