@@ -563,7 +563,8 @@ class FastSimplifier {
     // 1996 measure the distance of the removed points, kept_points.h).
     if (!measured_[v]) {
       measured_[v] = 1;
-      double worst = kept_.collapse_distance(v, old_faces, old_fan, n_old, fan, moved, n_fan);
+      double worst = kept_.collapse_distance(v, old_faces, old_fan, n_old, fan, moved, n_fan,
+                                             point(u));
       // A texture seam that slides within the surface, as the default loop's remeasure().
       if (seam_drift_) {
         Star star;

@@ -71,28 +71,47 @@ int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const F
 }
 
 double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace* old_fan,
-                                    int n_old, double worst) {
-  // Each moved face's centroid and edge midpoints. Neighbouring faces share their edge to
-  // u, so most midpoints come twice; a point measured again cannot raise `worst`, so it is
-  // measured once.
-  Vec3 points[4 * 64];
+                                    int n_old, const Vec3& pu, double worst) {
+  // Each moved face's centroid and the midpoints of its edges at u. Its third edge, the
+  // one away from u, is an edge of the face it replaces (same corners): on the old surface,
+  // its midpoint is at distance 0 and cannot raise `worst`. Neighbouring faces share their
+  // edge to u, so most midpoints come twice; a point measured again cannot raise `worst`
+  // either, so it is measured once. Each point tries first the face its own face replaces
+  // (the fan and old_fan list v's faces in the same order, old_fan with those at v-u too),
+  // which holds most of them within `worst`.
+  Vec3 points[3 * 64];
+  int hint[3 * 64];
   int n_points = 0;
-  for (int i = 0; i < moved && i < 64; ++i) {
+  for (int i = 0, j = 0; i < moved && i < 64; ++i) {
+    while (j < n_old && old_fan[j].face != fan[i].face) ++j;
+    const int same = j < n_old ? j : -1;
     const Vec3 &a = fan[i].a, &b = fan[i].b, &c = fan[i].c;
+    hint[n_points] = same;
     points[n_points++] = (a + b + c) / 3.0;
-    for (const Vec3& x : {(a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5})
-      if (std::find(points, points + n_points, x) == points + n_points) points[n_points++] = x;
+    // The corner at u (by position: a corner elsewhere that coincides with u only adds
+    // a point), and the edges at it.
+    const Vec3* corners[3] = {&a, &b, &c};
+    for (int k = 0; k < 3; ++k) {
+      if (*corners[k] != pu) continue;
+      for (const Vec3* other : {corners[(k + 1) % 3], corners[(k + 2) % 3]}) {
+        const Vec3 x = (*corners[k] + *other) * 0.5;
+        if (std::find(points, points + n_points, x) != points + n_points) continue;
+        hint[n_points] = same;
+        points[n_points++] = x;
+      }
+    }
   }
-  int at = -1;
   for (int i = 0; i < n_points; ++i) {
-    const double d = nearest(points[i], old_fan, n_old, worst, at, &at);
+    int at;
+    const double d = nearest(points[i], old_fan, n_old, worst, hint[i], &at);
     if (d > worst && d != HUGE_VAL) worst = d;
   }
   return worst;
 }
 
 double KeptPoints::collapse_distance(uint32_t v, const uint32_t* old_faces, const FanFace* old_fan,
-                                     int n_old, const FanFace* fan, int moved, int n_fan) const {
+                                     int n_old, const FanFace* fan, int moved, int n_fan,
+                                     const Vec3& pu) const {
   if (n_fan == 0) return 0;
   Moving moving[kMaxMoving];
   const int n_moving = gather(v, old_faces, n_old, fan, n_fan, false, moving);
@@ -105,7 +124,7 @@ double KeptPoints::collapse_distance(uint32_t v, const uint32_t* old_faces, cons
         nearest(position(moving[i].point), fan, n_fan, worst, moving[i].hint, &at);
     if (d > worst) worst = d;
   }
-  return surface_distance(fan, moved, old_fan, n_old, worst);
+  return surface_distance(fan, moved, old_fan, n_old, pu, worst);
 }
 
 double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,

@@ -7,9 +7,9 @@
 // dropping them costs the measure little, and bounds its cost: a collapse measures at most
 // 1 + kKept points per face of v's fan against that fan, however many points its faces have
 // absorbed (where RemovedPoints samples up to 512 per collapse). And the other way round:
-// the centroids and edge midpoints of the faces that change, to the faces they replace (where
-// RemovedPoints measures them against the input faces around, which costs as much as the
-// whole default loop: measured in tests/bench/fast.md's notes). Flat arrays; safe on
+// the centroids of the faces that change and the midpoints of their new edges, to the faces
+// they replace (where RemovedPoints measures them against the input faces around, which
+// costs as much as the whole default loop: measured in tests/bench/fast.md's notes). Flat arrays; safe on
 // several threads for collapses whose faces are apart (the fast loop's regions): all
 // scratch is on the stack. Internal to simplify/.
 //
@@ -54,10 +54,11 @@ class KeptPoints {
   // The larger of: the largest distance from `v`'s input position and the points kept on
   // `old_faces` (v's faces before the collapse, old_fan their corners then) to the nearest
   // face of `fan` (the faces around v and u after it, the first `moved` of them those that
-  // replace v's), and the largest distance from the centroids and edge midpoints of the
-  // moved faces to old_fan. 0 when the fan is empty.
+  // replace v's), and the largest distance from the centroids of the moved faces and the
+  // midpoints of their edges at u (at pu) to old_fan. 0 when the fan is empty.
   double collapse_distance(uint32_t v, const uint32_t* old_faces, const FanFace* old_fan,
-                           int n_old, const FanFace* fan, int moved, int n_fan) const;
+                           int n_old, const FanFace* fan, int moved, int n_fan,
+                           const Vec3& pu) const;
 
   // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
   // farthest, and returns the largest distance of a point to its new face. Call before the
@@ -80,10 +81,10 @@ class KeptPoints {
   // those faces when `take`. Returns their count.
   int gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan,
              bool take, Moving* moving) const;
-  // The largest of `worst` and the distances from the moved faces' centroids and edge
-  // midpoints to the faces they replace.
+  // The largest of `worst` and the distances from the moved faces' centroids and the
+  // midpoints of their edges at u (at pu) to the faces they replace.
   static double surface_distance(const FanFace* fan, int moved, const FanFace* old_fan, int n_old,
-                                 double worst);
+                                 const Vec3& pu, double worst);
   Vec3 position(uint32_t v) const {
     const float* p = xyz_ + 3 * std::size_t{v};
     return Vec3(p[0], p[1], p[2]);
