@@ -23,7 +23,8 @@ void FastSimplifier::run() {
       vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
   });
   best_.assign(n_vertices, Best{kNone, kNone, 0});
-  measured_.assign(n_vertices, 0);
+  measured_.assign(n_vertices, kNotMeasured);
+  points_worst_.assign(n_vertices, 0.0);
   kept_.reset(half_.size() / 3, xyz_.data());
   faces_alive_ = half_.size() / 3;
   vertices_alive_ = n_vertices;
@@ -56,6 +57,7 @@ void FastSimplifier::run() {
   one.clear();
   std::vector<Best>().swap(best_);
   std::vector<uint8_t>().swap(measured_);
+  std::vector<double>().swap(points_worst_);
   kept_.reset(0, nullptr);
   seam_drift_.reset();  // it reads xyz_
   out_.points.resize(3 * vertex_.size());
@@ -146,7 +148,7 @@ void FastSimplifier::run_rounds() {
         const Best& best = best_[v];
         if (best.target != kNone && owns(w, v) && owns(w, best.target)) {
           w.queue(v, best.key);
-          measured_[v] = 0;
+          measured_[v] = kNotMeasured;
         }
         else
           evaluate(w, v);

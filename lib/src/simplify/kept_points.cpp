@@ -72,6 +72,7 @@ int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const F
 
 double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace* old_fan,
                                     int n_old, const Vec3& pu, double worst) {
+  if (moved == 0) return worst;
   // Each moved face's centroid and the midpoints of its edges at u. Its third edge, the
   // one away from u, is an edge of the face it replaces (same corners): on the old surface,
   // its midpoint is at distance 0 and cannot raise `worst`. Neighbouring faces share their
@@ -109,9 +110,8 @@ double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace
   return worst;
 }
 
-double KeptPoints::collapse_distance(uint32_t v, const uint32_t* old_faces, const FanFace* old_fan,
-                                     int n_old, const FanFace* fan, int moved, int n_fan,
-                                     const Vec3& pu) const {
+double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_old,
+                                   const FanFace* fan, int n_fan) const {
   if (n_fan == 0) return 0;
   Moving moving[kMaxMoving];
   const int n_moving = gather(v, old_faces, n_old, fan, n_fan, false, moving);
@@ -124,7 +124,7 @@ double KeptPoints::collapse_distance(uint32_t v, const uint32_t* old_faces, cons
         nearest(position(moving[i].point), fan, n_fan, worst, moving[i].hint, &at);
     if (d > worst) worst = d;
   }
-  return surface_distance(fan, moved, old_fan, n_old, pu, worst);
+  return worst;
 }
 
 double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,

@@ -51,14 +51,20 @@ class KeptPoints {
   // stays the caller's and must not change. n_faces 0: frees the memory.
   void reset(std::size_t n_faces, const float* xyz);
 
-  // The larger of: the largest distance from `v`'s input position and the points kept on
-  // `old_faces` (v's faces before the collapse, old_fan their corners then) to the nearest
-  // face of `fan` (the faces around v and u after it, the first `moved` of them those that
-  // replace v's), and the largest distance from the centroids of the moved faces and the
-  // midpoints of their edges at u (at pu) to old_fan. 0 when the fan is empty.
-  double collapse_distance(uint32_t v, const uint32_t* old_faces, const FanFace* old_fan,
-                           int n_old, const FanFace* fan, int moved, int n_fan,
-                           const Vec3& pu) const;
+  // The measured distance of the collapse v -> u is the larger of points_distance() and
+  // surface_distance() (fast_loop.h's apply() asks for the second only when the first
+  // leaves the collapse the cheapest); 0 when the fan is empty.
+  //
+  // The largest distance from `v`'s input position and the points kept on `old_faces`
+  // (v's faces before the collapse) to the nearest face of `fan` (the faces around v and u
+  // after it, the first `moved` of them those that replace v's).
+  double points_distance(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
+                         int n_fan) const;
+  // The largest of `worst` and the distances from the centroids of the moved faces (the
+  // first `moved` of `fan`) and the midpoints of their edges at u (at pu) to old_fan (v's
+  // faces before the collapse, with their corners then).
+  static double surface_distance(const FanFace* fan, int moved, const FanFace* old_fan, int n_old,
+                                 const Vec3& pu, double worst);
 
   // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
   // farthest, and returns the largest distance of a point to its new face. Call before the
@@ -81,10 +87,6 @@ class KeptPoints {
   // those faces when `take`. Returns their count.
   int gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan,
              bool take, Moving* moving) const;
-  // The largest of `worst` and the distances from the moved faces' centroids and the
-  // midpoints of their edges at u (at pu) to the faces they replace.
-  static double surface_distance(const FanFace* fan, int moved, const FanFace* old_fan, int n_old,
-                                 const Vec3& pu, double worst);
   Vec3 position(uint32_t v) const {
     const float* p = xyz_ + 3 * std::size_t{v};
     return Vec3(p[0], p[1], p[2]);
