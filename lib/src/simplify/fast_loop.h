@@ -556,7 +556,7 @@ class FastSimplifier {
     KeptPoints::FanFace fan[2 * kMaxValence], old_fan[kMaxValence];
     uint32_t old_faces[kMaxValence];
     int n_old = 0, moved = 0;
-    const int n_fan = make_fan(v, u, s, ring_v, n, fan, old_faces, old_fan, &n_old, &moved);
+    const int n_fan = make_fan(v, u, s, ring_v, n, fan, old_faces, &n_old, &moved);
     // The quadric orders the candidates; the kept points' distance is measured only for
     // the one at the top, which goes back with its new key when that puts it behind the
     // next (lazy evaluation, as the default loop's remeasure(); Klein, Liebich and Straßer
@@ -581,6 +581,7 @@ class FastSimplifier {
         if (!top_with_measure(worker, v, points_worst_[v])) return;
       }
       measured_[v] = kMeasuredWhole;
+      for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
       const double worst =
           KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), points_worst_[v]);
       if (!top_with_measure(worker, v, worst)) return;
@@ -726,10 +727,10 @@ class FastSimplifier {
 
   // The faces of the collapse v -> u (sides s): into `fan`, v's faces but the two at v-u
   // with u in place of v (*moved of them), then u's other faces; into old_faces, all of v's
-  // faces, and into old_fan the same with their corners now. Returns the fan's size.
+  // faces (old_fan_face() makes their fan faces when the measure needs them). Returns the
+  // fan's size.
   int make_fan(uint32_t v, uint32_t u, const Sides& s, const Neighbour* ring_v, int n_v,
-               KeptPoints::FanFace* fan, uint32_t* old_faces, KeptPoints::FanFace* old_fan,
-               int* n_old, int* moved) const {
+               KeptPoints::FanFace* fan, uint32_t* old_faces, int* n_old, int* moved) const {
     const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
     const Vec3 pu = point(u);
     int n_fan = 0;
@@ -744,9 +745,6 @@ class FastSimplifier {
       const uint32_t e = ring_v[i].edge;
       if (half_[e].vertex != v) continue;  // the boundary's last entry: its face came already
       const uint32_t f = e / 3;
-      old_fan[*n_old] = KeptPoints::FanFace::make(f, point(half_[3 * f].vertex),
-                                                  point(half_[3 * f + 1].vertex),
-                                                  point(half_[3 * f + 2].vertex));
       old_faces[(*n_old)++] = f;
       if (f != fl && f != fr) add(f);
     }
@@ -761,6 +759,12 @@ class FastSimplifier {
       if (f != fl && f != fr) add(f);
     }
     return n_fan;
+  }
+
+  // Face f as it is now.
+  KeptPoints::FanFace old_fan_face(uint32_t f) const {
+    return KeptPoints::FanFace::make(f, point(half_[3 * f].vertex), point(half_[3 * f + 1].vertex),
+                                     point(half_[3 * f + 2].vertex));
   }
 
   // A boundary vertex's walk starts at its outgoing half-edge with no twin.
