@@ -200,7 +200,7 @@ int main(int argc, char** argv) {
   app.add_flag("--fast", settings.encode.fast,
                "Fast collapse loop: quadric metric on flat arrays, with a cheaper measured error "
                "(many times faster; levels about as close to the input, "
-               "recorded errors estimated). Keeps texture coordinates, normals, colours and materials "
+               "recorded errors bounds, but looser). Keeps texture coordinates, normals, colours and materials "
                "with their seams as the default loop does; with --metric schroeder, the default "
                "loop runs");
   app.add_option("--fast-from", settings.fast_from,

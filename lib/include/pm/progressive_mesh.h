@@ -33,8 +33,9 @@ struct VertexSplit {
   uint32_t u = 0;
   uint32_t vl = kNoVertex;
   uint32_t vr = kNoVertex;
-  // Error bound of the mesh before this split is applied (Schroeder 1997's accumulated
-  // error, in model units). Non-increasing along the splits.
+  // Error bound of the mesh before this split is applied, in model units: at least the
+  // distance from every input vertex (that a face uses) to its surface (formats/pm-format.md
+  // §5.6). Non-increasing along the splits.
   float error = 0.0f;
   // The faces that go from u to v: ProgressiveMesh::moved_faces[moved_begin ...
   // moved_begin + moved_count), as face ids of the mesh before the split.

@@ -17,6 +17,7 @@
 #include "core/in_turn.h"
 #include "simplify/collapse_legality.h"
 #include "simplify/corner_attributes.h"
+#include "simplify/dropped_points_bound.h"
 #include "simplify/fast_simplifier.h"
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
@@ -55,6 +56,7 @@ class FastSimplifier {
     const uint32_t* at = nullptr;
     IndexedHeap heap{0};              // of ranks - lo
     std::vector<Collapse> collapses;  // bound: the collapse's own cost, until merge()
+    std::vector<float> recorded;      // per collapse: its own bound (apply()), until merge()
     std::vector<uint32_t> moved_faces;
     // With attributes: what its collapses did to them (Collapse::new_faces_begin counts
     // this worker's removed faces until merge()).
@@ -614,7 +616,20 @@ class FastSimplifier {
       if (seam_drift_) seam_drift_->collapse(star.c);
       attributes_->collapse(star.c, worker.record);
     }
-    const double farthest = kept_.collapse(v, old_faces, n_old, fan, n_fan);
+    // The slack of the points dropped on v's faces moves onto the new fan, then the points
+    // kept there move, and those left off lists join the slack (dropped_points_bound.h).
+    double inherited;
+    {
+      Vec3 ring_points[kMaxValence];
+      int u_at = -1;
+      for (int i = 0; i < n; ++i) {
+        ring_points[i] = point(ring_v[i].vertex);
+        if (ring_v[i].vertex == u) u_at = i;
+      }
+      inherited = dropped_.collapse(
+          {point(v), ring_points, n, !boundary_v, u_at, old_faces, fl, fr}, fan, n_fan);
+    }
+    const double farthest = kept_.collapse(v, old_faces, n_old, fan, n_fan, dropped_);
     for (int i = 0; i < n; ++i) {
       const uint32_t e = ring_v[i].edge;
       if (half_[e].vertex != v) continue;
@@ -631,6 +646,17 @@ class FastSimplifier {
     c.bound = static_cast<float>(std::min<double>(
         std::max<double>(std::sqrt(worker.key(v)), farthest), std::numeric_limits<float>::max()));
     worker.collapses.push_back(c);
+    // What the record claims: the same, and the slack this collapse set, rounded up to a
+    // float (at most the largest, as above). Infinite where a point found no face: then no
+    // finite record bounds it (an empty fan, or non-finite input).
+    {
+      double own = std::max({std::sqrt(double(worker.key(v))), farthest, inherited});
+      if (n_fan == 0 || dropped_.take_lost()) own = HUGE_VAL;
+      own = std::min<double>(own, std::numeric_limits<float>::max());
+      float recorded = static_cast<float>(own);
+      if (double(recorded) < own) recorded = std::nextafter(recorded, HUGE_VALF);
+      worker.recorded.push_back(recorded);
+    }
 
     // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
     // at their boundary half-edge again (start_at_boundary), the others' anywhere.
@@ -844,6 +870,7 @@ class FastSimplifier {
   // only. The drift of texture seams, null without texture coordinates.
   std::unique_ptr<CornerAttributes> attributes_;
   std::unique_ptr<SeamDrift> seam_drift_;
+  DroppedPointsBound dropped_;  // the slack of the points kept_ leaves off (the record)
   bool partitioned_ = false;   // rounds first (run_rounds())
   bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap
   std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())

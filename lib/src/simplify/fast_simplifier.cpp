@@ -26,6 +26,7 @@ void FastSimplifier::run() {
   measured_.assign(n_vertices, kNotMeasured);
   points_worst_.assign(n_vertices, 0.0);
   kept_.reset(half_.size() / 3, xyz_.data());
+  dropped_.reset(half_.size() / 3);
   faces_alive_ = half_.size() / 3;
   vertices_alive_ = n_vertices;
   out_.collapses.reserve(n_vertices);
@@ -60,6 +61,7 @@ void FastSimplifier::run() {
   std::vector<double>().swap(points_worst_);
   kept_.reset(0, nullptr);
   seam_drift_.reset();  // it reads xyz_
+  dropped_.reset(0);
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
     for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
@@ -194,6 +196,7 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
       }
     }
     if (!from) break;
+    const float recorded = from->recorded[*at];
     Collapse c = from->collapses[(*at)++];
     const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
     out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
@@ -217,10 +220,11 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
     c.new_faces_begin = new_faces_recorded_;
     new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
     // The record's error: the largest so far of the collapses' own (the square root of
-    // their key, quadric and kept points' distance, or the kept points' distance after the
-    // collapse if larger), so non-increasing from the base to full detail (an estimate,
-    // not a measured bound: the kept points leave others out).
-    bound_ = std::max(bound_, c.bound);
+    // their key, quadric and kept points' distance, the kept points' distance after the
+    // collapse if larger, and the slack of the points dropped: dropped_points_bound.h), so
+    // non-increasing from the base to full detail, and at least the distance of every input
+    // vertex to the level's surface. The order above stays the keys' alone.
+    bound_ = std::max(bound_, recorded);
     c.bound = bound_;
     out_.collapses.push_back(c);
   }
@@ -229,6 +233,7 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
     vertices_alive_ -= w.removed_vertices;
     w.removed_faces = w.removed_vertices = 0;
     w.collapses.clear();
+    w.recorded.clear();
     w.moved_faces.clear();
     w.record = CollapseAttributes{};
     w.new_faces = 0;

@@ -1,6 +1,10 @@
 // The fast loop's kept points: see kept_points.h (after Klein, Liebich and Straßer 1996).
 #include "simplify/kept_points.h"
 
+#include <cfloat>
+
+#include "simplify/dropped_points_bound.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -128,7 +132,7 @@ double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_
 }
 
 double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
-                            int n_fan) {
+                            int n_fan, DroppedPointsBound& dropped) {
   if (n_fan == 0) return 0;
   Moving moving[kMaxMoving];
   const int n_moving = gather(v, old_faces, n_old, fan, n_fan, true, moving);
@@ -136,7 +140,10 @@ double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, co
   for (int i = 0; i < n_moving; ++i) {
     int at;
     const double d = nearest(position(moving[i].point), fan, n_fan, 0.0, moving[i].hint, &at);
-    if (at < 0) continue;  // no distance compares (not on finite input)
+    if (at < 0) {  // no distance compares (not on finite input)
+      dropped.lose();
+      continue;
+    }
     farthest = std::max(farthest, d);
     // Into the face's list, in place of its nearest point when the list is full.
     uint32_t* kept = &point_[kKept * std::size_t{fan[at].face}];
@@ -149,7 +156,13 @@ double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, co
       }
       if (kept_distance[k] < kept_distance[slot]) slot = k;
     }
-    if (kept[slot] != kNone && !(float(d) > kept_distance[slot])) continue;
+    if (kept[slot] != kNone && !(float(d) > kept_distance[slot])) {
+      dropped.drop(fan[at].face, d);
+      continue;
+    }
+    // The point it pushes off: its distance, stored to the nearest float, rounded up.
+    if (kept[slot] != kNone)
+      dropped.drop(fan[at].face, std::nextafter(kept_distance[slot], FLT_MAX));
     kept[slot] = moving[i].point;
     kept_distance[slot] = float(d);
   }

@@ -14,7 +14,9 @@
 // scratch is on the stack. Internal to simplify/.
 //
 // What it measures is a lower bound of the distance of the removed input vertices to the
-// surface (the dropped points are not counted), not an upper bound.
+// surface (the dropped points are not counted): it orders the collapses. The record of a
+// collapse is an upper bound: the points left off a list hand their distance to a slack
+// per face, dropped_points_bound.h, which bounds them from then on without measuring them.
 #pragma once
 
 #include <algorithm>
@@ -24,6 +26,8 @@
 #include "simplify/geometry.h"
 
 namespace pm::fast_loop {
+
+class DroppedPointsBound;
 
 class KeptPoints {
  public:
@@ -67,10 +71,12 @@ class KeptPoints {
                                  const Vec3& pu, double worst);
 
   // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
-  // farthest, and returns the largest distance of a point to its new face. Call before the
-  // collapse changes the faces (old_faces lose their points first: some are in the fan).
+  // farthest, and returns the largest distance of a point to its new face. The points
+  // left off a face's list go to `dropped` with their distance (dropped_points_bound.h).
+  // Call before the collapse changes the faces (old_faces lose their points first: some
+  // are in the fan).
   double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
-                  int n_fan);
+                  int n_fan, DroppedPointsBound& dropped);
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;

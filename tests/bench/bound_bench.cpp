@@ -1,0 +1,168 @@
+// How tight the recorded errors are (issue 25): for each mesh, the levels of at most 50%, 10%
+// and 2% of the faces, by the default loop and by the fast loop (EncodeOptions::fast, whose
+// record carries the slack of the points its faces drop: dropped_points_bound.h), the
+// recorded error against the exact largest distance of an input vertex to the level's
+// faces (what the record bounds: pm::measure_surface_distance from the input's vertices
+// alone). A ratio below 1 would be a record that is not a bound. Then the fast encode's
+// time on one thread, median of --runs runs.
+//
+//   pm_bench_bound MESH_DIR [--out bound.md] [--runs 5]
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_report.h"
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/mesh.h"
+#include "pm/mesh_io.h"
+#include "pm/surface_distance.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using pm::bench::significant;
+using pm::bench::with_thousands;
+
+namespace {
+
+constexpr double kTargets[] = {0.5, 0.1, 0.02};
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+bool encode(const pm::Mesh& mesh, bool fast, pm::ProgressiveMesh& out, double* ms) {
+  pm::EncodeOptions options;
+  options.fast = fast;
+  options.drop_attributes = true;
+  options.threads = 1;
+  const auto start = Clock::now();
+  const pm::Status s = pm::encode(mesh, options, out);
+  if (ms) *ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  if (!s) std::cerr << "bound_bench: encode failed: " << s.message() << "\n";
+  return s.is_ok();
+}
+
+// The input's vertices as point-like faces (those some face uses).
+pm::Mesh vertices_of(const pm::Mesh& input) {
+  std::vector<bool> used(input.vertex_count(), false);
+  for (uint32_t v : input.triangles) used[v] = true;
+  pm::Mesh points;
+  points.positions = input.positions;
+  for (uint32_t v = 0; v < input.vertex_count(); ++v)
+    if (used[v]) points.triangles.insert(points.triangles.end(), {v, v, v});
+  return points;
+}
+
+struct Tightness {
+  double recorded = 0, exact = 0;
+};
+
+// The finest level with at most n faces (as fast_bench's).
+Tightness tightness(const pm::ProgressiveMesh& progressive, const pm::Mesh& points, std::size_t n) {
+  std::size_t level = pm::level_for_faces(progressive, n);
+  if (level > 0 && pm::faces_at_level(progressive, level) > n) --level;
+  pm::DistanceOptions one_sample;
+  one_sample.samples_per_face = 1;
+  pm::SurfaceDistance d;
+  if (pm::Status s = pm::measure_surface_distance(points, pm::extract_level(progressive, level),
+                                                  one_sample, d);
+      !s)
+    std::cerr << "bound_bench: measure failed: " << s.message() << "\n";
+  return {pm::error_at_level(progressive, level), d.forward_max};
+}
+
+std::string ratio(const Tightness& t) {
+  if (!(t.exact > 0)) return "n/a";
+  const double r = t.recorded / t.exact;
+  return significant(r) + (r < 1 ? " (below!)" : "");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cerr << "usage: pm_bench_bound MESH_DIR [--out FILE] [--runs N]\n";
+    return 2;
+  }
+  const fs::path dir = argv[1];
+  std::string out_path = "bound.md";
+  int runs = 5;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (flag == "--out")
+      out_path = argv[i + 1];
+    else if (flag == "--runs")
+      runs = std::max(1, std::atoi(argv[i + 1]));
+  }
+  std::vector<fs::path> paths;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string ext = entry.path().extension().string();
+    if (ext == ".obj" || ext == ".off" || ext == ".ply") paths.push_back(entry.path());
+  }
+  std::sort(paths.begin(), paths.end());
+
+  std::ostringstream table, speed;
+  table << "| mesh | target | default recorded | default exact | default recorded/exact | "
+           "fast recorded | fast exact | fast recorded/exact |\n"
+           "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  speed << "| mesh | faces | fast encode ms |\n|---|---:|---:|\n";
+  for (const fs::path& path : paths) {
+    pm::Mesh original;
+    if (pm::Status s = pm::read_mesh(path.string(), original); !s) {
+      std::cerr << "bound_bench: " << path.string() << ": " << s.message() << " (skipped)\n";
+      continue;
+    }
+    const std::string name = path.filename().string();
+    std::cerr << "[bound_bench] " << name << "\n";
+    pm::ProgressiveMesh slow, fast;
+    if (!encode(original, false, slow, nullptr)) continue;
+    std::vector<double> times;
+    for (int r = 0; r < runs; ++r) {
+      double ms = 0;
+      if (!encode(original, true, fast, &ms)) return 1;
+      times.push_back(ms);
+    }
+    const pm::Mesh points = vertices_of(original);
+    const double diagonal = pm::bounding_box_diagonal(original.positions) / 100;  // percent
+    for (const double target : kTargets) {
+      const auto faces = static_cast<std::size_t>(target * original.face_count());
+      const Tightness d = tightness(slow, points, faces), f = tightness(fast, points, faces);
+      table << "| " << name << " | " << significant(100 * target) << "% | "
+            << significant(d.recorded / diagonal) << " | " << significant(d.exact / diagonal)
+            << " | " << ratio(d) << " | " << significant(f.recorded / diagonal) << " | "
+            << significant(f.exact / diagonal) << " | " << ratio(f) << " |\n";
+    }
+    speed << "| " << name << " | " << with_thousands(original.face_count()) << " | "
+          << significant(median(times)) << " |\n";
+  }
+
+  std::ofstream md(out_path);
+  md << "# Recorded errors against the distances they bound\n\n"
+     << "Generated by `tests/bench/run_bound.sh` (issue 25; pm_bench_bound, "
+        "tests/bench/bound_bench.cpp).\n\n"
+     << pm::bench::run_description(PM_BENCH_SOURCE_DIR)
+     << "- load average at the end: " << pm::bench::command_output("cut -d' ' -f1-3 /proc/loadavg")
+     << "\n\n"
+     << "Each level of at most the target's faces: its recorded error (`pm::error_at_level`, "
+        "what `pmdec --error --estimate` selects by) and the exact largest distance of an input "
+        "vertex to its faces (`pm::measure_surface_distance` from the input's vertices), both in "
+        "percent of the bounding-box diagonal. The record must be at least the distance "
+        "(recorded/exact >= 1); the nearer 1, the tighter. default: `pm::encode`'s default loop "
+        "(every removed point tracked); fast: `EncodeOptions::fast` (four points kept per face, "
+        "the slack of the others carried: lib/src/simplify/dropped_points_bound.h). Geometry "
+        "only.\n\n"
+     << "## Tightness\n\n"
+     << table.str() << "\n## Time\n\n"
+     << "The fast loop's whole `pm::encode` on one thread, median of " << runs << " runs.\n\n"
+     << speed.str();
+  std::cerr << "wrote " << out_path << "\n";
+  return 0;
+}
