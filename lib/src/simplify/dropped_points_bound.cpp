@@ -255,17 +255,20 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
         if (removed(j) || disjoint_boxes(old_face[i], new_face[j])) continue;
         overlay_cell(old_face[i], new_face[j], cell);
         if (cell.n == 0) continue;
+        // The distance to the new face itself, at most the mapped point's: convex along g
+        // too, so its largest over the cell is at the cell's corners.
+        const Lifted& t = new_face[j];
         double h = 0;
         for (int k = 0; k < cell.n; ++k)
-          h = std::max(h, (old_face[i].at(cell.p[k]) - new_face[j].at(cell.p[k])).norm());
+          h = std::max(h, point_triangle_distance(old_face[i].at(cell.p[k]), t.pa, t.pb, t.pc));
         to_moved[j] = std::max(to_moved[j], r + h);
       }
       if (has_strip && !disjoint_boxes(old_face[i], strip)) {
         overlay_cell(old_face[i], strip, cell);
+        const Lifted& t = new_face[edge_face];  // it holds the edge
         double h = -1;
         for (int k = 0; k < cell.n; ++k)
-          h = std::max(h, point_segment_distance(old_face[i].at(cell.p[k]), star.ring[n - 1],
-                                                 star.ring[0]));
+          h = std::max(h, point_triangle_distance(old_face[i].at(cell.p[k]), t.pa, t.pb, t.pc));
         if (h >= 0) to_moved[edge_face] = std::max(to_moved[edge_face], r + h);
       }
     } else {

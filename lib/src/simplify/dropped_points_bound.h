@@ -17,8 +17,10 @@
 //   replace them after, projected on one plane (the normal of v's faces), both triangulate
 //   the same polygon, v's ring, and F maps a point of the old surface to the point of the
 //   new one over the same place of the plane. Over a cell of the overlay of the two
-//   projected triangulations both surfaces are affine, so |q - F(q)| is convex there and
-//   largest at the cell's corners: measured there, h is exact for the mapping. The
+//   projected triangulations, q lies on one old face and F(q) on one new face T, so
+//   d(q, T) <= |q - F(q)|; d(., T) is convex, so its largest over the cell's part of the old
+//   face is at the cell's corners: measured there, it is h, for the points of that cell,
+//   which go to T (Cohen, Manocha and Olano measure |q - F(q)| at the same corners). The
 //   projected triangles must all be positive (else F may fold): otherwise, and where the
 //   ring is odd (a boundary vertex collapsing inwards), a coarser bound, valid always:
 //   q -> d(q, T) is convex for one triangle T, so its largest over a piece of g is at the
