@@ -180,7 +180,8 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
   if (!any) return 0;  // the usual case early on: nothing dropped around v
   auto next = [&](int i) { return i + 1 == n ? 0 : i + 1; };
   auto removed = [&](int i) { return star.faces[i] == star.fl || star.faces[i] == star.fr; };
-  const Vec3& pu = star.ring[star.u_at];
+  const bool u_in_ring = star.u_at >= 0 && star.u_at < n;  // always, as u is v's neighbour
+  const Vec3& pu = star.ring[u_in_ring ? star.u_at : 0];
 
   // The plane: across a direction that every face, before and after, faces (the larger
   // the least cosine, the less the projection folds or magnifies).
@@ -198,7 +199,7 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
   }
   normal = best_direction(normal, normals, n_normals);
   Lifted old_face[kMaxRing], new_face[kMaxRing];
-  bool mapped = normal.norm() > 0;
+  bool mapped = u_in_ring && normal.norm() > 0;
   // An open ring maps onto the new fan only when u is one of its ends (v collapses along
   // the boundary): the part of v's faces beyond the new boundary edge then maps onto it.
   const bool open_end = !star.closed && (star.u_at == 0 || star.u_at == n - 1);
