@@ -120,9 +120,10 @@ EncodeOptions fast_geometry() {
 // empty), that the farthest input vertex from the level's faces is within the recorded
 // error (up to the float records' rounding, as RecordedError allows).
 void expect_records_bound_vertices(const Mesh& input, std::vector<std::size_t> levels,
-                                   const std::string& name) {
+                                   const std::string& name,
+                                   const EncodeOptions& options = fast_geometry()) {
   ProgressiveMesh pm;
-  ASSERT_TRUE(encode(input, fast_geometry(), pm).is_ok()) << name;
+  ASSERT_TRUE(encode(input, options, pm).is_ok()) << name;
   ASSERT_GT(pm.splits.size(), 10u) << name;
   if (levels.empty())
     for (std::size_t level = 0; level < pm.splits.size(); ++level) levels.push_back(level);
@@ -163,6 +164,26 @@ TEST(FastLoopRecordedError, BoundsEveryInputVertexAtEveryLevelOfABumpyGrid) {
 TEST(FastLoopRecordedError, BoundsEveryInputVertexAtEveryLevelOfNoisyGrids) {
   expect_records_bound_vertices(noisy_grid(32, 0.1, 3), {}, "noisy grid 32x32, seed 3");
   expect_records_bound_vertices(noisy_grid(16, 0.1, 1), {}, "noisy grid 16x16, seed 1");
+}
+
+// In regions on two threads (EncodeOptions::fast_partition_vertices): each region's
+// collapses record their own slack, and the merged sequence's running maximum must still
+// bound every level, whatever order the regions' collapses interleave in.
+TEST(FastLoopRecordedError, BoundsEveryInputVertexWithRegionsOnTwoThreads) {
+  EncodeOptions options = fast_geometry();
+  options.fast_partition_vertices = 1;
+  options.threads = 2;
+  // Large enough that the rounds run (on small meshes the cuts hold too many vertices).
+  const Mesh grid = bumpy_grid(260);
+  ProgressiveMesh regions, one_heap;
+  ASSERT_TRUE(encode(grid, options, regions).is_ok());
+  EncodeOptions one = fast_geometry();
+  one.fast_partition_vertices = 0;
+  ASSERT_TRUE(encode(grid, one, one_heap).is_ok());
+  ASSERT_NE(regions.moved_faces, one_heap.moved_faces) << "the regions did not run";
+  std::vector<std::size_t> levels;
+  for (std::size_t k = 0; k < 12; ++k) levels.push_back(k * regions.splits.size() / 12);
+  expect_records_bound_vertices(grid, levels, "bumpy grid 260x260 in regions", options);
 }
 
 TEST(FastLoopRecordedError, BoundsEveryInputVertexAtEveryLevelOfABumpySphere) {
