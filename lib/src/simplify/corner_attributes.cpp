@@ -168,12 +168,12 @@ void CornerAttributes::initialize_wedges(int kind, const float* points, std::siz
       values[c] = k.value(ids[c]);
     }
     const double area = 0.5 * area_vector(p[0], p[1], p[2]).norm();
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t w = k.wedge[f][c];
-      if (kind == kUv)
-        uv_quadrics_[w] += AttributeQuadric<2>::from_face(p, values, area);
-      else
-        normal_quadrics_[w] += AttributeQuadric<3>::from_face(p, values, area);
+    if (kind == kUv) {
+      const auto face = AttributeQuadric<2>::from_face(p, values, area);
+      for (int c = 0; c < 3; ++c) uv_quadrics_[k.wedge[f][c]] += face;
+    } else {
+      const auto face = AttributeQuadric<3>::from_face(p, values, area);
+      for (int c = 0; c < 3; ++c) normal_quadrics_[k.wedge[f][c]] += face;
     }
   }
 }
@@ -245,28 +245,53 @@ bool CornerAttributes::collapse_keeps_attributes(const CollapseStar& c) const {
 }
 
 double CornerAttributes::collapse_cost(const CollapseStar& c) const {
-  double cost = 0;
-  uint32_t seen[64];
+  StarWedges wedges;
+  star_wedges(c, wedges);
+  return collapse_cost(c, wedges);
+}
+
+void CornerAttributes::star_wedges(const CollapseStar& c, StarWedges& out) const {
+  static_assert(kKinds == 2, "StarWedges holds two kinds");
   for (int kind = 0; kind < kKinds; ++kind) {
     const Kind& k = kinds_[kind];
+    StarWedges::Wedge* wedges = out.wedges[kind];
+    int& count = out.count[kind];
+    count = 0;
     if (!k.present || k.scale == 0) continue;
-    double error = 0, weight = 0;
-    int seen_count = 0;
-    for (int i = 0; i < c.n_faces; ++i) {
+    for (int i = 0; i < c.n_faces && count < StarWedges::kMost; ++i) {
       const uint32_t g = c.faces[i];
       const int corner = corner_of(g, c.v);
       const uint32_t w = k.wedge[g][corner];
-      if (w == kNoWedge || std::find(seen, seen + seen_count, w) != seen + seen_count) continue;
-      if (seen_count < 64) seen[seen_count++] = w;
-      const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
-      const uint32_t target = k.ids[tf][tc];
+      if (w == kNoWedge || std::any_of(wedges, wedges + count,
+                                       [&](const StarWedges::Wedge& s) { return s.slot == w; }))
+        continue;
+      wedges[count++] = {w, k.class_of(k.ids[g][corner])};
+    }
+  }
+}
+
+double CornerAttributes::collapse_cost(const CollapseStar& c, const StarWedges& wedges) const {
+  double cost = 0;
+  const bool has_l = c.fl != CollapseStar::kNoFace, has_r = c.fr != CollapseStar::kNoFace;
+  for (int kind = 0; kind < kKinds; ++kind) {
+    const Kind& k = kinds_[kind];
+    if (wedges.count[kind] == 0) continue;
+    // target_corner() for each wedge: u's corner in fl for v's class there, else in fr.
+    const uint32_t left_class = has_l && has_r ? class_at(kind, c.fl, c.v) : 0;
+    const uint32_t left_target = has_l ? k.ids[c.fl][corner_of(c.fl, c.u)] : kNoAttribute;
+    const uint32_t right_target = has_r ? k.ids[c.fr][corner_of(c.fr, c.u)] : kNoAttribute;
+    double error = 0, weight = 0;
+    for (int i = 0; i < wedges.count[kind]; ++i) {
+      const StarWedges::Wedge& w = wedges.wedges[kind][i];
+      const bool left = has_l && (!has_r || left_class == w.v_class);
+      const uint32_t target = left ? left_target : right_target;
       if (target == kNoAttribute) continue;
       if (kind == kUv) {
-        error += uv_quadrics_[w].error(c.pu, k.value(target));
-        weight += uv_quadrics_[w].weight;
+        error += uv_quadrics_[w.slot].error(c.pu, k.value(target));
+        weight += uv_quadrics_[w.slot].weight;
       } else {
-        error += normal_quadrics_[w].error(c.pu, k.value(target));
-        weight += normal_quadrics_[w].weight;
+        error += normal_quadrics_[w.slot].error(c.pu, k.value(target));
+        weight += normal_quadrics_[w.slot].weight;
       }
     }
     if (weight > 0) cost += k.scale * k.scale * error / weight;

@@ -85,6 +85,22 @@ class CornerAttributes {
   // area, times the kind's scale squared.
   double collapse_cost(const CollapseStar& c) const;
 
+  // v's distinct wedges of each kind priced by collapse_cost(), in the order of c.faces:
+  // the part of the cost that is the same for every target, so that a loop pricing all of
+  // v's options finds them once (star_wedges(), then collapse_cost(c, wedges) per target).
+  struct StarWedges {
+    static constexpr int kMost = 256;  // HalfEdgeStar's most faces
+    struct Wedge {
+      uint32_t slot;     // its quadric
+      uint32_t v_class;  // v's value class there
+    };
+    Wedge wedges[2][kMost];  // per kind (texture coordinates, normals)
+    int count[2];
+  };
+  void star_wedges(const CollapseStar& c, StarWedges& out) const;
+  // collapse_cost(c), given star_wedges() of a star with the same v and faces.
+  double collapse_cost(const CollapseStar& c, const StarWedges& wedges) const;
+
   // Applies the collapse to the corners (call before the loop changes its mesh, once the
   // collapse is decided): appends what the split needs to `record`; the moved faces are
   // c.faces but fl and fr, in that order.

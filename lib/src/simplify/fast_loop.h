@@ -205,11 +205,28 @@ class FastSimplifier {
   // (vertex_classification.h; Garland and Heckbert 1998, §4).
   bool is_feature(uint32_t h) const {
     if (!features_ || half_[h].twin == kNone) return false;
-    if (attributes_ && attributes_->is_seam(h / 3, half_[h].twin / 3, half_[h].vertex,
-                                            half_[next_of(h)].vertex))
-      return true;
+    if (attributes_ && seam_[h]) return true;
     return angle_features_ &&
            (face_normal(h / 3) | face_normal(half_[h].twin / 3)) < cos_feature_angle_;
+  }
+  // Whether the interior half-edge h lies on a seam or a material border now (seam_).
+  bool seam_now(uint32_t h) const {
+    return attributes_->is_seam(h / 3, half_[h].twin / 3, half_[h].vertex,
+                                half_[next_of(h)].vertex);
+  }
+  // seam_ of the edges at u, the only ones a collapse onto u changes: its moved corners
+  // are at u, and the edges whose twins it joins (the removed faces' outer edges) end there.
+  // Every edge at u, whatever its valence (ring() stops at kMaxValence).
+  void update_seams_at(uint32_t u) {
+    const uint32_t first = vertex_[u].outgoing;
+    if (first == kNone) return;
+    uint32_t h = first;
+    do {
+      const uint32_t incoming = prev_of(h), t = half_[h].twin, back = half_[incoming].twin;
+      if (t != kNone) seam_[h] = seam_[t] = seam_now(h);
+      if (back == kNone) break;  // u's other boundary edge, which no face shares
+      h = back;
+    } while (h != first);
   }
 
   // The collapse v -> u as CornerAttributes and SeamDrift read it (corner_attributes.h):
@@ -420,23 +437,21 @@ class FastSimplifier {
     return true;
   }
 
+  // `star`: v's (make_star()), with attributes; aimed at u here.
   bool legal(uint32_t v, uint32_t u, uint32_t edge, const Neighbour* ring_v, int n_v,
-             bool boundary_v) const {
+             bool boundary_v, Star* star) const {
     const Sides s = sides(v, edge);
     return keeps_topology(u, s, ring_v, n_v, boundary_v) && keeps_welds(u, ring_v, n_v) &&
            keeps_geometry(v, u, s, ring_v, n_v) && keeps_carried_edges_apart(u, ring_v, n_v) &&
-           keeps_attributes(v, u, edge, ring_v, n_v);
+           keeps_attributes(u, edge, star);
   }
 
   // As the default loop: seams and material borders slide, never open or close, and no
   // texture triangle turns over (CornerAttributes::collapse_keeps_attributes).
-  bool keeps_attributes(uint32_t v, uint32_t u, uint32_t edge, const Neighbour* ring_v,
-                        int n_v) const {
+  bool keeps_attributes(uint32_t u, uint32_t edge, Star* star) const {
     if (!attributes_) return true;
-    Star star;
-    make_star(v, ring_v, n_v, star);
-    aim(star, u, edge);
-    return attributes_->collapse_keeps_attributes(star.c);
+    aim(*star, u, edge);
+    return attributes_->collapse_keeps_attributes(star->c);
   }
 
   // Queues v's cheapest collapse in best_[v] and heap_, or takes v out of the heap when it
@@ -487,14 +502,18 @@ class FastSimplifier {
     const Vec3 pv = point(v);
     // Plus the attributes' error in the same units (Hoppe 1999, §4), as the default loop.
     Star star;
-    if (attributes_) make_star(v, ring_v, n, star);
+    CornerAttributes::StarWedges wedges;  // v's, the same for every target
+    if (attributes_) {
+      make_star(v, ring_v, n, star);
+      attributes_->star_wedges(star.c, wedges);
+    }
     for (int i = 0; i < count; ++i) {
       const Vec3 pu = point(ring_v[options[i].index].vertex);
       options[i].cost = q.weight > 0 ? q.error_at(pu - pv) / q.weight : 0.0;
       options[i].length = (pu - pv).sqrnorm();
       if (attributes_) {
         aim(star, ring_v[options[i].index].vertex, ring_v[options[i].index].edge);
-        options[i].cost += attributes_->collapse_cost(star.c);
+        options[i].cost += attributes_->collapse_cost(star.c, wedges);
       }
     }
     count = static_cast<int>(std::remove_if(options, options + count,
@@ -522,7 +541,7 @@ class FastSimplifier {
     for (int i = 0; i < count; ++i) {
       const Neighbour& to = ring_v[options[i].index];
       if (!owns(worker, to.vertex)) return false;
-      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v)) return queue(options[i]);
+      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star)) return queue(options[i]);
     }
     return false;
   }
@@ -550,7 +569,10 @@ class FastSimplifier {
     // The neighbours' records are read after the collapse (their re-evaluation): asked for
     // now, they arrive while legality is decided.
     for (int i = 0; i < n; ++i) __builtin_prefetch(&vertex_[ring_v[i].vertex]);
-    if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v)) {
+    // With attributes, v's star, aimed at u: legality, the seam drift and the record read it.
+    Star star;
+    if (attributes_ && n > 0) make_star(v, ring_v, n, star);
+    if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v, &star)) {
       evaluate(worker, v, true);
       return;
     }
@@ -573,12 +595,8 @@ class FastSimplifier {
         measured_[v] = kMeasuredPoints;
         double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
         // A texture seam that slides within the surface, as the default loop's remeasure().
-        if (seam_drift_) {
-          Star star;
-          make_star(v, ring_v, n, star);
-          aim(star, u, edge);
+        if (seam_drift_)
           worst = std::max(worst, SeamDrift::kDriftScale * seam_drift_->collapse_drift(star.c));
-        }
         points_worst_[v] = worst;
         if (!top_with_measure(worker, v, points_worst_[v])) return;
       }
@@ -610,9 +628,6 @@ class FastSimplifier {
     worker.new_faces += static_cast<uint32_t>(removed_faces);
     if (attributes_) {
       // In the order of the moved faces below (v's ring), before the corners change.
-      Star star;
-      make_star(v, ring_v, n, star);
-      aim(star, u, edge);
       if (seam_drift_) seam_drift_->collapse(star.c);
       attributes_->collapse(star.c, worker.record);
     }
@@ -702,6 +717,7 @@ class FastSimplifier {
     if (boundary_vr) start_at_boundary(vr);
     vertex_[v].outgoing = kNone;
     vertex_[v].dead = 1;
+    if (attributes_) update_seams_at(u);
     worker.removed_faces += removed_faces;
     ++worker.removed_vertices;
     // Garland and Heckbert 1997, §4: Q = Q1 + Q2.
@@ -872,6 +888,10 @@ class FastSimplifier {
   // only. The drift of texture seams, null without texture coordinates.
   std::unique_ptr<CornerAttributes> attributes_;
   std::unique_ptr<SeamDrift> seam_drift_;
+  // With attributes, per half-edge: on a seam or a material border (seam_now()), kept up to
+  // date at each collapse (update_seams_at()) so that classifying a vertex, which the loop
+  // does at every evaluation, reads one byte per edge instead of comparing corners.
+  std::vector<uint8_t> seam_;
   DroppedPointsBound dropped_;  // the slack of the points kept_ leaves off (the record)
   bool partitioned_ = false;   // rounds first (run_rounds())
   bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap

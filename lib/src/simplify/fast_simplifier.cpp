@@ -61,6 +61,7 @@ void FastSimplifier::run() {
   std::vector<double>().swap(points_worst_);
   kept_.reset(0, nullptr);
   seam_drift_.reset();  // it reads xyz_
+  std::vector<uint8_t>().swap(seam_);
   dropped_.reset(0);
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
@@ -95,8 +96,12 @@ void FastSimplifier::attach_attributes(const Mesh& input, const uint32_t* input_
     attributes_.reset();
     return;
   }
-  if (attributes_->has_uvs()) seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), *attributes_);
+  if (attributes_->has_uvs())
+    seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), n_vertices, *attributes_);
   features_ = true;  // seams and material borders are feature edges
+  seam_.assign(half_.size(), 0);
+  for (uint32_t h = 0; h < half_.size(); ++h)
+    if (half_[h].twin != kNone && h < half_[h].twin) seam_[h] = seam_[half_[h].twin] = seam_now(h);
 }
 
 void FastSimplifier::run_rounds() {

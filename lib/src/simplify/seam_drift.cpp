@@ -20,8 +20,16 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-SeamDrift::SeamDrift(const float* points, const CornerAttributes& attributes)
-    : points_xyz_(points), attributes_(attributes) {}
+SeamDrift::SeamDrift(const float* points, std::size_t n_vertices,
+                     const CornerAttributes& attributes)
+    : points_xyz_(points), attributes_(attributes), points_(n_vertices) {}
+
+const std::vector<uint32_t>* SeamDrift::find(uint32_t a, uint32_t b) const {
+  const uint32_t other = std::max(a, b);
+  for (const Attached& e : points_[std::min(a, b)])
+    if (e.other == other) return &e.points;
+  return nullptr;
+}
 
 uint32_t SeamDrift::other_seam_end(const CollapseStar& c) const {
   uint32_t other = kNone;
@@ -44,13 +52,12 @@ double SeamDrift::collapse_drift(const CollapseStar& c) const {
   if (w == kNone) return 0;
   const Vec3 a = point(c.u), b = point(w);
   double worst = distance_to_segment(point(c.v), a, b);
-  const std::lock_guard<std::mutex> hold(lock_);
-  for (const uint64_t edge : {key(c.v, c.u), key(c.v, w)}) {
-    const auto it = points_.find(edge);
-    if (it == points_.end()) continue;
+  for (const uint32_t end : {c.u, w}) {
+    const std::vector<uint32_t>* attached = find(c.v, end);
+    if (!attached) continue;
     // Near the base mesh a seam edge stands for a long stretch of the input's seam; an
     // evenly spread subset bounds the cost, as RemovedPoints does for faces.
-    const std::vector<uint32_t>& points = it->second;
+    const std::vector<uint32_t>& points = *attached;
     const std::size_t stride = points.size() / kMeasuredPoints + 1;
     for (std::size_t i = 0; i < points.size(); i += stride)
       worst = std::max(worst, distance_to_segment(point(points[i]), a, b));
@@ -62,15 +69,21 @@ void SeamDrift::collapse(const CollapseStar& c) {
   const uint32_t w = other_seam_end(c);
   if (w == kNone) return;
   std::vector<uint32_t> merged{c.v};
-  const std::lock_guard<std::mutex> hold(lock_);
-  for (const uint64_t edge : {key(c.v, c.u), key(c.v, w)}) {
-    const auto it = points_.find(edge);
-    if (it == points_.end()) continue;
-    merged.insert(merged.end(), it->second.begin(), it->second.end());
-    points_.erase(it);
+  for (const uint32_t end : {c.u, w}) {
+    std::vector<Attached>& lists = lists_of(c.v, end);
+    const uint32_t other = std::max(c.v, end);
+    const auto it = std::find_if(lists.begin(), lists.end(),
+                                 [&](const Attached& e) { return e.other == other; });
+    if (it == lists.end()) continue;
+    merged.insert(merged.end(), it->points.begin(), it->points.end());
+    lists.erase(it);
   }
-  std::vector<uint32_t>& target = points_[key(c.u, w)];
-  target.insert(target.end(), merged.begin(), merged.end());
+  std::vector<Attached>& lists = lists_of(c.u, w);
+  const uint32_t other = std::max(c.u, w);
+  auto it = std::find_if(lists.begin(), lists.end(),
+                         [&](const Attached& e) { return e.other == other; });
+  if (it == lists.end()) it = lists.insert(lists.end(), Attached{other, {}});
+  it->points.insert(it->points.end(), merged.begin(), merged.end());
 }
 
 }  // namespace pm

@@ -16,8 +16,7 @@
 #pragma once
 
 #include <cstdint>
-#include <mutex>
-#include <unordered_map>
+#include <algorithm>
 #include <vector>
 
 #include "simplify/corner_attributes.h"
@@ -34,9 +33,9 @@ class SeamDrift {
   static constexpr double kDriftScale = 3.5;
 
   // The seams are the texture-coordinate seams of `attributes` (in its face and vertex
-  // ids) as they are now; points holds three floats per vertex, which never move (a
-  // half-edge collapse keeps u where it is) and stay the caller's.
-  SeamDrift(const float* points, const CornerAttributes& attributes);
+  // ids) as they are now; points holds three floats per vertex (n_vertices), which never
+  // move (a half-edge collapse keeps u where it is) and stay the caller's.
+  SeamDrift(const float* points, std::size_t n_vertices, const CornerAttributes& attributes);
 
   // If the collapse c (v -> u) were made: when v lies on a seam (two seam edges, v-u and
   // v-w), the largest distance from v and the removed seam points of v-u and v-w to the
@@ -45,7 +44,7 @@ class SeamDrift {
 
   // Attaches v and those points to u-w. Call just before the loop makes the collapse.
   // Collapses whose stars share no vertex may call this and collapse_drift() on several
-  // threads at once (the fast loop's regions).
+  // threads at once (the fast loop's regions): each touches only its own vertices' lists.
   void collapse(const CollapseStar& c);
 
  private:
@@ -55,9 +54,14 @@ class SeamDrift {
   // with one of them v-u (then the collapse moves no seam: the legality rules allow no
   // other seam collapse).
   uint32_t other_seam_end(const CollapseStar& c) const;
-  static uint64_t key(uint32_t a, uint32_t b) {
-    return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
-  }
+  // The removed input seam vertices that seam edge a-b replaced, in the order they joined
+  // it: the list is the smaller end's, an entry per edge to a larger vertex.
+  struct Attached {
+    uint32_t other;  // the larger end
+    std::vector<uint32_t> points;
+  };
+  std::vector<Attached>& lists_of(uint32_t a, uint32_t b) { return points_[std::min(a, b)]; }
+  const std::vector<uint32_t>* find(uint32_t a, uint32_t b) const;
   Vec3 point(uint32_t x) const {
     const float* p = points_xyz_ + 3 * std::size_t{x};
     return Vec3(p[0], p[1], p[2]);
@@ -65,10 +69,10 @@ class SeamDrift {
 
   const float* points_xyz_;
   const CornerAttributes& attributes_;
-  // Per current seam edge (vertex pair), the input seam vertices it replaced. Regions on
-  // other threads touch other edges, but share the map: each access holds the lock.
-  std::unordered_map<uint64_t, std::vector<uint32_t>> points_;
-  mutable std::mutex lock_;
+  // Per vertex, its current seam edges to larger vertices that carry removed points. A
+  // collapse reads and writes only the lists of v, u and w, so regions of the fast loop on
+  // other threads, whose collapses share no vertex with it, need no lock.
+  std::vector<std::vector<Attached>> points_;
 };
 
 }  // namespace pm

@@ -154,7 +154,7 @@ class SchroederSimplifier {
     removed_ = std::make_unique<RemovedPoints>(mesh_);
     if (attributes_ && attributes_->has_uvs())
       seam_drift_ = std::make_unique<SeamDrift>(reinterpret_cast<const float*>(mesh_.points()),
-                                                *attributes_);
+                                                mesh_.n_vertices(), *attributes_);
     input_corner_.assign(n_vertices, 0);
     sharp_corner_.assign(n_vertices, 0);
     const double cos_sharp = std::cos(kSharpCornerDeg * M_PI / 180.0);
