@@ -30,6 +30,22 @@ namespace pm::bench {
 // ids of the result are OpenMesh's.
 Mesh loop_subdivide(const Mesh& mesh, int times, std::size_t* refused_faces = nullptr);
 
+// `times` steps of Loop subdivision that keep every attribute (the textured ~1M-face mesh of
+// issue 25's whole-process benchmark): positions move as Loop's rules say (Loop 1987, §3.1:
+// an edge point 3/8 of its ends plus 1/8 of the two opposite corners, a vertex (1 - nβ) of
+// itself plus β of each neighbour, β = (5/8 - (3/8 + cos(2π/n)/4)²)/n; on a boundary the
+// midpoint and 3/4 + 1/8 + 1/8 of the boundary neighbours; an edge of three or more faces,
+// or a vertex where the boundary is not one curve, stays linear), while the corner
+// attributes are interpolated linearly inside each face's own triangle of values: the new
+// corner at an edge's midpoint takes the mean of that face's two uv (and normal) entries,
+// shared with the face across the edge only when both faces use the same two entries. A UV
+// seam or a crease therefore stays one, along the whole subdivided edge. Colours (per
+// vertex) are averaged at edge points, materials go to the face's four children. Vertex ids
+// 0..V-1 keep their vertices; faces keep their order (each parent's four children together).
+// No OpenMesh (a half-edge mesh would refuse the seams' faces on a non-manifold input and
+// renumber the corners): a few hundred milliseconds for a million faces.
+Mesh loop_subdivide_keeping_attributes(const Mesh& mesh, int times);
+
 // The shared test meshes: PM_BENCH_SOURCE_DIR/../shared/meshes, the folder next to the
 // repository (see its README.md).
 std::string shared_meshes_dir();

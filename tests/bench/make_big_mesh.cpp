@@ -1,12 +1,17 @@
 // pm_make_big_mesh: a large input for benchmark scripts (issue 10's whole-process run), a
 // shared mesh after some steps of Loop subdivision (big_mesh.h).
 //
-//   pm_make_big_mesh MESH STEPS OUT [--no-cache] [--cache DIR] [-q]
+//   pm_make_big_mesh MESH STEPS OUT [--no-cache] [--cache DIR] [--keep-attributes] [-q]
 //
 // MESH is a mesh file, or the name of one in ../shared/meshes (stanford-bunny.obj). Each
 // step multiplies the faces by 4: `pm_make_big_mesh stanford-bunny.obj 2 bunny1m.obj` makes
 // the ~1M-face mesh (1,111,216 faces). OUT's extension picks the format (.obj, .ply, .off,
 // .stl), written by pm's own writers. The subdivided mesh is cached as in load_subdivided().
+//
+// --keep-attributes subdivides with texture coordinates, normals, colours and materials, their
+// seams kept (loop_subdivide_keeping_attributes(), no cache: it takes under a second): issue
+// 25's textured mesh, `pm_make_big_mesh samples/textured.obj 4 textured-loop4.obj
+// --keep-attributes` (950,272 faces).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,10 +26,12 @@ namespace {
 // On stderr for a bad command line (exit code 2), on stdout for --help.
 int usage(FILE* to = stderr) {
   std::fprintf(to,
-               "usage: pm_make_big_mesh MESH STEPS OUT [--no-cache] [--cache DIR] [-q]\n"
+               "usage: pm_make_big_mesh MESH STEPS OUT [--no-cache] [--cache DIR] "
+               "[--keep-attributes] [-q]\n"
                "  MESH   a mesh file, or a name in %s\n"
                "  STEPS  Loop subdivision steps, 0 to 5 (each multiplies the faces by 4)\n"
-               "  OUT    .obj, .ply, .off or .stl\n",
+               "  OUT    .obj, .ply, .off or .stl\n"
+               "  --keep-attributes  texture coordinates, normals, colours and materials too\n",
                pm::bench::shared_meshes_dir().c_str());
   return 2;
 }
@@ -35,13 +42,15 @@ int main(int argc, char** argv) {
   std::string positional[3];
   int count = 0;
   std::string cache = pm::bench::default_cache_dir();
-  bool quiet = false;
+  bool quiet = false, keep_attributes = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--no-cache")
       cache.clear();
     else if (arg == "--cache" && i + 1 < argc)
       cache = argv[++i];
+    else if (arg == "--keep-attributes")
+      keep_attributes = true;
     else if (arg == "-q")
       quiet = true;
     else if (arg == "-h" || arg == "--help")
@@ -69,11 +78,14 @@ int main(int argc, char** argv) {
   }
 
   pm::Mesh mesh;
-  if (pm::Status s = pm::bench::load_subdivided(input, static_cast<int>(steps), cache, mesh, quiet);
+  if (pm::Status s = keep_attributes ? pm::read_mesh(input, mesh)
+                                     : pm::bench::load_subdivided(input, static_cast<int>(steps),
+                                                                  cache, mesh, quiet);
       !s) {
     std::fprintf(stderr, "pm_make_big_mesh: %s: %s\n", input.c_str(), s.message().c_str());
     return 3;
   }
+  if (keep_attributes) mesh = pm::bench::loop_subdivide_keeping_attributes(mesh, int(steps));
   std::string bytes;
   if (pm::Status s = pm::write_mesh_to_memory(mesh, format, bytes); !s) {
     std::fprintf(stderr, "pm_make_big_mesh: %s: %s\n", output.c_str(), s.message().c_str());

@@ -5,6 +5,7 @@
 //
 //   pm_bench_scale_peers meshopt  MESH.obj [--ratio 0.01]
 //   pm_bench_scale_peers openmesh MESH.obj [--ratio 0.01]
+//   pm_bench_scale_peers meshopt-seams MESH.obj [--ratio 0.01]
 //
 //   meshopt   a minimal OBJ reader (below) into one float and one uint32 array, then
 //             meshopt_simplify (Garland and Heckbert 1997 quadrics, meshoptimizer's
@@ -12,6 +13,12 @@
 //   openmesh  OpenMesh::IO::read_mesh into a TriMesh_ArrayKernelT<>, then DecimaterT with
 //             ModQuadricT (no error limit) and ModNormalFlippingT at 90 degrees (pmenc's own
 //             rule), decimate_to_faces to ratio × faces, garbage_collection.
+//   meshopt-seams  the textured peer (issue 25's whole-process benchmark): a minimal OBJ
+//             reader of v, vt, vn and f a/t/n into the vertex buffer a renderer gets, one
+//             vertex (position, uv, normal: 8 floats) per distinct a/t/n triple, so that UV
+//             seams and creases are split as in meshopt_seams.h; meshopt_simplify on its
+//             positions to ratio × faces, no error limit (meshoptimizer 0.18 holds the
+//             split vertices' seams; its cost reads positions only).
 //
 // Prints one line on stdout, `faces_in=N faces_out=M load_s=A simplify_s=B`; errors on
 // stderr with exit code 1.
@@ -27,6 +34,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "meshoptimizer.h"
@@ -110,6 +118,133 @@ ObjMesh read_obj_minimal(const std::string& path) {
   return mesh;
 }
 
+// The seam-split reader of meshopt-seams: a buffer of (x, y, z, u, v, nx, ny, nz) vertices,
+// one per distinct v/vt/vn triple of the faces (missing parts 0), as a glTF exporter writes
+// it. Two passes as above: counts first, then arrays at their size; the triples' map is the
+// one structure that grows.
+struct SplitMesh {
+  std::vector<float> vertices;    // 8 floats per split vertex
+  std::vector<uint32_t> indices;  // 3 per triangle
+};
+
+struct Corner {
+  long v = 0, t = 0, n = 0;  // 1-based as in the file (0: absent), negatives resolved
+};
+
+bool parse_corner(const char*& p, const std::size_t counts[3], Corner& out) {
+  while (*p == ' ' || *p == '\t') ++p;
+  long* parts[3] = {&out.v, &out.t, &out.n};
+  out = Corner{};
+  for (int part = 0; part < 3; ++part) {
+    char* end = nullptr;
+    const long value = std::strtol(p, &end, 10);
+    if (end != p) {
+      const long index = value < 0 ? static_cast<long>(counts[part]) + value + 1 : value;
+      if (index < 1 || static_cast<std::size_t>(index) > counts[part]) die("face index out of range");
+      *parts[part] = index;
+      p = end;
+    } else if (part == 0) {
+      return false;
+    }
+    if (*p != '/') break;
+    ++p;
+  }
+  while (*p && *p != ' ' && *p != '\t' && *p != '\n' && *p != '\r') ++p;
+  return true;
+}
+
+SplitMesh read_obj_split(const std::string& path) {
+  FILE* file = std::fopen(path.c_str(), "r");
+  if (!file) die("cannot open " + path);
+  char line[4096];
+  std::size_t counts[3] = {0, 0, 0}, triangles = 0;
+  while (std::fgets(line, sizeof line, file)) {
+    if (line[0] == 'v' && line[1] == ' ') ++counts[0];
+    if (line[0] == 'v' && line[1] == 't' && line[2] == ' ') ++counts[1];
+    if (line[0] == 'v' && line[1] == 'n' && line[2] == ' ') ++counts[2];
+    if (line[0] == 'f' && line[1] == ' ') {
+      int corners = 0;
+      for (const char* p = line + 1; *p;) {
+        while (*p == ' ' || *p == '\t') ++p;
+        if (!*p || *p == '\n' || *p == '\r') break;
+        ++corners;
+        while (*p && *p != ' ' && *p != '\t') ++p;
+      }
+      if (corners >= 3) triangles += corners - 2;
+    }
+  }
+  // The triple's key holds 21 bits of each index.
+  for (std::size_t count : counts)
+    if (count >= (std::size_t(1) << 21)) die("more than 2^21 - 1 v, vt or vn lines");
+  std::vector<float> positions, uvs, normals;
+  positions.reserve(3 * counts[0]);
+  uvs.reserve(2 * counts[1]);
+  normals.reserve(3 * counts[2]);
+  SplitMesh mesh;
+  mesh.indices.reserve(3 * triangles);
+  std::unordered_map<uint64_t, uint32_t> split;  // (v, vt, vn) -> split vertex
+  split.reserve(counts[0] + counts[1]);
+  const std::size_t sizes[3] = {counts[0], counts[1], counts[2]};
+  auto vertex_of = [&](const Corner& c) {
+    const uint64_t key = (uint64_t(c.v) << 42) | (uint64_t(c.t) << 21) | uint64_t(c.n);
+    const auto [it, inserted] = split.emplace(key, uint32_t(mesh.vertices.size() / 8));
+    if (inserted) {
+      float vertex[8] = {};
+      for (int i = 0; i < 3; ++i) vertex[i] = positions[3 * (c.v - 1) + i];
+      if (c.t)
+        for (int i = 0; i < 2; ++i) vertex[3 + i] = uvs[2 * (c.t - 1) + i];
+      if (c.n)
+        for (int i = 0; i < 3; ++i) vertex[5 + i] = normals[3 * (c.n - 1) + i];
+      mesh.vertices.insert(mesh.vertices.end(), vertex, vertex + 8);
+    }
+    return it->second;
+  };
+  std::rewind(file);
+  while (std::fgets(line, sizeof line, file)) {
+    float x = 0, y = 0, z = 0;
+    if (line[0] == 'v' && line[1] == ' ') {
+      if (std::sscanf(line + 2, "%f %f %f", &x, &y, &z) != 3) die("bad vertex line");
+      positions.insert(positions.end(), {x, y, z});
+    } else if (line[0] == 'v' && line[1] == 't' && line[2] == ' ') {
+      if (std::sscanf(line + 3, "%f %f", &x, &y) != 2) die("bad vt line");
+      uvs.insert(uvs.end(), {x, y});
+    } else if (line[0] == 'v' && line[1] == 'n' && line[2] == ' ') {
+      if (std::sscanf(line + 3, "%f %f %f", &x, &y, &z) != 3) die("bad vn line");
+      normals.insert(normals.end(), {x, y, z});
+    } else if (line[0] == 'f' && line[1] == ' ') {
+      const char* p = line + 2;
+      Corner first, previous, current;
+      if (!parse_corner(p, sizes, first) || !parse_corner(p, sizes, previous)) continue;
+      const uint32_t a = vertex_of(first);
+      uint32_t b = vertex_of(previous);
+      while (parse_corner(p, sizes, current)) {
+        const uint32_t c = vertex_of(current);
+        mesh.indices.insert(mesh.indices.end(), {a, b, c});
+        b = c;
+      }
+    }
+  }
+  std::fclose(file);
+  return mesh;
+}
+
+void run_meshopt_seams(const std::string& path, double ratio) {
+  auto start = Clock::now();
+  const SplitMesh mesh = read_obj_split(path);
+  const double load_s = seconds_since(start);
+  const std::size_t faces = mesh.indices.size() / 3;
+  const std::size_t target = static_cast<std::size_t>(ratio * static_cast<double>(faces) + 0.5);
+  start = Clock::now();
+  std::vector<unsigned int> destination(mesh.indices.size());
+  const std::size_t kept = meshopt_simplify(destination.data(), mesh.indices.data(),
+                                            mesh.indices.size(), mesh.vertices.data(),
+                                            mesh.vertices.size() / 8, 8 * sizeof(float),
+                                            3 * target, FLT_MAX, 0, nullptr);
+  const double simplify_s = seconds_since(start);
+  std::printf("faces_in=%zu faces_out=%zu split_vertices=%zu load_s=%.3f simplify_s=%.3f\n",
+              faces, kept / 3, mesh.vertices.size() / 8, load_s, simplify_s);
+}
+
 void run_meshopt(const std::string& path, double ratio) {
   auto start = Clock::now();
   const ObjMesh mesh = read_obj_minimal(path);
@@ -161,7 +296,7 @@ void run_openmesh(const std::string& path, double ratio) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: pm_bench_scale_peers meshopt|openmesh MESH.obj [--ratio R]\n");
+    std::fprintf(stderr, "usage: pm_bench_scale_peers meshopt|meshopt-seams|openmesh MESH.obj [--ratio R]\n");
     return 2;
   }
   const std::string peer = argv[1], path = argv[2];
@@ -177,6 +312,8 @@ int main(int argc, char** argv) {
   if (!(ratio > 0 && ratio <= 1)) die("--ratio must be in (0, 1]");
   if (peer == "meshopt") {
     run_meshopt(path, ratio);
+  } else if (peer == "meshopt-seams") {
+    run_meshopt_seams(path, ratio);
   } else if (peer == "openmesh") {
     run_openmesh(path, ratio);
   } else {
