@@ -76,13 +76,14 @@ bool parse_index(const char*& p, std::size_t vertex_count, uint32_t& out) {
   return true;
 }
 
-ObjMesh read_obj_minimal(const std::string& path) {
-  FILE* file = std::fopen(path.c_str(), "r");
-  if (!file) die("cannot open " + path);
+// The first pass of both readers: `v`, `vt` and `vn` lines into counts[0..2], and the
+// triangles the `f` lines make (a polygon of n corners: n - 2); then back to the start.
+void count_obj_lines(FILE* file, std::size_t counts[3], std::size_t& triangles) {
   char line[4096];
-  std::size_t vertices = 0, triangles = 0;
   while (std::fgets(line, sizeof line, file)) {
-    if (line[0] == 'v' && line[1] == ' ') ++vertices;
+    if (line[0] == 'v' && line[1] == ' ') ++counts[0];
+    if (line[0] == 'v' && line[1] == 't' && line[2] == ' ') ++counts[1];
+    if (line[0] == 'v' && line[1] == 'n' && line[2] == ' ') ++counts[2];
     if (line[0] == 'f' && line[1] == ' ') {
       int corners = 0;
       for (const char* p = line + 1; *p;) {
@@ -94,10 +95,19 @@ ObjMesh read_obj_minimal(const std::string& path) {
       if (corners >= 3) triangles += corners - 2;
     }
   }
+  std::rewind(file);
+}
+
+ObjMesh read_obj_minimal(const std::string& path) {
+  FILE* file = std::fopen(path.c_str(), "r");
+  if (!file) die("cannot open " + path);
+  char line[4096];
+  std::size_t counts[3] = {0, 0, 0}, triangles = 0;
+  count_obj_lines(file, counts, triangles);
+  const std::size_t vertices = counts[0];
   ObjMesh mesh;
   mesh.positions.reserve(3 * vertices);
   mesh.indices.reserve(3 * triangles);
-  std::rewind(file);
   while (std::fgets(line, sizeof line, file)) {
     if (line[0] == 'v' && line[1] == ' ') {
       float x = 0, y = 0, z = 0;
@@ -158,21 +168,7 @@ SplitMesh read_obj_split(const std::string& path) {
   if (!file) die("cannot open " + path);
   char line[4096];
   std::size_t counts[3] = {0, 0, 0}, triangles = 0;
-  while (std::fgets(line, sizeof line, file)) {
-    if (line[0] == 'v' && line[1] == ' ') ++counts[0];
-    if (line[0] == 'v' && line[1] == 't' && line[2] == ' ') ++counts[1];
-    if (line[0] == 'v' && line[1] == 'n' && line[2] == ' ') ++counts[2];
-    if (line[0] == 'f' && line[1] == ' ') {
-      int corners = 0;
-      for (const char* p = line + 1; *p;) {
-        while (*p == ' ' || *p == '\t') ++p;
-        if (!*p || *p == '\n' || *p == '\r') break;
-        ++corners;
-        while (*p && *p != ' ' && *p != '\t') ++p;
-      }
-      if (corners >= 3) triangles += corners - 2;
-    }
-  }
+  count_obj_lines(file, counts, triangles);
   // The triple's key holds 21 bits of each index.
   for (std::size_t count : counts)
     if (count >= (std::size_t(1) << 21)) die("more than 2^21 - 1 v, vt or vn lines");
@@ -199,7 +195,6 @@ SplitMesh read_obj_split(const std::string& path) {
     }
     return it->second;
   };
-  std::rewind(file);
   while (std::fgets(line, sizeof line, file)) {
     float x = 0, y = 0, z = 0;
     if (line[0] == 'v' && line[1] == ' ') {
@@ -228,39 +223,39 @@ SplitMesh read_obj_split(const std::string& path) {
   return mesh;
 }
 
+// meshopt_simplify of a read mesh to ratio × faces, timed, and the output line; `extra` goes
+// after faces_out (" split_vertices=N").
+void simplify_and_report(const std::vector<uint32_t>& indices, const float* vertices,
+                         std::size_t vertex_count, std::size_t floats_per_vertex, double ratio,
+                         double load_s, const std::string& extra) {
+  const std::size_t faces = indices.size() / 3;
+  const std::size_t target = static_cast<std::size_t>(ratio * static_cast<double>(faces) + 0.5);
+  const auto start = Clock::now();
+  // The destination holds index_count entries, the worst case meshopt's header asks for.
+  std::vector<unsigned int> destination(indices.size());
+  const std::size_t kept =
+      meshopt_simplify(destination.data(), indices.data(), indices.size(), vertices, vertex_count,
+                       floats_per_vertex * sizeof(float), 3 * target, FLT_MAX, 0, nullptr);
+  const double simplify_s = seconds_since(start);
+  std::printf("faces_in=%zu faces_out=%zu%s load_s=%.3f simplify_s=%.3f\n", faces, kept / 3,
+              extra.c_str(), load_s, simplify_s);
+}
+
 void run_meshopt_seams(const std::string& path, double ratio) {
-  auto start = Clock::now();
+  const auto start = Clock::now();
   const SplitMesh mesh = read_obj_split(path);
   const double load_s = seconds_since(start);
-  const std::size_t faces = mesh.indices.size() / 3;
-  const std::size_t target = static_cast<std::size_t>(ratio * static_cast<double>(faces) + 0.5);
-  start = Clock::now();
-  std::vector<unsigned int> destination(mesh.indices.size());
-  const std::size_t kept = meshopt_simplify(destination.data(), mesh.indices.data(),
-                                            mesh.indices.size(), mesh.vertices.data(),
-                                            mesh.vertices.size() / 8, 8 * sizeof(float),
-                                            3 * target, FLT_MAX, 0, nullptr);
-  const double simplify_s = seconds_since(start);
-  std::printf("faces_in=%zu faces_out=%zu split_vertices=%zu load_s=%.3f simplify_s=%.3f\n",
-              faces, kept / 3, mesh.vertices.size() / 8, load_s, simplify_s);
+  const std::size_t count = mesh.vertices.size() / 8;
+  simplify_and_report(mesh.indices, mesh.vertices.data(), count, 8, ratio, load_s,
+                      " split_vertices=" + std::to_string(count));
 }
 
 void run_meshopt(const std::string& path, double ratio) {
-  auto start = Clock::now();
+  const auto start = Clock::now();
   const ObjMesh mesh = read_obj_minimal(path);
   const double load_s = seconds_since(start);
-  const std::size_t faces = mesh.indices.size() / 3;
-  const std::size_t target = static_cast<std::size_t>(ratio * static_cast<double>(faces) + 0.5);
-  start = Clock::now();
-  // The destination holds index_count entries, the worst case meshopt's header asks for.
-  std::vector<unsigned int> destination(mesh.indices.size());
-  const std::size_t kept = meshopt_simplify(destination.data(), mesh.indices.data(),
-                                            mesh.indices.size(), mesh.positions.data(),
-                                            mesh.positions.size() / 3, 3 * sizeof(float),
-                                            3 * target, FLT_MAX, 0, nullptr);
-  const double simplify_s = seconds_since(start);
-  std::printf("faces_in=%zu faces_out=%zu load_s=%.3f simplify_s=%.3f\n", faces, kept / 3, load_s,
-              simplify_s);
+  simplify_and_report(mesh.indices, mesh.positions.data(), mesh.positions.size() / 3, 3, ratio,
+                      load_s, "");
 }
 
 void run_openmesh(const std::string& path, double ratio) {
