@@ -43,12 +43,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <deque>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -111,6 +116,96 @@ Status check_writable_v2(const ProgressiveMesh& pm, const WriteOptions& options)
   }
   return Status::ok();
 }
+
+// The writer's sections compressed as they are made (write_pm_v2): `threads - 1` helper
+// threads take each section as soon as it is added, and the caller joins them in finish()
+// for those left. Each section is one zstd frame of its own (pm_layout.h, append_section),
+// so the stream does not depend on which thread compressed what.
+class SectionCompressor {
+ public:
+  SectionCompressor(std::size_t slots, unsigned threads, int zstd_level)
+      : raws_(slots), tags_(slots, 0), compressed_(slots), statuses_(slots), level_(zstd_level) {
+    for (unsigned t = 1; t < threads; ++t) helpers_.emplace_back([this] { work(); });
+  }
+  SectionCompressor(const SectionCompressor&) = delete;
+  SectionCompressor& operator=(const SectionCompressor&) = delete;
+  // On an exception in the caller (out of memory): the helpers stop with what they have.
+  ~SectionCompressor() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      queue_.clear();
+      done_ = true;
+    }
+    ready_.notify_all();
+    for (std::thread& helper : helpers_) helper.join();
+  }
+
+  void add(std::size_t slot, uint32_t tag, std::string raw) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      tags_[slot] = tag;
+      raws_[slot] = std::move(raw);
+      queue_.push_back(slot);
+    }
+    ready_.notify_one();
+  }
+
+  // Compresses the rest here, waits for the helpers, then appends the first `count`
+  // sections to `out` in their order; the first failure instead.
+  Status finish(std::size_t count, std::string& out) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      done_ = true;
+    }
+    ready_.notify_all();
+    work();
+    for (std::thread& helper : helpers_) helper.join();
+    helpers_.clear();
+    if (failure_) std::rethrow_exception(failure_);
+    for (std::size_t i = 0; i < count; ++i) {
+      if (!statuses_[i]) return statuses_[i];
+      out += compressed_[i];
+      std::string().swap(compressed_[i]);
+    }
+    return Status::ok();
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      std::size_t slot = 0;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        ready_.wait(lock, [&] { return !queue_.empty() || done_; });
+        if (queue_.empty()) return;
+        slot = queue_.front();
+        queue_.pop_front();
+      }
+      try {
+        const std::string& raw = raws_[slot];
+        statuses_[slot] =
+            append_section(tags_[slot], kSectionRequired, raw, raw.size(), level_, compressed_[slot]);
+        std::string().swap(raws_[slot]);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (!failure_) failure_ = std::current_exception();
+        queue_.clear();
+      }
+    }
+  }
+
+  std::vector<std::string> raws_;
+  std::vector<uint32_t> tags_;
+  std::vector<std::string> compressed_;
+  std::vector<Status> statuses_;
+  const int level_;
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<std::size_t> queue_;
+  bool done_ = false;
+  std::exception_ptr failure_;
+  std::vector<std::thread> helpers_;
+};
 
 Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::string& bytes) {
   if (Status valid = validate(pm); !valid) {
@@ -209,38 +304,32 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   w.colors.units.resize(pm.colors.size());
   for (std::size_t i = 0; i < pm.colors.size(); ++i) w.colors.units[i] = ordered_from_float(pm.colors[i]);
 
-  std::vector<std::pair<uint32_t, std::string>> sections;
-  for (uint32_t tag : expected_sections(h)) {
-    if (tag == kTagBase) sections.emplace_back(tag, w.base());
-    if (tag == kTagWelds) sections.emplace_back(tag, w.welds());
-    if (tag == kTagCarried) sections.emplace_back(tag, w.carried());
-    if (tag == kTagTables) sections.emplace_back(tag, w.tables());
-    if (tag == kTagIndex) {
-      std::vector<std::string> chunks;
-      std::string index;
-      w.chunks(chunks, index);
-      sections.emplace_back(tag, std::move(index));
-      for (std::string& chunk : chunks) sections.emplace_back(kTagChunk, std::move(chunk));
-    }
-    if (tag == kTagLoose) sections.emplace_back(tag, w.loose());
-    if (tag == kTagOrder) sections.emplace_back(tag, w.order());
-  }
   // Each section compressed on its own (zstd at level 19 is the writer's largest cost after
-  // the fans), several at once, then written in order.
-  std::vector<std::string> compressed(sections.size());
-  std::vector<Status> statuses(sections.size());
-  run_in_turn(sections.size(), thread_count(options.threads), [&](std::size_t i, bool) {
-    statuses[i] = append_section(sections[i].first, kSectionRequired, sections[i].second,
-                                 sections[i].second.size(), options.zstd_level, compressed[i]);
-    std::string().swap(sections[i].second);
-  });
+  // the chunks' sequential replay of the fans), on other threads while the next sections
+  // are made; the bytes are the same for any number of threads.
+  const std::vector<uint32_t> tags = expected_sections(h);
+  SectionCompressor compressor(tags.size() + h.chunk_count, thread_count(options.threads),
+                               options.zstd_level);
+  std::size_t slot = 0;
+  for (uint32_t tag : tags) {
+    if (tag == kTagBase) compressor.add(slot++, tag, w.base());
+    if (tag == kTagWelds) compressor.add(slot++, tag, w.welds());
+    if (tag == kTagCarried) compressor.add(slot++, tag, w.carried());
+    if (tag == kTagTables) compressor.add(slot++, tag, w.tables());
+    if (tag == kTagIndex) {
+      // INDX precedes its chunks in the stream but is complete only after the last one.
+      const std::size_t index_slot = slot++;
+      std::string index;
+      w.chunks([&](std::string&& chunk) { compressor.add(slot++, kTagChunk, std::move(chunk)); },
+               index);
+      compressor.add(index_slot, tag, std::move(index));
+    }
+    if (tag == kTagLoose) compressor.add(slot++, tag, w.loose());
+    if (tag == kTagOrder) compressor.add(slot++, tag, w.order());
+  }
   std::string out;
   append_header2(h, out);
-  for (std::size_t i = 0; i < sections.size(); ++i) {
-    if (!statuses[i]) return statuses[i];
-    out += compressed[i];
-    std::string().swap(compressed[i]);
-  }
+  if (Status s = compressor.finish(slot, out); !s) return s;
   bytes = std::move(out);
   return Status::ok();
 }

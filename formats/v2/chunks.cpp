@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -65,7 +66,7 @@ void arc_faces(const SplitFans& fans, uint32_t u, const std::vector<uint32_t>& a
 }  // namespace
 
 // The chunks and their index (§5.5, §5.6), replaying the splits on the fans.
-void Writer::chunks(std::vector<std::string>& raws, std::string& index) {
+void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string& index) {
   SplitFans fans;
   fans.reset(h.split_vertices(), uint64_t{h.base_face_count} + h.split_face_count);
   for (std::size_t f = 0; f < pm.base_face_count(); ++f) {
@@ -298,7 +299,7 @@ void Writer::chunks(std::vector<std::string>& raws, std::string& index) {
     std::string raw;
     for (const std::string& stream : streams) put_varint64(raw, stream.size());
     for (const std::string& stream : streams) raw += stream;
-    raws.push_back(std::move(raw));
+    emit(std::move(raw));
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -82,8 +83,9 @@ struct Writer {
   void put_listed(ByteWriter& out, int kind);
   void start_wedges();
   std::string tables();
-  // CHNK and INDX (chunks.cpp).
-  void chunks(std::vector<std::string>& raws, std::string& index);
+  // CHNK and INDX (chunks.cpp): each chunk's raw bytes go to `emit` as soon as they are
+  // made, in order (the writer compresses them while the next ones are made).
+  void chunks(const std::function<void(std::string&&)>& emit, std::string& index);
 };
 
 }  // namespace pm::detail::v2
