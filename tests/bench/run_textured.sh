@@ -64,12 +64,14 @@ if [[ ! -s "$obj" || "$source_obj" -nt "$obj" || "$bench/pm_make_big_mesh" -nt "
   cp "$repo/samples/textured.mtl" "$work/"
 fi
 
-# measure LABEL CMD...: CMD under /usr/bin/time (niced), "wall_seconds peak_kib" appended to
+# measure LABEL CMD...: CMD under /usr/bin/time, "wall_seconds peak_kib" appended to
 # $work/LABEL.runs; a failed command stops the script (a table with a failed run is wrong).
+# Not niced: on a shared machine a niced process waits behind every neighbour (a 25 s run
+# took 15 minutes at a load of 9).
 measure() {
   local label="$1"
   shift
-  if ! nice /usr/bin/time -f "%e %M" -o "$work/$label.time" "$@" >"$work/$label.stdout" \
+  if ! /usr/bin/time -f "%e %M" -o "$work/$label.time" "$@" >"$work/$label.stdout" \
     2>"$work/$label.stderr"; then
     echo "run_textured.sh: $label failed: $*" >&2
     tail -5 "$work/$label.stderr" >&2
@@ -99,7 +101,7 @@ for ((i = 1; i <= runs; ++i)); do
   measure pmenc_fast "$bin/pmenc" --fast "$obj" -o "$work/$name.fast.pm"
   measure meshopt "$bench/pm_bench_scale_peers" meshopt-seams "$obj"
   field meshopt simplify_s >>"$work/meshopt.inproc"
-  nice "$bench/pm_bench_encode" "$obj" --fast --threads 1 --one-heap >"$work/encode_fast.stdout"
+  "$bench/pm_bench_encode" "$obj" --fast --threads 1 --one-heap >"$work/encode_fast.stdout"
   field encode_fast wall >>"$work/encode_fast.inproc"
 done
 
