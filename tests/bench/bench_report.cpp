@@ -7,10 +7,14 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <thread>
+
+#include "pm/mesh_io.h"
 
 namespace pm::bench {
 
@@ -84,6 +88,71 @@ std::string run_description(const std::string& source_dir) {
        << "- date: " << date << "\n"
        << "- commit: " << commit << "\n";
   return text.str();
+}
+
+std::vector<std::filesystem::path> mesh_files(const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> files;
+  for (const std::string& input : inputs) {
+    std::error_code error;
+    if (fs::is_directory(input, error)) {
+      std::vector<fs::path> found;
+      for (const auto& entry : fs::directory_iterator(input, error))
+        if (entry.is_regular_file() &&
+            pm::mesh_format_from_path(entry.path().string()) != pm::MeshFormat::kUnknown)
+          found.push_back(entry.path());
+      std::sort(found.begin(), found.end());
+      files.insert(files.end(), found.begin(), found.end());
+    } else if (fs::exists(input, error)) {
+      files.emplace_back(input);
+    } else {
+      std::cerr << "\n*** NOTE: " << input << " does not exist: skipped.\n\n";
+    }
+  }
+  return files;
+}
+
+bool read_listed_mesh(const std::filesystem::path& path, const char* program, pm::Mesh& mesh) {
+  if (pm::Status status = pm::read_mesh(path.string(), mesh); !status) {
+    std::cerr << program << ": " << path.string() << ": " << status.message() << " (skipped)\n";
+    return false;
+  }
+  std::cerr << "[" << program << "] " << path.filename().string() << "\n";
+  return true;
+}
+
+bool parse_targets(const std::string& text, std::vector<double>& targets) {
+  targets.clear();
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) {
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !(value > 0 && value <= 1)) return false;
+    targets.push_back(value);
+  }
+  return !targets.empty();
+}
+
+bool parse_mesh_dir_arguments(int argc, char** argv, const char* program, MeshDirArguments& arguments) {
+  bool ok = argc >= 2 && argv[1][0] != '-';
+  if (ok) arguments.dir = argv[1];
+  for (int i = 2; ok && i < argc; i += 2) {
+    const std::string flag = argv[i];
+    if (i + 1 >= argc) {
+      ok = false;
+    } else if (flag == "--out") {
+      arguments.out_path = argv[i + 1];
+    } else if (flag == "--runs") {
+      char* end = nullptr;
+      const long runs = std::strtol(argv[i + 1], &end, 10);
+      ok = *end == '\0' && runs >= 1 && runs <= 1000;
+      arguments.runs = static_cast<int>(runs);
+    } else {
+      ok = false;
+    }
+  }
+  if (!ok) std::cerr << "usage: " << program << " MESH_DIR [--out FILE] [--runs N (1 to 1000)]\n";
+  return ok;
 }
 
 }  // namespace pm::bench

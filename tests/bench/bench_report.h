@@ -3,7 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <filesystem>
 #include <string>
+#include <vector>
+
+#include "pm/mesh.h"
 
 namespace pm::bench {
 
@@ -23,5 +27,27 @@ std::string command_output(const std::string& command);
 // commit says when lib/ or formats/ have uncommitted changes, since the library measured
 // is then not that commit's.
 std::string run_description(const std::string& source_dir);
+
+// The mesh files among `inputs`: a file as named, a directory's meshes (the formats pm reads)
+// sorted by name. A name that does not exist is noted on standard error and skipped.
+std::vector<std::filesystem::path> mesh_files(const std::vector<std::string>& inputs);
+
+// Reads one of mesh_files()'s meshes for `program`'s table, its name on standard error as
+// progress; false, saying why it is skipped, when it cannot be read.
+bool read_listed_mesh(const std::filesystem::path& path, const char* program, pm::Mesh& mesh);
+
+// "0.5,0.1,0.02": fractions in (0, 1]; false for an empty list or any other item.
+bool parse_targets(const std::string& text, std::vector<double>& targets);
+
+// The command line of the benchmarks that take one folder of meshes:
+//   PROGRAM MESH_DIR [--out FILE] [--runs N]
+struct MeshDirArguments {
+  std::string dir;
+  std::string out_path;  // the caller's default until --out
+  int runs = 5;          // at least 1
+};
+// False, with the usage on standard error, for a missing folder or an unknown or incomplete
+// option (the caller exits with 2).
+bool parse_mesh_dir_arguments(int argc, char** argv, const char* program, MeshDirArguments& arguments);
 
 }  // namespace pm::bench

@@ -88,26 +88,10 @@ std::string ratio(const Tightness& t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::cerr << "usage: pm_bench_bound MESH_DIR [--out FILE] [--runs N]\n";
-    return 2;
-  }
-  const fs::path dir = argv[1];
-  std::string out_path = "bound.md";
-  int runs = 5;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i];
-    if (flag == "--out")
-      out_path = argv[i + 1];
-    else if (flag == "--runs")
-      runs = std::max(1, std::atoi(argv[i + 1]));
-  }
-  std::vector<fs::path> paths;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string ext = entry.path().extension().string();
-    if (ext == ".obj" || ext == ".off" || ext == ".ply") paths.push_back(entry.path());
-  }
-  std::sort(paths.begin(), paths.end());
+  pm::bench::MeshDirArguments arguments{"", "bound.md", 5};
+  if (!pm::bench::parse_mesh_dir_arguments(argc, argv, "pm_bench_bound", arguments)) return 2;
+  const auto& [dir, out_path, runs] = arguments;
+  const std::vector<fs::path> paths = pm::bench::mesh_files({dir});
 
   std::ostringstream table, speed;
   table << "| mesh | target | default recorded | default exact | default recorded/exact | "
@@ -116,12 +100,8 @@ int main(int argc, char** argv) {
   speed << "| mesh | faces | fast encode ms |\n|---|---:|---:|\n";
   for (const fs::path& path : paths) {
     pm::Mesh original;
-    if (pm::Status s = pm::read_mesh(path.string(), original); !s) {
-      std::cerr << "bound_bench: " << path.string() << ": " << s.message() << " (skipped)\n";
-      continue;
-    }
+    if (!pm::bench::read_listed_mesh(path, "bound_bench", original)) continue;
     const std::string name = path.filename().string();
-    std::cerr << "[bound_bench] " << name << "\n";
     pm::ProgressiveMesh slow, fast;
     if (!encode(original, false, slow, nullptr)) continue;
     std::vector<double> times;

@@ -666,18 +666,6 @@ const char kUsage[] =
     "prints a markdown report (also written to FILE with --out). Progress goes to stderr.\n"
     "--dump writes every LOD to DIRECTORY as OBJ.\n";
 
-bool parse_targets(const std::string& text, std::vector<double>& targets) {
-  targets.clear();
-  std::stringstream list(text);
-  for (std::string item; std::getline(list, item, ',');) {
-    char* end = nullptr;
-    const double value = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !(value > 0 && value <= 1)) return false;
-    targets.push_back(value);
-  }
-  return !targets.empty();
-}
-
 bool parse_arguments(int argc, char** argv, Settings& settings) {
   for (int i = 1; i < argc; ++i) {
     const std::string argument = argv[i];
@@ -686,7 +674,7 @@ bool parse_arguments(int argc, char** argv, Settings& settings) {
       std::cout << kUsage;
       std::exit(0);
     } else if (argument == "--targets" && has_value) {
-      if (!parse_targets(argv[++i], settings.targets)) {
+      if (!pm::bench::parse_targets(argv[++i], settings.targets)) {
         std::cerr << "pm_bench_quality: --targets wants fractions in (0, 1], e.g. 0.5,0.1\n";
         return false;
       }
@@ -711,34 +699,12 @@ bool parse_arguments(int argc, char** argv, Settings& settings) {
   return true;
 }
 
-// Mesh files named on the command line, and those in named directories (sorted by name).
-std::vector<fs::path> mesh_files(const std::vector<std::string>& inputs) {
-  std::vector<fs::path> files;
-  for (const std::string& input : inputs) {
-    std::error_code error;
-    if (fs::is_directory(input, error)) {
-      std::vector<fs::path> found;
-      for (const auto& entry : fs::directory_iterator(input, error))
-        if (entry.is_regular_file() &&
-            pm::mesh_format_from_path(entry.path().string()) != pm::MeshFormat::kUnknown)
-          found.push_back(entry.path());
-      std::sort(found.begin(), found.end());
-      files.insert(files.end(), found.begin(), found.end());
-    } else if (fs::exists(input, error)) {
-      files.emplace_back(input);
-    } else {
-      std::cerr << "\n*** NOTE: " << input << " does not exist: skipped.\n\n";
-    }
-  }
-  return files;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   Settings settings;
   if (!parse_arguments(argc, argv, settings)) return 2;
-  const std::vector<fs::path> files = mesh_files(settings.inputs);
+  const std::vector<fs::path> files = pm::bench::mesh_files(settings.inputs);
   if (files.empty()) {
     std::cerr << "\n*** NOTE: no meshes to benchmark (looked in";
     for (const std::string& input : settings.inputs) std::cerr << " " << input;
