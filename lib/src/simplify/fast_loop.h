@@ -454,6 +454,50 @@ class FastSimplifier {
     return attributes_->collapse_keeps_attributes(star->c);
   }
 
+  // The cost of v's collapse onto its neighbour u (through `edge`, a half-edge on v-u) as
+  // find_best() ranks it: v's planes at u as a mean over their area (u stays where it is;
+  // Garland and Heckbert 1997, §4), plus, with attributes, their error in the same units
+  // (Hoppe 1999, §4), as the default loop: `star` is v's, `wedges` its star_wedges().
+  double cost_of(uint32_t v, uint32_t u, uint32_t edge, Star& star,
+                 const CornerAttributes::StarWedges& wedges) const {
+    const LocalQuadric& q = vertex_[v].quadric;
+    double cost = q.weight > 0 ? q.error_at(point(u) - point(v)) / q.weight : 0.0;
+    if (attributes_) {
+      aim(star, u, edge);
+      cost += attributes_->collapse_cost(star.c, wedges);
+    }
+    return cost;
+  }
+  // v's key for a candidate of this cost, with a guess of its measure (kGuess): most of a
+  // neighbour's collapse leaves the points around v where they were, and a candidate
+  // queued at its quadric alone comes to the top to be sent back by its measure again and
+  // again.
+  float guessed_key(uint32_t v, double cost) const {
+    const double guess = kGuess * points_worst_[v];
+    return static_cast<float>(cost + kWorstCaseWeight * guess * guess);
+  }
+  // Whether v's queued candidate is still its best after a collapse onto its neighbour u
+  // (apply()'s shortcut, whose conditions hold): when v -> u costs more. Then, with
+  // attributes, v is queued again as evaluate() would queue it, its key back to the cost
+  // of its candidate and the guess of its measure.
+  bool keeps_best(Worker& worker, uint32_t v, uint32_t u) {
+    Star star;
+    CornerAttributes::StarWedges wedges;
+    if (!attributes_) return static_cast<float>(cost_of(v, u, kNone, star, wedges)) > best_[v].key;
+    Neighbour ring_v[kMaxValence];
+    bool boundary_v;
+    const int n = ring(v, ring_v, kMaxValence, &boundary_v);
+    const Neighbour* to = std::find_if(ring_v, ring_v + std::max(n, 0),
+                                       [&](const Neighbour& x) { return x.vertex == u; });
+    if (to == ring_v + std::max(n, 0)) return false;
+    make_star(v, ring_v, n, star);
+    attributes_->star_wedges(star.c, wedges);
+    if (!(static_cast<float>(cost_of(v, u, to->edge, star, wedges)) > best_[v].key)) return false;
+    const Best& best = best_[v];
+    worker.queue(v, guessed_key(v, cost_of(v, best.target, best.edge, star, wedges)));
+    return true;
+  }
+
   // Queues v's cheapest collapse in best_[v] and heap_, or takes v out of the heap when it
   // has none. Legality, the dearer test, waits until v comes to the top (apply()) unless
   // `check_legal`: a cheapest option that is legal then is the cheapest legal one, so the
@@ -496,11 +540,8 @@ class FastSimplifier {
       count = static_cast<int>(
           std::remove_if(options, options + n, [](const Option& o) { return !o.special; }) -
           options);
-    // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses
-    // (u stays where it is), v's planes at u as a mean over their area.
-    const LocalQuadric& q = vertex_[v].quadric;
+    // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses.
     const Vec3 pv = point(v);
-    // Plus the attributes' error in the same units (Hoppe 1999, §4), as the default loop.
     Star star;
     CornerAttributes::StarWedges wedges;  // v's, the same for every target
     if (attributes_) {
@@ -508,13 +549,9 @@ class FastSimplifier {
       attributes_->star_wedges(star.c, wedges);
     }
     for (int i = 0; i < count; ++i) {
-      const Vec3 pu = point(ring_v[options[i].index].vertex);
-      options[i].cost = q.weight > 0 ? q.error_at(pu - pv) / q.weight : 0.0;
-      options[i].length = (pu - pv).sqrnorm();
-      if (attributes_) {
-        aim(star, ring_v[options[i].index].vertex, ring_v[options[i].index].edge);
-        options[i].cost += attributes_->collapse_cost(star.c, wedges);
-      }
+      const Neighbour& to = ring_v[options[i].index];
+      options[i].cost = cost_of(v, to.vertex, to.edge, star, wedges);
+      options[i].length = (point(to.vertex) - pv).sqrnorm();
     }
     count = static_cast<int>(std::remove_if(options, options + count,
                                             [](const Option& o) {
@@ -527,25 +564,23 @@ class FastSimplifier {
       if (a.cost != b.cost) return a.cost < b.cost;
       return a.length != b.length ? a.length < b.length : a.index < b.index;
     };
-    auto queue = [&](const Option& o) {
+    auto queue = [&](const Option& o, bool cheapest) {
       if (!owns(worker, ring_v[o.index].vertex)) return false;
       best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
       measured_[v] = kNotMeasured;
       vertex_[v].simple = kind == VertexKind::kSimple;
-      // Queued with a guess of its measure (kGuess): most of a neighbour's collapse leaves
-      // the points around v where they were, and a candidate queued at its quadric alone
-      // comes to the top to be sent back by its measure again and again.
-      const double guess = kGuess * points_worst_[v];
-      worker.queue(v, static_cast<float>(o.cost + kWorstCaseWeight * guess * guess));
+      vertex_[v].cheapest = cheapest;
+      worker.queue(v, guessed_key(v, o.cost));
       return true;
     };
     if (count == 0) return false;
-    if (!check_legal) return queue(*std::min_element(options, options + count, before));
+    if (!check_legal) return queue(*std::min_element(options, options + count, before), true);
     std::sort(options, options + count, before);
     for (int i = 0; i < count; ++i) {
       const Neighbour& to = ring_v[options[i].index];
       if (!owns(worker, to.vertex)) return false;
-      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star)) return queue(options[i]);
+      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star))
+        return queue(options[i], i == 0);
     }
     return false;
   }
@@ -740,19 +775,18 @@ class FastSimplifier {
       const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
       for (int i = 0; i < n_u; ++i) measured_[ring_u[i].vertex] = kNotMeasured;
     }
-    const Vec3 pu = point(u);
     for (int i = 0; i < n; ++i) {
       const uint32_t w = ring_v[i].vertex;
       if (w == u) continue;
-      // A simple vertex of v's ring other than vl and vr stays simple (no feature edges
-      // here: only the angle could make one) and only traded its option w -> v for w -> u;
-      // the others cost what they did. Unless it was queued towards v, or w -> u is no
-      // dearer, its queued candidate is still its best.
-      if (!features_ && vertex_[w].simple && worker.queued(w) && best_[w].target != v && w != vl &&
-          w != vr) {
-        const LocalQuadric& qw = vertex_[w].quadric;
-        const double cost = qw.weight > 0 ? qw.error_at(pu - point(w)) / qw.weight : 0.0;
-        if (static_cast<float>(cost) > best_[w].key) {
+      // A simple vertex of v's ring other than vl and vr stays simple (only the angle could
+      // make a feature edge here: seams and material borders slide with the collapse, w's
+      // edge to v becoming its edge to u on the same side of them) and only traded its
+      // option w -> v for w -> u; the others cost what they did, attributes too (its wedges
+      // and the corners its options read did not change). Unless it was queued towards v,
+      // or w -> u is no dearer, its queued candidate is still its best.
+      if (!angle_features_ && vertex_[w].simple && (!attributes_ || vertex_[w].cheapest) &&
+          worker.queued(w) && best_[w].target != v && w != vl && w != vr) {
+        if (keeps_best(worker, w, u)) {
           measured_[w] = kNotMeasured;  // points may have moved onto its faces at u
           continue;
         }
@@ -862,6 +896,7 @@ class FastSimplifier {
     uint8_t pinned = 0;        // never removed
     uint8_t input_corner = 0;  // classified a corner on the input
     uint8_t simple = 0;        // of kind kSimple when last evaluated (apply()'s shortcut)
+    uint8_t cheapest = 0;      // its queued option was its cheapest then, legal or not
   };
   static_assert(sizeof(VertexRecord) == 64);
   // Half-edge h = 3f + k of face f: the vertex it leaves and its twin (kNone on a boundary).
