@@ -76,9 +76,13 @@ bool parse_index(const char*& p, std::size_t vertex_count, uint32_t& out) {
   return true;
 }
 
-// The first pass of both readers: `v`, `vt` and `vn` lines into counts[0..2], and the
-// triangles the `f` lines make (a polygon of n corners: n - 2); then back to the start.
-void count_obj_lines(FILE* file, std::size_t counts[3], std::size_t& triangles) {
+// The first pass of both readers: opens path, counts its `v`, `vt` and `vn` lines into
+// counts[0..2] and the triangles its `f` lines make (a polygon of n corners: n - 2), and
+// returns the file back at its start.
+FILE* open_counted_obj(const std::string& path, std::size_t counts[3], std::size_t& triangles) {
+  FILE* file = std::fopen(path.c_str(), "r");
+  if (!file) die("cannot open " + path);
+  counts[0] = counts[1] = counts[2] = triangles = 0;
   char line[4096];
   while (std::fgets(line, sizeof line, file)) {
     if (line[0] == 'v' && line[1] == ' ') ++counts[0];
@@ -96,14 +100,13 @@ void count_obj_lines(FILE* file, std::size_t counts[3], std::size_t& triangles) 
     }
   }
   std::rewind(file);
+  return file;
 }
 
 ObjMesh read_obj_minimal(const std::string& path) {
-  FILE* file = std::fopen(path.c_str(), "r");
-  if (!file) die("cannot open " + path);
+  std::size_t counts[3], triangles;
+  FILE* file = open_counted_obj(path, counts, triangles);
   char line[4096];
-  std::size_t counts[3] = {0, 0, 0}, triangles = 0;
-  count_obj_lines(file, counts, triangles);
   const std::size_t vertices = counts[0];
   ObjMesh mesh;
   mesh.positions.reserve(3 * vertices);
@@ -164,11 +167,9 @@ bool parse_corner(const char*& p, const std::size_t counts[3], Corner& out) {
 }
 
 SplitMesh read_obj_split(const std::string& path) {
-  FILE* file = std::fopen(path.c_str(), "r");
-  if (!file) die("cannot open " + path);
+  std::size_t counts[3], triangles;
+  FILE* file = open_counted_obj(path, counts, triangles);
   char line[4096];
-  std::size_t counts[3] = {0, 0, 0}, triangles = 0;
-  count_obj_lines(file, counts, triangles);
   // The triple's key holds 21 bits of each index.
   for (std::size_t count : counts)
     if (count >= (std::size_t(1) << 21)) die("more than 2^21 - 1 v, vt or vn lines");
