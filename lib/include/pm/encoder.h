@@ -57,8 +57,9 @@ struct EncodeOptions {
   // removed input vertices; the faces that change are measured against those they
   // replace, not against the input). Many times faster (tests/bench/fast.md, scale.md);
   // the levels keep the same topology rules and about the default loop's distance to the
-  // input (tests/bench/fast.md), but their recorded errors are estimates (the quadric's
-  // and the kept points' distance), not measured bounds. Texture coordinates, normals,
+  // input (tests/bench/fast.md). Their recorded errors are bounds of every input vertex's
+  // distance to the level, as the default loop's (the kept points measured, a slack for
+  // those dropped: tests/bench/bound.md), though looser. Texture coordinates, normals,
   // colours and materials are kept as the default loop keeps them (the same code). With the
   // Schroeder metric the default loop runs instead (EncodeStats::fast tells which ran).
   bool fast = false;
