@@ -1,0 +1,358 @@
+// Geometric quality with attributes kept (issue 25's "Quality with attributes kept" line):
+// how far each simplifier's LOD of a textured mesh lies from the original surface when its
+// texture coordinates, normals and materials are kept, against meshopt_simplify on the
+// seam-split vertex buffer, and what the seams cost (the same loop without attributes).
+//
+// For each mesh and each target fraction of its faces, one LOD per method:
+//   pmenc --fast                    pm::encode, EncodeOptions::fast, every attribute kept
+//   pmenc --fast --drop-attributes  the same loop on the geometry alone (the seams' cost)
+//   pmenc                           the default loop, attributes kept (for reference; skipped
+//                                   on meshes above --default-max-faces)
+//   meshopt_simplify (seam-split)   meshoptimizer 0.18 on the buffer a glTF exporter writes
+//                                   (meshopt_seams.h), options 0, no error limit
+// pmenc's LOD is the finest level with at most the target's faces (pm::extract_level).
+// Every LOD is measured by pm::measure_surface_distance (Metro-style, both ways, as in
+// quality.md); the table gives Hausdorff and RMS in percent of the original's diagonal and
+// their ratio to meshopt's at the same target. run_attr_quality.sh, attr_quality.md.
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_report.h"
+#include "meshopt_seams.h"
+#include "pm/encoder.h"
+#include "pm/lod.h"
+#include "pm/mesh.h"
+#include "pm/mesh_io.h"
+#include "pm/surface_distance.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using pm::bench::significant;
+using pm::bench::with_thousands;
+using Clock = std::chrono::steady_clock;
+
+enum class Method { kFast, kFastDropped, kDefault, kMeshopt };
+constexpr Method kMethods[] = {Method::kFast, Method::kFastDropped, Method::kDefault,
+                               Method::kMeshopt};
+constexpr std::size_t kMethodCount = sizeof kMethods / sizeof kMethods[0];
+constexpr std::size_t kMeshoptIndex = 3;
+
+const char* method_name(Method method) {
+  switch (method) {
+    case Method::kFast: return "pmenc --fast, attributes kept";
+    case Method::kFastDropped: return "pmenc --fast --drop-attributes";
+    case Method::kDefault: return "pmenc (default loop), attributes kept";
+    case Method::kMeshopt: return "meshopt_simplify (seam-split)";
+  }
+  return "";
+}
+
+struct Settings {
+  std::vector<std::string> inputs;
+  std::vector<double> targets = {0.5, 0.1, 0.02};
+  std::string out_path;
+  // The default loop takes minutes on the ~1M-face mesh: above this, its rows are skipped.
+  std::size_t default_max_faces = 200000;
+};
+
+struct Outcome {
+  bool available = false;
+  std::string note;  // why not available
+  std::size_t faces = 0;
+  double hausdorff_percent = 0, rms_percent = 0;
+};
+
+struct TargetRow {
+  double fraction = 0;
+  std::size_t target_faces = 0;
+  Outcome outcomes[kMethodCount];  // kMethods order
+};
+
+struct MeshReport {
+  std::string name;
+  std::size_t faces = 0, vertices = 0, uvs = 0, normals = 0, materials = 0;
+  double encode_seconds[kMethodCount] = {};  // one pm::encode for every LOD; meshopt: all targets
+  std::vector<TargetRow> rows;
+};
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::size_t level_at_most_faces(const pm::ProgressiveMesh& progressive, std::size_t n) {
+  std::size_t level = pm::level_for_faces(progressive, n);
+  if (level > 0 && pm::faces_at_level(progressive, level) > n) --level;
+  return level;
+}
+
+Outcome measure(const pm::Mesh& original, const pm::Mesh& lod) {
+  Outcome outcome;
+  outcome.faces = lod.face_count();
+  pm::SurfaceDistance distance;
+  if (pm::Status s = pm::measure_surface_distance(original, lod, pm::DistanceOptions{}, distance);
+      !s) {
+    outcome.note = "distance: " + s.message();
+    return outcome;
+  }
+  outcome.hausdorff_percent = 100 * distance.hausdorff / distance.diagonal;
+  outcome.rms_percent = 100 * distance.rms / distance.diagonal;
+  outcome.available = true;
+  return outcome;
+}
+
+bool run_mesh(const fs::path& path, const Settings& settings, MeshReport& report) {
+  pm::Mesh original;
+  if (!pm::bench::read_listed_mesh(path, "pm_bench_attr_quality", original)) return false;
+  report.name = path.filename().string();
+  report.faces = original.face_count();
+  report.vertices = original.vertex_count();
+  report.uvs = original.uv_count();
+  report.normals = original.normal_count();
+  report.materials = original.material_names.size();
+  for (double fraction : settings.targets) {
+    TargetRow row;
+    row.fraction = fraction;
+    row.target_faces =
+        std::max<std::size_t>(1, std::size_t(std::llround(fraction * double(report.faces))));
+    report.rows.push_back(row);
+  }
+  for (std::size_t m = 0; m < kMethodCount; ++m) {
+    const Method method = kMethods[m];
+    if (method == Method::kMeshopt) {
+      for (TargetRow& row : report.rows) {
+        pm::bench::MeshoptLod meshopt = pm::bench::meshopt_seam_split_lod(original, row.target_faces);
+        report.encode_seconds[m] += meshopt.milliseconds / 1000;
+        row.outcomes[m] = measure(original, meshopt.lod);
+      }
+      continue;
+    }
+    if (method == Method::kDefault && report.faces > settings.default_max_faces) {
+      for (TargetRow& row : report.rows)
+        row.outcomes[m].note = "skipped: above " + with_thousands(settings.default_max_faces) +
+                               " faces (minutes)";
+      continue;
+    }
+    pm::EncodeOptions options;
+    options.fast = method != Method::kDefault;
+    options.drop_attributes = method == Method::kFastDropped;
+    pm::ProgressiveMesh progressive;
+    const auto start = Clock::now();
+    if (pm::Status s = pm::encode(original, options, progressive); !s) {
+      std::cerr << "pm_bench_attr_quality: " << report.name << ": " << method_name(method)
+                << ": encode failed: " << s.message() << "\n";
+      return false;
+    }
+    report.encode_seconds[m] = seconds_since(start);
+    for (TargetRow& row : report.rows) {
+      const pm::Mesh lod =
+          pm::extract_level(progressive, level_at_most_faces(progressive, row.target_faces));
+      row.outcomes[m] = measure(original, lod);
+    }
+  }
+  for (const TargetRow& row : report.rows)
+    for (std::size_t m = 0; m < kMethodCount; ++m) {
+      const Outcome& o = row.outcomes[m];
+      std::cerr << "[attr]   " << report.name << " " << row.target_faces
+                << " faces: " << method_name(kMethods[m]) << " -> " << o.faces << " faces, H "
+                << o.hausdorff_percent << "% RMS " << o.rms_percent << "%"
+                << (o.note.empty() ? "" : " (" + o.note + ")") << "\n";
+    }
+  return true;
+}
+
+// "0.93×", bold when above 1 (worse than meshopt).
+std::string ratio_cell(double ours, double peer) {
+  if (!(peer > 0)) return "n/a";
+  const double ratio = ours / peer;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f×", ratio);
+  return ratio > 1 ? "**" + std::string(text) + "**" : std::string(text);
+}
+
+std::string render(const std::vector<MeshReport>& reports, const Settings& settings,
+                   const std::string& load_at_start, double total_seconds) {
+  std::ostringstream md;
+  md << "# Geometric error with attributes kept\n\n"
+     << "Issue 25's \"Quality with attributes kept\" line. Generated by `bash "
+        "tests/bench/run_attr_quality.sh`; see tests/bench/README.md, \"Geometric error with "
+        "attributes kept\".\n\n"
+     << pm::bench::run_description(PM_BENCH_SOURCE_DIR)
+     << "- load average (1, 5, 15 min) at the start: " << load_at_start
+     << ", at the end: " << pm::bench::command_output("cut -d' ' -f1-3 /proc/loadavg")
+     << " (a shared machine); the whole run took " << std::lround(total_seconds) << " s\n"
+     << "- peer: meshoptimizer " << MESHOPTIMIZER_VERSION / 1000 << "."
+     << MESHOPTIMIZER_VERSION % 1000 / 10
+     << ", `meshopt_simplify` on the seam-split vertex buffer (one vertex per position, UV and "
+        "normal, as a glTF exporter writes it), one primitive, options 0, no error limit\n\n"
+     << "Rows: **pmenc --fast** keeps texture coordinates, normals and materials "
+        "(`EncodeOptions::fast`); **--drop-attributes** is the same loop on the geometry alone, "
+        "so the difference between the two is what the seams cost; the **default loop** with "
+        "attributes is for reference";
+  if (settings.default_max_faces < SIZE_MAX)
+    md << " (skipped on meshes above " << with_thousands(settings.default_max_faces)
+       << " faces, where it takes minutes)";
+  md << ". pmenc's LOD is the finest level with at most the target's faces. **Hausdorff %, RMS "
+        "%**: `pm::measure_surface_distance` (Metro-style, 10 samples per face and every vertex, "
+        "both ways, as in quality.md), in percent of the original's bounding-box diagonal. **/ "
+        "meshopt**: the ratio to meshopt's at the same target, in bold when above 1.\n\n";
+  for (const MeshReport& report : reports) {
+    md << "## " << report.name << "\n\n"
+       << with_thousands(report.faces) << " faces, " << with_thousands(report.vertices)
+       << " vertices, " << with_thousands(report.uvs) << " texture coordinates, "
+       << with_thousands(report.normals) << " normals, " << report.materials
+       << " materials. Time for every LOD (s):";
+    for (std::size_t m = 0; m < kMethodCount; ++m) {
+      if (report.encode_seconds[m] <= 0) continue;
+      char text[32];
+      std::snprintf(text, sizeof text, "%.2f", report.encode_seconds[m]);
+      md << (m ? ", " : " ") << method_name(kMethods[m]) << " " << text;
+    }
+    md << " (meshopt: its calls for the " << report.rows.size() << " targets).\n\n"
+       << "| target faces | method | faces reached | Hausdorff % | RMS % | Hausdorff / meshopt "
+          "| RMS / meshopt |\n"
+       << "|---:|---|---:|---:|---:|---:|---:|\n";
+    for (const TargetRow& row : report.rows) {
+      const Outcome& peer = row.outcomes[kMeshoptIndex];
+      for (std::size_t m = 0; m < kMethodCount; ++m) {
+        const Outcome& o = row.outcomes[m];
+        md << "| " << with_thousands(row.target_faces) << " (" << significant(100 * row.fraction)
+           << "%) | " << method_name(kMethods[m]) << " | ";
+        if (!o.available) {
+          md << o.note << " | | | | |\n";
+          continue;
+        }
+        md << with_thousands(o.faces) << " | " << significant(o.hausdorff_percent) << " | "
+           << significant(o.rms_percent) << " | ";
+        if (m == kMeshoptIndex || !peer.available)
+          md << "1 | 1 |\n";
+        else
+          md << ratio_cell(o.hausdorff_percent, peer.hausdorff_percent) << " | "
+             << ratio_cell(o.rms_percent, peer.rms_percent) << " |\n";
+      }
+    }
+    md << "\n";
+  }
+  md << "## Summary\n\n"
+     << "pmenc --fast against meshopt_simplify on the seam-split buffer, \"Hausdorff ratio, RMS "
+        "ratio\"; the acceptance wants both at most 1 with attributes kept. Without attributes: "
+        "the same loop with --drop-attributes (against the same meshopt LOD).\n\n"
+     << "| mesh | target faces | attributes kept | holds | without attributes |\n"
+     << "|---|---:|---|---|---|\n";
+  int held = 0, counted = 0;
+  for (const MeshReport& report : reports)
+    for (const TargetRow& row : report.rows) {
+      const Outcome& peer = row.outcomes[kMeshoptIndex];
+      const Outcome& kept = row.outcomes[0];
+      const Outcome& dropped = row.outcomes[1];
+      md << "| " << report.name << " | " << with_thousands(row.target_faces) << " ("
+         << significant(100 * row.fraction) << "%) | ";
+      if (!peer.available || !kept.available) {
+        md << "n/a | n/a | |\n";
+        continue;
+      }
+      const bool holds = kept.hausdorff_percent <= peer.hausdorff_percent &&
+                         kept.rms_percent <= peer.rms_percent;
+      ++counted;
+      held += holds;
+      md << ratio_cell(kept.hausdorff_percent, peer.hausdorff_percent) << ", "
+         << ratio_cell(kept.rms_percent, peer.rms_percent) << " | " << (holds ? "yes" : "**no**")
+         << " | ";
+      if (dropped.available)
+        md << ratio_cell(dropped.hausdorff_percent, peer.hausdorff_percent) << ", "
+           << ratio_cell(dropped.rms_percent, peer.rms_percent);
+      md << " |\n";
+    }
+  md << "\n**" << held << " of " << counted << " hold.**\n";
+  return md.str();
+}
+
+const char kUsage[] =
+    "usage: pm_bench_attr_quality MESH... [--targets 0.5,0.1,0.02] [--out FILE]\n"
+    "                             [--default-max-faces N]\n"
+    "Simplifies each mesh to each target fraction of its faces with pmenc --fast (attributes\n"
+    "kept, and dropped), the default loop (meshes up to N faces, default 200,000) and\n"
+    "meshopt_simplify on the seam-split vertex buffer, measures each LOD's geometric distance\n"
+    "to the original both ways, and prints a markdown report (also to FILE with --out).\n"
+    "Progress: stderr.\n";
+
+bool parse_arguments(int argc, char** argv, Settings& settings) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string argument = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (argument == "--help" || argument == "-h") {
+      std::cout << kUsage;
+      std::exit(0);
+    } else if (argument == "--targets" && has_value) {
+      if (!pm::bench::parse_targets(argv[++i], settings.targets)) {
+        std::cerr << "pm_bench_attr_quality: --targets wants fractions in (0, 1], e.g. 0.5,0.1\n";
+        return false;
+      }
+    } else if (argument == "--out" && has_value) {
+      settings.out_path = argv[++i];
+    } else if (argument == "--default-max-faces" && has_value) {
+      char* end = nullptr;
+      const char* text = argv[++i];
+      const unsigned long long n = std::strtoull(text, &end, 10);
+      if (*text == '\0' || *end != '\0' || *text == '-') {
+        std::cerr << "pm_bench_attr_quality: --default-max-faces wants a face count\n";
+        return false;
+      }
+      settings.default_max_faces = std::size_t(n);
+    } else if (!argument.empty() && argument[0] == '-') {
+      std::cerr << "pm_bench_attr_quality: unknown or incomplete option " << argument << "\n"
+                << kUsage;
+      return false;
+    } else {
+      settings.inputs.push_back(argument);
+    }
+  }
+  if (settings.inputs.empty()) {
+    std::cerr << kUsage;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Settings settings;
+  if (!parse_arguments(argc, argv, settings)) return 2;
+  const auto start = Clock::now();
+  const std::string load_at_start = pm::bench::command_output("cut -d' ' -f1-3 /proc/loadavg");
+  std::vector<MeshReport> reports;
+  bool failed = false;
+  for (const fs::path& file : pm::bench::mesh_files(settings.inputs)) {
+    MeshReport report;
+    if (run_mesh(file, settings, report))
+      reports.push_back(std::move(report));
+    else
+      failed = true;
+  }
+  if (reports.empty()) {
+    std::cerr << "pm_bench_attr_quality: no mesh measured\n";
+    return 3;
+  }
+  const std::string markdown = render(reports, settings, load_at_start, seconds_since(start));
+  std::cout << markdown;
+  if (!settings.out_path.empty()) {
+    std::ofstream out(settings.out_path, std::ios::binary);
+    out << markdown;
+    if (!out) {
+      std::cerr << "pm_bench_attr_quality: cannot write " << settings.out_path << "\n";
+      return 5;
+    }
+  }
+  return failed ? 1 : 0;
+}
