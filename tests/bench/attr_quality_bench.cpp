@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -33,7 +34,6 @@
 #include "pm/lod.h"
 #include "pm/mesh.h"
 #include "pm/mesh_io.h"
-#include "pm/surface_distance.h"
 
 namespace {
 
@@ -90,24 +90,11 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::size_t level_at_most_faces(const pm::ProgressiveMesh& progressive, std::size_t n) {
-  std::size_t level = pm::level_for_faces(progressive, n);
-  if (level > 0 && pm::faces_at_level(progressive, level) > n) --level;
-  return level;
-}
-
 Outcome measure(const pm::Mesh& original, const pm::Mesh& lod) {
   Outcome outcome;
   outcome.faces = lod.face_count();
-  pm::SurfaceDistance distance;
-  if (pm::Status s = pm::measure_surface_distance(original, lod, pm::DistanceOptions{}, distance);
-      !s) {
-    outcome.note = "distance: " + s.message();
-    return outcome;
-  }
-  outcome.hausdorff_percent = 100 * distance.hausdorff / distance.diagonal;
-  outcome.rms_percent = 100 * distance.rms / distance.diagonal;
-  outcome.available = true;
+  outcome.available = pm::bench::distance_percent(original, lod, outcome.hausdorff_percent,
+                                                  outcome.rms_percent, outcome.note);
   return outcome;
 }
 
@@ -156,7 +143,7 @@ bool run_mesh(const fs::path& path, const Settings& settings, MeshReport& report
     report.encode_seconds[m] = seconds_since(start);
     for (TargetRow& row : report.rows) {
       const pm::Mesh lod =
-          pm::extract_level(progressive, level_at_most_faces(progressive, row.target_faces));
+          pm::extract_level(progressive, pm::bench::level_at_most_faces(progressive, row.target_faces));
       row.outcomes[m] = measure(original, lod);
     }
   }
@@ -286,42 +273,40 @@ const char kUsage[] =
     "to the original both ways, and prints a markdown report (also to FILE with --out).\n"
     "Progress: stderr.\n";
 
+// Every option takes a value; anything else is a mesh.
 bool parse_arguments(int argc, char** argv, Settings& settings) {
   for (int i = 1; i < argc; ++i) {
-    const std::string argument = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (argument == "--help" || argument == "-h") {
+    const std::string name = argv[i];
+    if (name == "--help" || name == "-h") {
       std::cout << kUsage;
       std::exit(0);
-    } else if (argument == "--targets" && has_value) {
-      if (!pm::bench::parse_targets(argv[++i], settings.targets)) {
-        std::cerr << "pm_bench_attr_quality: --targets wants fractions in (0, 1], e.g. 0.5,0.1\n";
-        return false;
-      }
-    } else if (argument == "--out" && has_value) {
-      settings.out_path = argv[++i];
-    } else if (argument == "--default-max-faces" && has_value) {
+    }
+    if (name.rfind("-", 0) != 0) {
+      settings.inputs.push_back(name);
+      continue;
+    }
+    const char* value = i + 1 < argc ? argv[++i] : nullptr;
+    bool understood = value != nullptr;
+    if (!understood) {
+    } else if (name == "--targets") {
+      understood = pm::bench::parse_targets(value, settings.targets);
+    } else if (name == "--out") {
+      settings.out_path = value;
+    } else if (name == "--default-max-faces") {
       char* end = nullptr;
-      const char* text = argv[++i];
-      const unsigned long long n = std::strtoull(text, &end, 10);
-      if (*text == '\0' || *end != '\0' || *text == '-') {
-        std::cerr << "pm_bench_attr_quality: --default-max-faces wants a face count\n";
-        return false;
-      }
-      settings.default_max_faces = std::size_t(n);
-    } else if (!argument.empty() && argument[0] == '-') {
-      std::cerr << "pm_bench_attr_quality: unknown or incomplete option " << argument << "\n"
-                << kUsage;
-      return false;
+      settings.default_max_faces = std::strtoull(value, &end, 10);
+      understood = std::isdigit(static_cast<unsigned char>(*value)) && *end == '\0';
     } else {
-      settings.inputs.push_back(argument);
+      understood = false;
+    }
+    if (!understood) {
+      std::cerr << "pm_bench_attr_quality: unknown option, or a missing or bad value: " << name
+                << "\n" << kUsage;
+      return false;
     }
   }
-  if (settings.inputs.empty()) {
-    std::cerr << kUsage;
-    return false;
-  }
-  return true;
+  if (settings.inputs.empty()) std::cerr << kUsage;
+  return !settings.inputs.empty();
 }
 
 }  // namespace

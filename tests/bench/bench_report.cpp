@@ -14,7 +14,9 @@
 #include <sstream>
 #include <thread>
 
+#include "pm/lod.h"
 #include "pm/mesh_io.h"
+#include "pm/surface_distance.h"
 
 namespace pm::bench {
 
@@ -118,6 +120,25 @@ bool read_listed_mesh(const std::filesystem::path& path, const char* program, pm
     return false;
   }
   std::cerr << "[" << program << "] " << path.filename().string() << "\n";
+  return true;
+}
+
+std::size_t level_at_most_faces(const pm::ProgressiveMesh& progressive, std::size_t n) {
+  std::size_t level = pm::level_for_faces(progressive, n);
+  if (level > 0 && pm::faces_at_level(progressive, level) > n) --level;
+  return level;
+}
+
+bool distance_percent(const pm::Mesh& original, const pm::Mesh& lod, double& hausdorff_percent,
+                      double& rms_percent, std::string& note) {
+  pm::SurfaceDistance distance;
+  if (pm::Status s = pm::measure_surface_distance(original, lod, pm::DistanceOptions{}, distance);
+      !s) {
+    note = "distance: " + s.message();
+    return false;
+  }
+  hausdorff_percent = 100 * distance.hausdorff / distance.diagonal;
+  rms_percent = 100 * distance.rms / distance.diagonal;
   return true;
 }
 

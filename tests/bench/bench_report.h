@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pm/mesh.h"
+#include "pm/progressive_mesh.h"
 
 namespace pm::bench {
 
@@ -35,6 +36,17 @@ std::vector<std::filesystem::path> mesh_files(const std::vector<std::string>& in
 // Reads one of mesh_files()'s meshes for `program`'s table, its name on standard error as
 // progress; false, saying why it is skipped, when it cannot be read.
 bool read_listed_mesh(const std::filesystem::path& path, const char* program, pm::Mesh& mesh);
+
+// The finest level with at most n faces. pm::level_for_faces gives the coarsest with at
+// least n; a split adds one or two faces, so that level may be one face over, and the level
+// before it is then under.
+std::size_t level_at_most_faces(const pm::ProgressiveMesh& progressive, std::size_t n);
+
+// The geometric distance between `original` and `lod` as quality.md measures it
+// (pm::measure_surface_distance, both ways, default options), in percent of the original's
+// bounding-box diagonal; false, with the reason in `note`, when it cannot be measured.
+bool distance_percent(const pm::Mesh& original, const pm::Mesh& lod, double& hausdorff_percent,
+                      double& rms_percent, std::string& note);
 
 // "0.5,0.1,0.02": fractions in (0, 1]; false for an empty list or any other item.
 bool parse_targets(const std::string& text, std::vector<double>& targets);

@@ -7,6 +7,10 @@
 #                                          not given) and $runs (7 unless given, at least 5)
 #   bench_commit REPO PATHSPEC...          prints HEAD's short hash, "with uncommitted
 #                                          changes" after it when the paths have some
+#   bench_textured_mesh REPO BUILD         makes BUILD/tests/bench/textured/textured-loop4.obj
+#                                          (samples/textured.obj after 4 Loop steps keeping its
+#                                          attributes) unless it is newer than both its sources;
+#                                          prints its path
 #   bench_need_meshes MESHES REPORT        exits (0) with a note when the folder MESHES is
 #                                          missing, leaving REPORT as it was
 
@@ -65,4 +69,17 @@ bench_need_meshes() {
   echo "*** Put the test meshes there (see its README.md) and run this again." >&2
   echo "*** $2 was left as it was." >&2
   exit 0
+}
+
+bench_textured_mesh() {
+  local repo=$1 build=$2
+  local bench="$build/tests/bench" source_obj="$repo/samples/textured.obj"
+  local obj="$bench/textured/textured-loop4.obj"
+  mkdir -p "$bench/textured"
+  if [[ ! -s "$obj" || "$source_obj" -nt "$obj" || "$bench/pm_make_big_mesh" -nt "$obj" ]]; then
+    echo "making textured-loop4.obj (samples/textured.obj after 4 Loop steps)" >&2
+    "$bench/pm_make_big_mesh" "$source_obj" 4 "$obj" --keep-attributes -q
+    cp "$repo/samples/textured.mtl" "$bench/textured/"
+  fi
+  echo "$obj"
 }

@@ -29,20 +29,11 @@ bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pm_bench_attr_quality pm_make_big_mesh
 
 bench="$build/tests/bench"
-work="$bench/textured"
-mkdir -p "$work"
-big="$work/textured-loop4.obj"
-source_obj="$repo/samples/textured.obj"
-# The same file as run_textured.sh's, remade when the sample or the generator is newer.
-if [[ ! -s "$big" || "$source_obj" -nt "$big" || "$bench/pm_make_big_mesh" -nt "$big" ]]; then
-  echo "run_attr_quality.sh: making textured-loop4.obj (samples/textured.obj after 4 Loop steps)" >&2
-  "$bench/pm_make_big_mesh" "$source_obj" 4 "$big" --keep-attributes -q
-  cp "$repo/samples/textured.mtl" "$work/"
-fi
+big="$(bench_textured_mesh "$repo" "$build")"
 
 # Written to a temporary file first, so a failed run leaves the committed table in place.
 trap 'rm -f "$report.tmp"' EXIT
-"$bench/pm_bench_attr_quality" "$meshes/spot.obj" "$source_obj" "$big" \
+"$bench/pm_bench_attr_quality" "$meshes/spot.obj" "$repo/samples/textured.obj" "$big" \
   --out "$report.tmp" "$@" >/dev/null
 mv "$report.tmp" "$report"
 cat "$report"

@@ -55,14 +55,7 @@ mkdir -p "$work"
 trap 'rm -f "$report.tmp"' EXIT
 
 name=textured-loop4
-obj="$work/$name.obj"
-source_obj="$repo/samples/textured.obj"
-# Remade when the sample or the generator is newer than the mesh.
-if [[ ! -s "$obj" || "$source_obj" -nt "$obj" || "$bench/pm_make_big_mesh" -nt "$obj" ]]; then
-  echo "run_textured.sh: making $name.obj (samples/textured.obj after 4 Loop steps)" >&2
-  "$bench/pm_make_big_mesh" "$source_obj" 4 "$obj" --keep-attributes -q
-  cp "$repo/samples/textured.mtl" "$work/"
-fi
+obj="$(bench_textured_mesh "$repo" "$build")"
 
 # measure LABEL CMD...: CMD under /usr/bin/time, "wall_seconds peak_kib" appended to
 # $work/LABEL.runs; a failed command stops the script (a table with a failed run is wrong).

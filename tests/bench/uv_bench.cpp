@@ -119,12 +119,6 @@ std::size_t seam_vertex_count(const pm::Mesh& mesh) {
 
 // --- One mesh ---
 
-std::size_t level_at_most_faces(const pm::ProgressiveMesh& progressive, std::size_t n) {
-  std::size_t level = pm::level_for_faces(progressive, n);
-  if (level > 0 && pm::faces_at_level(progressive, level) > n) --level;
-  return level;
-}
-
 // "010" for 10%, "002" for 2%, "0.5" for 0.5%: the file names of --dump and the images.
 std::string percent_tag(double fraction) {
   const double percent = 100 * fraction;
@@ -147,15 +141,8 @@ Outcome measure(const pm::Mesh& original, const pm::Mesh& lod, std::size_t targe
     return outcome;
   }
   outcome.chart_crossing_faces = chart_crossing_faces(lod, charts);
-  pm::SurfaceDistance distance;
-  if (pm::Status s = pm::measure_surface_distance(original, lod, pm::DistanceOptions{}, distance);
-      !s) {
-    outcome.note = "distance: " + s.message();
-    return outcome;
-  }
-  outcome.hausdorff_percent = 100 * distance.hausdorff / distance.diagonal;
-  outcome.rms_percent = 100 * distance.rms / distance.diagonal;
-  outcome.available = true;
+  outcome.available = pm::bench::distance_percent(original, lod, outcome.hausdorff_percent,
+                                                  outcome.rms_percent, outcome.note);
   return outcome;
 }
 
@@ -215,7 +202,7 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
       pm::Mesh lod;
       double milliseconds = 0;
       if (method == Method::kPmenc) {
-        lod = pm::extract_level(progressive, level_at_most_faces(progressive, row.target_faces));
+        lod = pm::extract_level(progressive, pm::bench::level_at_most_faces(progressive, row.target_faces));
         milliseconds = report.encode_ms;
       } else {
         pm::bench::MeshoptLod meshopt =
