@@ -18,17 +18,24 @@
 
 namespace pm {
 
+// Stored compactly (Hoppe 1999, §4): a face's attribute block, the K x K lower right of
+// its matrix, is area * I (each component's row (g_j, -e_j) contributes 1 on its own
+// diagonal and 0 elsewhere), so a sum of faces has weight * I there, with weight the sum
+// of their areas, added in the same order. Only the geometric 3x3 block, the 3 x K cross
+// block (-area * g_j summed), b, c and the weight are kept: 19 doubles for K = 2 and 23 for
+// K = 3 instead of 22 and 29, and error() does the arithmetic of the full form (the
+// dropped entries are exactly weight on the diagonal and zero off it).
 template <int K>
 struct AttributeQuadric {
   static constexpr int kDim = 3 + K;
-  static constexpr int kPacked = kDim * (kDim + 1) / 2;
-  std::array<double, kPacked> a{};  // upper triangle of A, row by row
+  std::array<double, 6> geometric{};    // upper triangle of the 3x3 block: xx xy xz yy yz zz
+  std::array<double, 3 * K> cross{};    // row r < 3, column 3 + j at cross[K * r + j]
   std::array<double, kDim> b{};
   double c = 0;
-  double weight = 0;  // total area, to turn the error into a mean
+  double weight = 0;  // total area (the attribute block's diagonal); the error's mean
 
-  static constexpr int index(int i, int j) {  // i <= j
-    return i * kDim - i * (i - 1) / 2 + (j - i);
+  static constexpr int geometric_index(int i, int j) {  // i <= j < 3
+    return i * 3 - i * (i - 1) / 2 + (j - i);
   }
 
   // The face (p[0], p[1], p[2]) whose corners carry values[i][0..K), weighted by its area.
@@ -48,22 +55,25 @@ struct AttributeQuadric {
       const double beta = (g11 * d2 - g12 * d1) / det;
       const Vec3 g = alpha * e1 + beta * e2;
       const double d = values[0][j] - (g | p[0]);
-      // (c . x + d)^2 with c = (g, -e_j): A += c c^T, b += d c, const += d^2.
-      double cvec[kDim] = {g[0], g[1], g[2]};
-      for (int k = 0; k < K; ++k) cvec[3 + k] = k == j ? -1.0 : 0.0;
-      for (int r = 0; r < kDim; ++r) {
-        if (cvec[r] == 0) continue;
-        for (int s = r; s < kDim; ++s) q.a[index(r, s)] += area * cvec[r] * cvec[s];
-        q.b[r] += area * d * cvec[r];
+      // (c . x + d)^2 with c = (g, -e_j): A += c c^T, b += d c, const += d^2. The terms
+      // are those of the full (3 + K)-square form, in its order (a zero product added to a
+      // sum leaves it as it was).
+      for (int r = 0; r < 3; ++r) {
+        if (g[r] == 0) continue;
+        for (int s = r; s < 3; ++s) q.geometric[geometric_index(r, s)] += area * g[r] * g[s];
+        for (int k = 0; k < K; ++k) q.cross[K * r + k] += area * g[r] * (k == j ? -1.0 : 0.0);
+        q.b[r] += area * d * g[r];
       }
+      q.b[3 + j] += area * d * -1.0;
       q.c += area * d * d;
     }
-    q.weight = area;
+    q.weight = area;  // area * (-1) * (-1) on each attribute diagonal, exactly
     return q;
   }
 
   AttributeQuadric& operator+=(const AttributeQuadric& o) {
-    for (int i = 0; i < kPacked; ++i) a[i] += o.a[i];
+    for (int i = 0; i < 6; ++i) geometric[i] += o.geometric[i];
+    for (int i = 0; i < 3 * K; ++i) cross[i] += o.cross[i];
     for (int i = 0; i < kDim; ++i) b[i] += o.b[i];
     c += o.c;
     weight += o.weight;
@@ -75,10 +85,15 @@ struct AttributeQuadric {
     double x[kDim] = {p[0], p[1], p[2]};
     for (int k = 0; k < K; ++k) x[3 + k] = s[k];
     double e = c;
-    for (int r = 0; r < kDim; ++r) {
-      double row = a[index(r, r)] * x[r];
-      for (int t = r + 1; t < kDim; ++t) row += 2 * a[index(r, t)] * x[t];
+    for (int r = 0; r < 3; ++r) {
+      double row = geometric[geometric_index(r, r)] * x[r];
+      for (int t = r + 1; t < 3; ++t) row += 2 * geometric[geometric_index(r, t)] * x[t];
+      for (int k = 0; k < K; ++k) row += 2 * cross[K * r + k] * x[3 + k];
       e += x[r] * row + 2 * b[r] * x[r];
+    }
+    for (int k = 0; k < K; ++k) {
+      const double row = weight * x[3 + k];  // the attribute block's row: weight on its diagonal
+      e += x[3 + k] * row + 2 * b[3 + k] * x[3 + k];
     }
     return e > 0 ? e : 0;  // rounding can make a zero error slightly negative
   }
