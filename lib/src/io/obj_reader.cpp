@@ -161,6 +161,7 @@ class ObjParser {
     try {
       mesh_.positions.reserve(3 * std::min(found.vertex_lines + 1, most_lines));
       mesh_.triangles.reserve(3 * std::min(found.face_lines + 1, most_lines));
+      face_capacity_ = mesh_.triangles.capacity();
     } catch (const std::bad_alloc&) {
       mesh_.positions.shrink_to_fit();
     }
@@ -356,6 +357,7 @@ class ObjParser {
     if (!materials_started_) {
       // From the first material on, every face has an entry; those before have none.
       materials_started_ = true;
+      reserve_like_triangles(mesh_.face_materials, 3);
       mesh_.face_materials.assign(mesh_.face_count(), kNoAttribute);
     }
     if (current_material_ != kNoAttribute && mesh_.material_names[current_material_] == name)
@@ -495,10 +497,12 @@ class ObjParser {
     // corners before it have none.
     if (face_has_uv && !uvs_started_) {
       uvs_started_ = true;
+      reserve_like_triangles(mesh_.uv_indices);
       mesh_.uv_indices.assign(mesh_.triangles.size(), kNoAttribute);
     }
     if (face_has_normal && !normals_started_) {
       normals_started_ = true;
+      reserve_like_triangles(mesh_.normal_indices);
       mesh_.normal_indices.assign(mesh_.triangles.size(), kNoAttribute);
     }
     // A fan from the first corner: (c0 c1 c2), (c0 c2 c3), ...
@@ -541,7 +545,21 @@ class ObjParser {
       }
     }
     if (worst != nullptr) return out_of_range(worst->max_index_line, worst->max_index, *worst);
+    // The attribute tables grew by doubling (the prescan counts no "vt" or "vn" lines):
+    // their slack would stay allocated while the mesh is simplified, where memory peaks.
+    mesh_.uvs.shrink_to_fit();
+    mesh_.normals.shrink_to_fit();
     return Status::ok();
+  }
+
+  // A per-corner (or, with per_face 3, per-face) array started late takes the room the
+  // prescan reserved for the triangles, rather than doubling (and keeping up to half of it
+  // unused while the mesh is simplified). Refused memory is no error, as in parse().
+  void reserve_like_triangles(std::vector<uint32_t>& array, std::size_t per_face = 1) {
+    try {
+      array.reserve(face_capacity_ / per_face);
+    } catch (const std::bad_alloc&) {
+    }
   }
 
   std::string_view bytes_;
@@ -552,6 +570,7 @@ class ObjParser {
   IndexSpace vertices_{"face index", "vertices"};
   IndexSpace uvs_{"texture coordinate index", "texture coordinates"};
   IndexSpace normals_{"normal index", "normals"};
+  std::size_t face_capacity_ = 0;  // mesh_.triangles' reservation from the prescan
   bool uvs_started_ = false;      // some face corner had a texture coordinate
   bool normals_started_ = false;  // some face corner had a normal
   bool materials_started_ = false;

@@ -34,6 +34,21 @@ void FastSimplifier::run() {
   // meshes (4.8 on a flat-tessellated sample). Room for four per vertex up front, rather
   // than doubling near the end, where memory peaks.
   out_.moved_faces.reserve(4 * n_vertices);
+  if (attributes_) {
+    // The same for the attribute record: a corner id per moved face, and three per face a
+    // collapse removes (at most two per collapse). Doubling at the end, both the old and the
+    // new arrays would be held while the worker's record is too: 13% of the peak on the
+    // 950,272-face textured mesh.
+    CollapseAttributes& record = out_.attribute_record;
+    if (attributes_->has_uvs()) {
+      record.moved_uvs.reserve(4 * n_vertices);
+      record.new_face_uvs.reserve(6 * n_vertices);
+    }
+    if (attributes_->has_normals()) {
+      record.moved_normals.reserve(4 * n_vertices);
+      record.new_face_normals.reserve(6 * n_vertices);
+    }
+  }
   if (partitioned_) run_rounds();
   // One heap for the rest (or all) of the sequence. As the default loop: a final sweep
   // re-evaluates every vertex, so the loop ends only when no legal collapse remains.
