@@ -36,9 +36,8 @@ void FastSimplifier::run() {
   out_.moved_faces.reserve(4 * n_vertices);
   if (attributes_) {
     // The same for the attribute record: a corner id per moved face, and three per face a
-    // collapse removes (at most two per collapse). Doubling at the end, both the old and the
-    // new arrays would be held while the worker's record is too: 13% of the peak on the
-    // 950,272-face textured mesh.
+    // collapse removes (at most two per collapse). Doubling near the end would hold both the
+    // old and the new arrays beside the worker's record, and keep up to half of them unused.
     CollapseAttributes& record = out_.attribute_record;
     if (attributes_->has_uvs()) {
       record.moved_uvs.reserve(4 * n_vertices);
