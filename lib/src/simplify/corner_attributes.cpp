@@ -238,9 +238,11 @@ bool CornerAttributes::keeps_uv_winding(const CollapseStar& c) const {
 }
 
 bool CornerAttributes::collapse_keeps_attributes(const CollapseStar& c) const {
-  for (int kind = 0; kind < kKinds; ++kind)
-    if (kinds_[kind].present && !kind_allows(kind, c)) return false;
-  if (has_materials() && !kind_allows(kKinds, c)) return false;
+  if (!c.seamless) {  // seamless: no seam edge at v, which every kind_allows()
+    for (int kind = 0; kind < kKinds; ++kind)
+      if (kinds_[kind].present && !kind_allows(kind, c)) return false;
+    if (has_materials() && !kind_allows(kKinds, c)) return false;
+  }
   return !has_uvs() || keeps_uv_winding(c);
 }
 

@@ -47,6 +47,10 @@ struct CollapseStar {
   int n_faces;
   const Edge* edges;  // v's edges, each once
   int n_edges;
+  // The loop knows that none of v's edges is a seam or a material border (it keeps that
+  // per edge): then every kind allows the collapse and collapse_keeps_attributes() asks
+  // only the texture winding. False: the edges are compared.
+  bool seamless = false;
 };
 
 class CornerAttributes {

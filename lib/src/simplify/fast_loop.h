@@ -239,11 +239,14 @@ class FastSimplifier {
   };
   void make_star(uint32_t v, const Neighbour* ring_v, int n_v, Star& star) const {
     int n_faces = 0;
+    bool seamless = true;  // seam_ is current at every edge (update_seams_at())
     for (int i = 0; i < n_v; ++i) {
       const uint32_t e = ring_v[i].edge, t = half_[e].twin;
       if (half_[e].vertex == v) star.faces[n_faces++] = e / 3;
       star.edges[i] = {ring_v[i].vertex, e / 3, t == kNone ? CollapseStar::kNoFace : t / 3};
+      seamless &= t == kNone || !seam_[e];
     }
+    star.c.seamless = seamless;
     star.c.v = v;
     star.c.faces = star.faces;
     star.c.n_faces = n_faces;
