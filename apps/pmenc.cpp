@@ -61,7 +61,7 @@ std::string json_members(const std::string& output, const pm::EncodeStats* stats
   member("base_vertices", stats ? stats->base_vertices : 0);
   member("splits", stats ? stats->collapses : 0);
   member("pm_bytes", pm_bytes);
-  // Which collapse loop ran: --fast falls back to the default one on some meshes.
+  // Which collapse loop ran: the fast one with --fast, or by --fast-from.
   json += std::string(",\"loop\":") + (stats ? (stats->fast ? "\"fast\"" : "\"default\"") : "null");
   return json;
 }
@@ -136,8 +136,6 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     progress.note(input + ": " + std::to_string(stats.input_faces) + " faces, at least --fast-from " +
                   std::to_string(settings.fast_from) +
                   ": the fast loop ran (--fast-from 0 for the default loop and its measured errors)");
-  if (settings.encode.fast && !stats.fast)
-    progress.note(input + ": --fast: the schroeder metric has no fast loop; the default loop ran");
 
   std::string encoded;
   if (pm::Status s = pm::write_pm(progressive, settings.write, encoded); !s) return failed(s);
@@ -198,11 +196,10 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
   app.add_flag("--fast", settings.encode.fast,
-               "Fast collapse loop: quadric metric on flat arrays, with a cheaper measured error "
-               "(many times faster; levels about as close to the input, "
+               "Fast collapse loop: either metric (--metric) on flat arrays, with a cheaper "
+               "measured error (many times faster; levels about as close to the input, "
                "recorded errors bounds, but looser). Keeps texture coordinates, normals, colours and materials "
-               "with their seams as the default loop does; with --metric schroeder, the default "
-               "loop runs");
+               "with their seams as the default loop does");
   app.add_option("--fast-from", settings.fast_from,
                  "Take the fast loop (as --fast) on meshes of at least this many faces, where "
                  "the default loop's measured error takes minutes; 0: only with --fast")

@@ -27,12 +27,12 @@ uint32_t bits(float x) {
   return b;
 }
 
-// The collapse loops: the default one with either metric, and the fast one (quadric),
-// with one heap or in regions on two threads (asked for here; by default on meshes of more
+// The collapse loops: the default one with either metric, and the fast one with either
+// metric, with one heap or in regions on two threads (asked for here; by default on meshes of more
 // than 131072 vertices; the rounds run while more than 1,024 vertices and 2,048 faces are
 // left above the limits, and stop when the cuts hold an eighth of them: on the large grid
 // below, not on spot nor on the small grids). Each keeps the attributes the same way.
-enum class Loop { kSchroeder, kQuadric, kFast, kFastRegions };
+enum class Loop { kSchroeder, kQuadric, kFast, kFastRegions, kFastSchroeder, kFastSchroederRegions };
 
 std::string loop_name(Loop loop) {
   switch (loop) {
@@ -40,16 +40,21 @@ std::string loop_name(Loop loop) {
     case Loop::kQuadric: return "Quadric";
     case Loop::kFast: return "Fast";
     case Loop::kFastRegions: return "FastRegions";
+    case Loop::kFastSchroeder: return "FastSchroeder";
+    case Loop::kFastSchroederRegions: return "FastSchroederRegions";
   }
   return "";
 }
 
 EncodeOptions options_for(Loop loop) {
   EncodeOptions options;
-  options.metric = loop == Loop::kSchroeder ? Metric::kSchroeder : Metric::kQuadric;
-  options.fast = loop == Loop::kFast || loop == Loop::kFastRegions;
-  options.fast_partition_vertices = loop == Loop::kFastRegions ? 1 : 0;
-  options.threads = loop == Loop::kFastRegions ? 2 : 1;
+  const bool regions = loop == Loop::kFastRegions || loop == Loop::kFastSchroederRegions;
+  options.metric = loop == Loop::kSchroeder || loop == Loop::kFastSchroeder || loop == Loop::kFastSchroederRegions
+                       ? Metric::kSchroeder
+                       : Metric::kQuadric;
+  options.fast = loop == Loop::kFast || loop == Loop::kFastSchroeder || regions;
+  options.fast_partition_vertices = regions ? 1 : 0;
+  options.threads = regions ? 2 : 1;
   return options;
 }
 
@@ -280,7 +285,8 @@ TEST_P(AttributesByLoop, DropAttributesKeepsGeometryOnly) {
 
 INSTANTIATE_TEST_SUITE_P(Loops, AttributesByLoop,
                          ::testing::Values(Loop::kSchroeder, Loop::kQuadric, Loop::kFast,
-                                           Loop::kFastRegions),
+                                           Loop::kFastRegions, Loop::kFastSchroeder,
+                                           Loop::kFastSchroederRegions),
                          [](const auto& info) { return loop_name(info.param); });
 
 TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
@@ -500,7 +506,8 @@ TEST_P(SpotByLoop, SeamsOfTheLevelsLieOnTheInputsSeamsAndNoTextureTriangleTurnsO
 
 INSTANTIATE_TEST_SUITE_P(Loops, SpotByLoop,
                          ::testing::Values(Loop::kSchroeder, Loop::kQuadric, Loop::kFast,
-                                           Loop::kFastRegions),
+                                           Loop::kFastRegions, Loop::kFastSchroeder,
+                                           Loop::kFastSchroederRegions),
                          [](const auto& info) { return loop_name(info.param); });
 
 }  // namespace

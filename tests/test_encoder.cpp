@@ -45,9 +45,9 @@ Encoded encode_file(const std::string& path, const EncodeOptions& options = {}) 
 }
 
 // The collapse loops: the default one with either metric, and the fast one
-// (EncodeOptions::fast, quadric only), with one heap or in regions at once (forced here on
-// every mesh; by default on meshes of more than 131072 vertices).
-enum class Loop { kSchroeder, kQuadric, kFast, kFastRegions };
+// (EncodeOptions::fast) with either metric, with one heap or in regions at once (forced
+// here on every mesh; by default on meshes of more than 131072 vertices).
+enum class Loop { kSchroeder, kQuadric, kFast, kFastRegions, kFastSchroeder, kFastSchroederRegions };
 
 // Every acceptance property holds for every loop.
 class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
@@ -56,10 +56,13 @@ class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
   EncodeOptions options() const {
     EncodeOptions o;
     const Loop loop = std::get<1>(GetParam());
-    o.metric = loop == Loop::kSchroeder ? Metric::kSchroeder : Metric::kQuadric;
-    if (loop == Loop::kFast || loop == Loop::kFastRegions) {
+    const bool regions = loop == Loop::kFastRegions || loop == Loop::kFastSchroederRegions;
+    o.metric = loop == Loop::kSchroeder || loop == Loop::kFastSchroeder || loop == Loop::kFastSchroederRegions
+                   ? Metric::kSchroeder
+                   : Metric::kQuadric;
+    if (loop == Loop::kFast || loop == Loop::kFastSchroeder || regions) {
       o.fast = true;
-      o.fast_partition_vertices = loop == Loop::kFastRegions ? 1 : 0;
+      o.fast_partition_vertices = regions ? 1 : 0;
     }
     return o;
   }
@@ -78,10 +81,12 @@ class EveryMesh : public ::testing::TestWithParam<std::tuple<TestMesh, Loop>> {
 
 std::string every_mesh_name(const ::testing::TestParamInfo<std::tuple<TestMesh, Loop>>& info) {
   const Loop loop = std::get<1>(info.param);
-  return std::get<0>(info.param).name + (loop == Loop::kQuadric       ? "_quadric"
-                                         : loop == Loop::kFast        ? "_fast"
-                                         : loop == Loop::kFastRegions ? "_fast_regions"
-                                                                      : "_schroeder");
+  return std::get<0>(info.param).name + (loop == Loop::kQuadric                ? "_quadric"
+                                         : loop == Loop::kFast                 ? "_fast"
+                                         : loop == Loop::kFastRegions          ? "_fast_regions"
+                                         : loop == Loop::kFastSchroeder        ? "_fast_schroeder"
+                                         : loop == Loop::kFastSchroederRegions ? "_fast_schroeder_regions"
+                                                                               : "_schroeder");
 }
 
 TEST_P(EveryMesh, FullDetailIsTheInputExactly) {
@@ -167,7 +172,9 @@ TEST_P(EveryMesh, ErrorBoundsAreNonIncreasingAndSelectLevels) {
 INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh,
                          ::testing::Combine(::testing::ValuesIn(test::all_test_meshes()),
                                             ::testing::Values(Loop::kSchroeder, Loop::kQuadric,
-                                                              Loop::kFast, Loop::kFastRegions)),
+                                                              Loop::kFast, Loop::kFastRegions,
+                                                              Loop::kFastSchroeder,
+                                                              Loop::kFastSchroederRegions)),
                          every_mesh_name);
 
 // The quadric metric, the default, must stay closer to the input than Schroeder's criteria

@@ -211,5 +211,25 @@ TEST(FastLoopRecordedError, BoundsEveryInputVertexOnSharedMeshes) {
   }
 }
 
+// Schroeder's metric orders the collapses differently (fast_schroeder.cpp); the record is
+// the same measure's and must bound every level as well, with sharp features (the grid
+// cube's edges and corners at the 30-degree feature angle) and in regions.
+TEST(FastLoopRecordedError, BoundsEveryInputVertexWithSchroedersMetric) {
+  EncodeOptions options = fast_geometry();
+  options.metric = Metric::kSchroeder;
+  expect_records_bound_vertices(bumpy_grid(24), {}, "bumpy grid 24x24, Schroeder", options);
+  expect_records_bound_vertices(noisy_grid(16, 0.1, 1), {}, "noisy grid 16x16, Schroeder",
+                                options);
+  expect_records_bound_vertices(bumpy_sphere(3), {}, "bumpy sphere, Schroeder", options);
+  options.fast_partition_vertices = 1;
+  options.threads = 2;
+  const Mesh grid = bumpy_grid(260);
+  std::vector<std::size_t> levels;
+  ProgressiveMesh pm;
+  ASSERT_TRUE(encode(grid, options, pm).is_ok());
+  for (std::size_t k = 0; k < 4; ++k) levels.push_back(k * pm.splits.size() / 4);
+  expect_records_bound_vertices(grid, levels, "bumpy grid 260x260 in regions, Schroeder", options);
+}
+
 }  // namespace
 }  // namespace pm

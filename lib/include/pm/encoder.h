@@ -52,16 +52,18 @@ struct EncodeOptions {
   // coarser: fandisk at 259 faces, Hausdorff 0.36% -> 0.60% of the diagonal).
   // pmenc --layer-window, --layered.
   double layer_window = 1.0 / 16;
-  // The fast collapse loop (pmenc --fast): the quadric metric on a flat connectivity, with
+  // The fast collapse loop (pmenc --fast): either metric on a flat connectivity, with
   // a cheaper measured distance than the default loop's (each face keeps its four farthest
   // removed input vertices; the faces that change are measured against those they
   // replace, not against the input). Many times faster (tests/bench/fast.md, scale.md);
   // the levels keep the same topology rules and about the default loop's distance to the
-  // input (tests/bench/fast.md). Their recorded errors are bounds of every input vertex's
-  // distance to the level, as the default loop's (the kept points measured, a slack for
-  // those dropped: tests/bench/bound.md), though looser. Texture coordinates, normals,
-  // colours and materials are kept as the default loop keeps them (the same code). With the
-  // Schroeder metric the default loop runs instead (EncodeStats::fast tells which ran).
+  // input (tests/bench/fast.md, fast_schroeder.md). Their recorded errors are bounds of
+  // every input vertex's distance to the level, as the default loop's (the kept points
+  // measured, a slack for those dropped: tests/bench/bound.md), though looser. Texture
+  // coordinates, normals, colours and materials are kept as the default loop keeps them
+  // (the same code). With the Schroeder metric, its rules as the default loop has them
+  // (classification, errors, edge choice), the measure joining the key as the larger of
+  // the two (EncodeStats::fast tells which loop ran).
   bool fast = false;
   // The fast loop on a mesh of at least this many vertices, without welds or faces carried
   // by the repair: its collapses run in rounds, each in eight regions of the mesh at once

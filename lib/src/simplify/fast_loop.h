@@ -91,6 +91,7 @@ class FastSimplifier {
         cos_max_flip_(std::cos(options.max_normal_flip_deg * M_PI / 180.0)),
         features_(cos_feature_angle_ > -1.0),
         angle_features_(features_),
+        schroeder_(options.metric == Metric::kSchroeder),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -394,51 +395,17 @@ class FastSimplifier {
     return true;
   }
 
-  // As collapse_keeps_welds (collapse_legality.h), on the flat connectivity. Weld groups
-  // hold the given (repaired) ids.
+  // As collapse_keeps_welds (collapse_legality.h), on the flat connectivity; as the default
+  // loop's keeps_carried_edges_apart: a carried face's vertex pair may not become an edge
+  // of the surface (fast_loop_build.cpp: only a repaired mesh has either).
   bool keeps_welds(uint32_t u, const Neighbour* ring_v, int n_v) const {
-    if (welds_.empty()) return true;
-    auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
-      const int g = welds_.group[x];
-      if (g < 0) {
-        single = x;
-        return {&single, 1};
-      }
-      return {welds_.members[g].data(), welds_.members[g].size()};
-    };
-    const uint32_t u_id = vertex_of_[u];
-    const int group_u = welds_.group[u_id];
-    for (int i = 0; i < n_v; ++i) {
-      const uint32_t w = ring_v[i].vertex;
-      if (w == u) continue;
-      const uint32_t w_id = vertex_of_[w];
-      const int group_w = welds_.group[w_id];
-      if (group_u < 0 && group_w < 0) continue;
-      if (group_u >= 0 && group_u == group_w) return false;
-      uint32_t single_u, single_w;
-      const auto [us, nu] = members_of(u_id, single_u);
-      const auto [ws, nw] = members_of(w_id, single_w);
-      for (std::size_t a = 0; a < nu; ++a)
-        for (std::size_t b = 0; b < nw; ++b) {
-          if (us[a] == u_id && ws[b] == w_id) continue;
-          if (adjacent(local_vertex_[us[a]], local_vertex_[ws[b]])) return false;
-        }
-    }
-    return true;
+    return welds_.empty() || keeps_weld_groups(u, ring_v, n_v);
   }
-
-  // As the default loop's keeps_carried_edges_apart: a carried face's vertex pair may not
-  // become an edge of the surface.
   bool keeps_carried_edges_apart(uint32_t u, const Neighbour* ring_v, int n_v) const {
-    if (carried_edges_.empty()) return true;
-    for (int i = 0; i < n_v; ++i) {
-      const uint32_t w = ring_v[i].vertex;
-      if (w == u) continue;
-      const uint32_t a = vertex_of_[u], b = vertex_of_[w];
-      if (carried_edges_.count({std::min(a, b), std::max(a, b)}) && !adjacent(u, w)) return false;
-    }
-    return true;
+    return carried_edges_.empty() || keeps_carried_pairs(u, ring_v, n_v);
   }
+  bool keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int n_v) const;
+  bool keeps_carried_pairs(uint32_t u, const Neighbour* ring_v, int n_v) const;
 
   // `star`: v's (make_star()), with attributes; aimed at u here.
   bool legal(uint32_t v, uint32_t u, uint32_t edge, const Neighbour* ring_v, int n_v,
@@ -483,9 +450,17 @@ class FastSimplifier {
   // queued at its quadric alone comes to the top to be sent back by its measure again and
   // again.
   float guessed_key(uint32_t v, double cost) const {
-    const double guess = kGuess * points_worst_[v];
-    return static_cast<float>(cost + kWorstCaseWeight * guess * guess);
+    return combined(cost, kGuess * points_worst_[v]);
   }
+  // A candidate's key from its cost and a measured distance: the quadric's plus the
+  // distance's square, weighted; Schroeder's the larger of the two, as the default loop's
+  // combined().
+  float combined(double cost, double worst) const {
+    return static_cast<float>(schroeder_ ? std::max(cost, worst)
+                                         : cost + kWorstCaseWeight * worst * worst);
+  }
+  // The distance a key stands for: its square root for the quadric metric.
+  double key_distance(float key) const { return schroeder_ ? double(key) : std::sqrt(key); }
   // Whether v's queued candidate is still its best after a collapse onto its neighbour u
   // (apply()'s shortcut, whose conditions hold): when v -> u costs more. Then, with
   // attributes, v is queued again as evaluate() would queue it, its key back to the cost
@@ -512,6 +487,21 @@ class FastSimplifier {
     return true;
   }
 
+  // One of v's collapses as find_best() ranks them: by `rank` (the quadric metric: its
+  // cost), queued with its `cost`.
+  struct Option {
+    bool special;
+    double cost, rank, length;
+    int index;
+  };
+  // Schroeder's metric (fast_schroeder.cpp): each of the `count` options' cost and rank
+  // for v of this kind (ring_v its n neighbours; star and wedges v's, with attributes).
+  void schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,
+                       Option* options, int count, Star& star,
+                       const CornerAttributes::StarWedges& wedges) const;
+  // Marks the input corners with an edge sharper than kSharpCornerDeg (fast_schroeder.cpp).
+  void mark_sharp_corners();
+
   // Queues v's cheapest collapse in best_[v] and heap_, or takes v out of the heap when it
   // has none. Legality, the dearer test, waits until v comes to the top (apply()) unless
   // `check_legal`: a cheapest option that is legal then is the cheapest legal one, so the
@@ -529,11 +519,6 @@ class FastSimplifier {
     bool boundary_v;
     const int n = ring(v, ring_v, kMaxValence, &boundary_v);
     if (n <= 0) return false;
-    struct Option {
-      bool special;
-      double cost, length;
-      int index;
-    };
     Option options[kMaxValence];
     int boundary_edges = 0, feature_edges = 0;
     for (int i = 0; i < n; ++i) {
@@ -541,7 +526,7 @@ class FastSimplifier {
       const bool boundary = half_[e].twin == kNone, feature = !boundary && is_feature(e);
       boundary_edges += boundary;
       feature_edges += feature;
-      options[i] = {boundary || feature, 0.0, 0.0, i};
+      options[i] = {boundary || feature, 0.0, 0.0, 0.0, i};
     }
     const VertexKind kind = vertex_[v].input_corner
                                 ? VertexKind::kCorner
@@ -562,17 +547,20 @@ class FastSimplifier {
       make_star(v, ring_v, n, star);
       attributes_->star_wedges(star.c, wedges);
     }
-    // Special edges first (a corner's), then the cheapest, ties to the shortest edge.
+    // Special edges first (a corner's), then the cheapest (Schroeder's metric: the
+    // shortest, fast_schroeder.cpp), ties to the shortest edge.
     auto before = [](const Option& a, const Option& b) {
       if (a.special != b.special) return a.special;
-      if (a.cost != b.cost) return a.cost < b.cost;
+      if (a.rank != b.rank) return a.rank < b.rank;
       return a.length != b.length ? a.length < b.length : a.index < b.index;
     };
     for (int i = 0; i < count; ++i) {
       const Neighbour& to = ring_v[options[i].index];
-      options[i].cost = geometric_cost(v, to.vertex);
       options[i].length = (point(to.vertex) - pv).sqrnorm();
+      if (!schroeder_) options[i].cost = options[i].rank = geometric_cost(v, to.vertex);
     }
+    // Schroeder's, with their attribute costs.
+    if (schroeder_) schroeder_costs(v, kind, ring_v, n, options, count, star, wedges);
     auto queue = [&](const Option& o, bool cheapest) {
       if (!owns(worker, ring_v[o.index].vertex)) return false;
       best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
@@ -582,7 +570,7 @@ class FastSimplifier {
       worker.queue(v, guessed_key(v, o.cost));
       return true;
     };
-    if (attributes_ && !check_legal) {
+    if (attributes_ && !schroeder_ && !check_legal) {
       // Only the cheapest is wanted: the attribute cost (>= 0, so the geometric cost is a
       // lower bound of the sum) is priced only for options whose geometric cost alone does
       // not already lose to the best sum found, starting from the cheapest geometric one.
@@ -599,15 +587,17 @@ class FastSimplifier {
         if (best >= 0 && before(options[best], options[i])) continue;  // loses at its bound
         const Neighbour& to = ring_v[options[i].index];
         options[i].cost += attribute_cost(to.vertex, to.edge, star, wedges);
+        options[i].rank = options[i].cost;
         if (options[i].cost < HUGE_VAL && (best < 0 || before(options[i], options[best])))
           best = i;
       }
       return best >= 0 && queue(options[best], true);
     }
-    if (attributes_)
+    if (attributes_ && !schroeder_)
       for (int i = 0; i < count; ++i) {
         const Neighbour& to = ring_v[options[i].index];
         options[i].cost += attribute_cost(to.vertex, to.edge, star, wedges);
+        options[i].rank = options[i].cost;
       }
     count = static_cast<int>(std::remove_if(options, options + count,
                                             [](const Option& o) {
@@ -739,7 +729,7 @@ class FastSimplifier {
     // At most the largest float: no distance on a mesh encode() accepts (its diagonal is
     // at most kMaxEncodeDiagonal, below that) is larger, where the key's square overflows.
     c.bound = static_cast<float>(std::min<double>(
-        std::max<double>(std::sqrt(worker.key(v)), farthest), std::numeric_limits<float>::max()));
+        std::max<double>(key_distance(worker.key(v)), farthest), std::numeric_limits<float>::max()));
     worker.collapses.push_back(c);
     // What the record claims: the same, and the slack this collapse set, rounded up to a
     // float (at most the largest, as above). Infinite where a point found no face: then no
@@ -825,7 +815,7 @@ class FastSimplifier {
       // option w -> v for w -> u; the others cost what they did, attributes too (its wedges
       // and the corners its options read did not change). Unless it was queued towards v,
       // or w -> u is no dearer, its queued candidate is still its best.
-      if (!angle_features_ && vertex_[w].simple && (!attributes_ || vertex_[w].cheapest) &&
+      if (!schroeder_ && !angle_features_ && vertex_[w].simple && (!attributes_ || vertex_[w].cheapest) &&
           worker.queued(w) && best_[w].target != v && w != vl && w != vr) {
         if (keeps_best(worker, w, u)) {
           measured_[w] = kNotMeasured;  // points may have moved onto its faces at u
@@ -842,7 +832,7 @@ class FastSimplifier {
   // Queues v with its quadric cost plus the squared measure `worst` (as the default loop's
   // combined() for the quadric metric); whether v is still the cheapest.
   bool top_with_measure(Worker& worker, uint32_t v, double worst) {
-    const float key = static_cast<float>(best_[v].key + kWorstCaseWeight * worst * worst);
+    const float key = combined(best_[v].key, worst);
     if (key == worker.key(v)) return true;
     worker.queue(v, key);
     return worker.cheapest() == v;
@@ -921,6 +911,7 @@ class FastSimplifier {
   const double cos_feature_angle_, cos_max_flip_;
   bool features_;             // some edge can be a feature (by angle, or a seam)
   const bool angle_features_;  // the angle is below 180 degrees
+  const bool schroeder_;       // Schroeder's metric (fast_schroeder.cpp), else quadrics
   const unsigned threads_;  // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
@@ -938,6 +929,7 @@ class FastSimplifier {
     uint8_t input_corner = 0;  // classified a corner on the input
     uint8_t simple = 0;        // of kind kSimple when last evaluated (apply()'s shortcut)
     uint8_t cheapest = 0;      // its queued option was its cheapest then, legal or not
+    uint8_t sharp_corner = 0;  // Schroeder's metric: an input corner of a sharp edge
   };
   static_assert(sizeof(VertexRecord) == 64);
   // Half-edge h = 3f + k of face f: the vertex it leaves and its twin (kNone on a boundary).

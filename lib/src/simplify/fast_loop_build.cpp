@@ -1,5 +1,6 @@
 // The fast loop's connectivity (fast_loop.h): the directed edges of Campagna, Kobbelt and
-// Seidel 1998 built from flat triangles, renumbered along a Morton curve (Morton 1966).
+// Seidel 1998 built from flat triangles, renumbered along a Morton curve (Morton 1966); and
+// the legality rules only a repaired mesh needs (welds, carried faces).
 #include "simplify/fast_loop.h"
 
 namespace pm::fast_loop {
@@ -184,6 +185,50 @@ bool FastSimplifier::build(const uint32_t* tri, std::size_t n_faces, const float
   join();
   // Only the weld check looks a vertex up by its given id from here on.
   if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);
+  return true;
+}
+
+// As collapse_keeps_welds (collapse_legality.h), on the flat connectivity. Weld groups
+// hold the given (repaired) ids.
+bool FastSimplifier::keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int n_v) const {
+  auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
+    const int g = welds_.group[x];
+    if (g < 0) {
+      single = x;
+      return {&single, 1};
+    }
+    return {welds_.members[g].data(), welds_.members[g].size()};
+  };
+  const uint32_t u_id = vertex_of_[u];
+  const int group_u = welds_.group[u_id];
+  for (int i = 0; i < n_v; ++i) {
+    const uint32_t w = ring_v[i].vertex;
+    if (w == u) continue;
+    const uint32_t w_id = vertex_of_[w];
+    const int group_w = welds_.group[w_id];
+    if (group_u < 0 && group_w < 0) continue;
+    if (group_u >= 0 && group_u == group_w) return false;
+    uint32_t single_u, single_w;
+    const auto [us, nu] = members_of(u_id, single_u);
+    const auto [ws, nw] = members_of(w_id, single_w);
+    for (std::size_t a = 0; a < nu; ++a)
+      for (std::size_t b = 0; b < nw; ++b) {
+        if (us[a] == u_id && ws[b] == w_id) continue;
+        if (adjacent(local_vertex_[us[a]], local_vertex_[ws[b]])) return false;
+      }
+  }
+  return true;
+}
+
+// As the default loop's keeps_carried_edges_apart: a carried face's vertex pair may not
+// become an edge of the surface.
+bool FastSimplifier::keeps_carried_pairs(uint32_t u, const Neighbour* ring_v, int n_v) const {
+  for (int i = 0; i < n_v; ++i) {
+    const uint32_t w = ring_v[i].vertex;
+    if (w == u) continue;
+    const uint32_t a = vertex_of_[u], b = vertex_of_[w];
+    if (carried_edges_.count({std::min(a, b), std::max(a, b)}) && !adjacent(u, w)) return false;
+  }
   return true;
 }
 

@@ -17,11 +17,12 @@ namespace fast_loop {
 
 void FastSimplifier::run() {
   const std::size_t n_vertices = vertex_.size();
-  initialize_quadrics();
+  if (!schroeder_) initialize_quadrics();  // Schroeder's metric has none: all zero
   run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
     for (auto v = static_cast<uint32_t>(lo); v < hi; ++v)
       vertex_[v].input_corner = kind_of(v) == VertexKind::kCorner;
   });
+  if (schroeder_) mark_sharp_corners();
   best_.assign(n_vertices, Best{kNone, kNone, 0});
   measured_.assign(n_vertices, kNotMeasured);
   points_worst_.assign(n_vertices, 0.0);

@@ -113,12 +113,7 @@ class HalfEdgeStar {
 
 class SchroederSimplifier {
  public:
-  // A corner with an edge sharper than this is a corner of the shape (a fandisk's, a
-  // machined part's), not of tessellation noise (on organic meshes the 30 degree feature
-  // angle finds many mild "corners"). Its error counts kSharpCornerWeight times: such
-  // corners go last in practice, mild ones compete on their error.
-  static constexpr double kSharpCornerDeg = 60.0;
-  static constexpr double kSharpCornerWeight = 10.0;
+  // kSharpCornerDeg and kSharpCornerWeight: schroeder_error.h.
   // The removed points' worst squared distance counts as much as the quadric's mean
   // squared distance: on the benchmark meshes, 0.5 and 2 were each worse on some mesh.
   static constexpr double kWorstCaseWeight = 1.0;
@@ -840,7 +835,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
 
   // Stage 1: a manifold half-edge mesh, so that collapses can keep topology exactly.
   // Stage 2: the collapse sequence. Stage 3: the progressive mesh.
-  const bool fast = options.fast && options.metric == Metric::kQuadric;
+  const bool fast = options.fast;  // either metric
   ManifoldMesh repaired;
   if (fast) {
     // The fast loop takes a manifold input as it is, with no OpenMesh mesh built for it;
