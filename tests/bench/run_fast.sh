@@ -3,7 +3,9 @@
 # runs it on ../shared/meshes (or $PM_BENCH_MESHES) and writes tests/bench/fast.md (quality of the fast loop's
 # levels against the default loop's and meshopt_simplify's at 50/10/2%, and its time on one
 # thread against meshopt_simplify's to 1%, medians of 5 runs), then prints it. Extra
-# arguments go to pm_bench_fast (e.g. --runs 9). See tests/bench/README.md.
+# arguments go to pm_bench_fast (e.g. --runs 9); with --metric schroeder first, both loops
+# run Schroeder's metric and the table goes to tests/bench/fast_schroeder.md instead. See
+# tests/bench/README.md.
 set -euo pipefail
 
 # shellcheck source=bench_setup.sh
@@ -11,13 +13,15 @@ source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bench_install run_fast.sh
 meshes="${PM_BENCH_MESHES:-$root/../shared/meshes}"  # beside the checkout, or as given
-bench_need_meshes "$meshes" "$root/tests/bench/fast.md"
+report=fast
+if [[ "${1:-}" == --metric && "${2:-}" == schroeder ]]; then report=fast_schroeder; fi
+bench_need_meshes "$meshes" "$root/tests/bench/$report.md"
 build="${PM_BENCH_BUILD:-$root/build-bench}"
 bench_configure "$root" "$build"
 cmake --build "$build" -j"$(nproc)" --target pm_bench_fast
 
 # Written to a temporary file first, so a failed run leaves the committed table in place.
-out="$root/tests/bench/fast.md"
+out="$root/tests/bench/$report.md"
 trap 'rm -f "$out.tmp"' EXIT
 "$build/tests/bench/pm_bench_fast" "$meshes" --out "$out.tmp" "$@" >/dev/null
 mv "$out.tmp" "$out"
