@@ -1,5 +1,5 @@
 // The fast collapse loop (pmenc --fast, EncodeOptions::fast): Garland and Heckbert's quadric
-// metric on a flat, array-based connectivity (Campagna, Kobbelt and Seidel 1998, "Directed
+// metric (or Schroeder's, fast_schroeder.cpp) on a flat, array-based connectivity (Campagna, Kobbelt and Seidel 1998, "Directed
 // edges"), with a measured error bounded per collapse (kept_points.h) where the default
 // loop charges removed_points.h's. It
 // keeps every rule that makes the result a valid progressive mesh of the same topology:
@@ -38,7 +38,7 @@ struct FastSimplification {
 // Runs the whole collapse sequence on repaired.mesh, in its ids. Its triangles and points
 // are copied into flat arrays first, then the OpenMesh mesh is cleared to give its memory
 // back: afterwards only repaired's per-vertex and per-face tables remain, and out.points
-// replaces its points. Requires options.metric == Metric::kQuadric. kInternal if the mesh
+// replaces its points. Either metric (Schroeder's: fast_schroeder.cpp). kInternal if the mesh
 // is not the manifold build_manifold_mesh makes.
 // `input` is the mesh repaired was built from (its attributes).
 Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
