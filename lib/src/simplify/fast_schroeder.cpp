@@ -25,8 +25,7 @@ void FastSimplifier::schroeder_costs(uint32_t v, VertexKind kind, const Neighbou
   auto attribute_distance = [&](const Option& o) {
     if (!attributes_) return 0.0;
     const Neighbour& to = ring_v[o.index];
-    aim(star, to.vertex, to.edge);
-    return std::sqrt(attributes_->collapse_cost(star.c, wedges));
+    return std::sqrt(attribute_cost(to.vertex, to.edge, star, wedges));
   };
   if (kind != VertexKind::kCorner) {
     // One error whichever edge it goes along; the shortest legal edge first.
