@@ -296,7 +296,7 @@ double CornerAttributes::collapse_cost(const CollapseStar& c, const StarWedges& 
         weight += normal_quadrics_[w.slot].weight;
       }
     }
-    if (weight > 0) cost += k.scale * k.scale * error / weight;
+    if (weight > 0) cost += k.cost_weight * k.scale * k.scale * error / weight;
   }
   return cost;
 }

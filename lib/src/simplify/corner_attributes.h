@@ -86,8 +86,14 @@ class CornerAttributes {
 
   // The attribute error of the collapse in squared model units: for each kind, v's wedges'
   // quadrics at u's position and at the values the corners take, as a mean over their
-  // area, times the kind's scale squared.
+  // area, times the kind's scale squared and its weight (weigh_costs()).
   double collapse_cost(const CollapseStar& c) const;
+  // How much each kind's error counts in collapse_cost(): 1 and 1 unless set (the default
+  // loop's); the fast loop weighs the texture error less (fast_loop.h, kUvCostWeight).
+  void weigh_costs(double uv, double normal) {
+    kinds_[kUv].cost_weight = uv;
+    kinds_[kNormal].cost_weight = normal;
+  }
 
   // v's distinct wedges of each kind priced by collapse_cost(), in the order of c.faces:
   // the part of the cost that is the same for every target, so that a loop pricing all of
@@ -129,6 +135,7 @@ class CornerAttributes {
     std::vector<std::array<uint32_t, 3>> ids;    // per face, per corner
     std::vector<std::array<uint32_t, 3>> wedge;  // per face, per corner: quadric slot
     double scale = 0;  // model units per attribute unit
+    double cost_weight = 1;  // weigh_costs()
     uint32_t class_of(uint32_t id) const { return id == kNoAttribute ? id : value_class[id]; }
     const float* value(uint32_t id) const { return values->data() + std::size_t{id} * dims; }
   };

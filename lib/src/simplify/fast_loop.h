@@ -666,7 +666,7 @@ class FastSimplifier {
         double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
         // A texture seam that slides within the surface, as the default loop's remeasure().
         if (seam_drift_)
-          worst = std::max(worst, SeamDrift::kDriftScale * seam_drift_->collapse_drift(star.c));
+          worst = std::max(worst, kDriftScale * seam_drift_->collapse_drift(star.c));
         points_worst_[v] = worst;
         if (!top_with_measure(worker, v, points_worst_[v])) return;
       }
@@ -968,6 +968,22 @@ class FastSimplifier {
   // 3; RMS 1.04, 0.97, 0.95: tests/bench/fast_schroeder.md).
   static constexpr double kSchroederWorstWeight = 3.0;
   static constexpr double kGuess = 0.85;
+  // With texture coordinates, how much the texture error and a seam's drift count in the
+  // key. The attribute quadrics (Hoppe 1999, §4) add their error in squared model units
+  // through a scale (corner_attributes.cpp), and how much that should weigh against the
+  // surface is a choice, made here by measurement against meshopt_simplify on the seam-split
+  // buffer: the geometric distance (tests/bench/attr_quality.md) and the texture error
+  // (uv_fast.md). With the default loop's weights (texture 1, drift 3.5 in a key that
+  // weighs the measure twice: 2 x 3.5^2 against the default loop's 3.5^2) the fast levels
+  // kept spot's texture far closer than meshopt's (same-chart UV RMS 0.47x at 10%) at 1.43x
+  // its geometric RMS at 50%, and the vase's drift-bound seams cost 1.12x at 2%. Texture
+  // 0.08 and drift 2.0 (2 x 2^2 = 8): the geometric distance at most meshopt's on spot,
+  // textured.obj and its 950K-face subdivision at 50/10/2%, and every uv_fast.md comparison
+  // holds, the vase at 1% too. Measured around it: drift 1.5 lets spot's seams slide at 10%
+  // (nearest rule above meshopt's), texture 0.12 takes spot at 50% to meshopt's RMS, and
+  // normals at half weight let the vase's texture slip at 2%: they keep weight 1.
+  static constexpr double kUvCostWeight = 0.08;
+  static constexpr double kDriftScale = 2.0;
   KeptPoints kept_;
   enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
   std::vector<uint8_t> measured_;     // per vertex: how much of its queued key is measured
