@@ -29,7 +29,8 @@ class SeamDrift {
   // surface in a collapse loop's measured key. Tuned on tests/bench/uv.md (spot, and the
   // vase sample with three charts at 10%, 2% and 1%): at 2.8 (x^2 = 8) spot's seams still
   // slid at 10%; at 4 (x^2 = 16) the vase's interior at 2% paid for the seams it kept. 3.5
-  // holds both.
+  // holds both. The default loop's; the fast loop, whose key weighs the measure twice, has
+  // its own (fast_loop.h, kDriftScale).
   static constexpr double kDriftScale = 3.5;
 
   // The seams are the texture-coordinate seams of `attributes` (in its face and vertex
