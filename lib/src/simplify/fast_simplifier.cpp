@@ -111,7 +111,7 @@ void FastSimplifier::attach_attributes(const Mesh& input, const uint32_t* input_
     attributes_.reset();
     return;
   }
-  attributes_->weigh_costs(kUvCostWeight, 1.0);
+  if (!schroeder_) attributes_->weigh_costs(kUvCostWeight, 1.0);  // Schroeder's: the default's
   if (attributes_->has_uvs())
     seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), n_vertices, *attributes_);
   features_ = true;  // seams and material borders are feature edges
