@@ -969,24 +969,10 @@ class FastSimplifier {
   // 3; RMS 1.04, 0.97, 0.95: tests/bench/fast_schroeder.md).
   static constexpr double kSchroederWorstWeight = 3.0;
   static constexpr double kGuess = 0.85;
-  // With texture coordinates, how much the texture error and a seam's drift count in the
-  // key. The attribute quadrics (Hoppe 1999, §4) add their error in squared model units
-  // through a scale (corner_attributes.cpp), and how much that should weigh against the
-  // surface is a choice, made here by measurement against meshopt_simplify on the seam-split
-  // buffer: the geometric distance (tests/bench/attr_quality.md) and the texture error
-  // (uv_fast.md). With the default loop's texture weight, and its drift scale 3.5 in a key
-  // that weighs the measure twice (2 x 3.5^2 against the default loop's 3.5^2), the fast
-  // levels kept spot's texture far closer than meshopt's (same-chart UV RMS 0.47x at 10%)
-  // at 1.43x its geometric RMS at 50%, and the vase's seams cost it 1.12x at 2%. The drift
-  // now weighs as in the default loop (3.5 / sqrt 2: 2.0 let a test's seam slide past half
-  // the bound, test_attributes.cpp) and the texture 0.03 of the default's: the geometric
-  // distance at most meshopt's on spot, textured.obj and its 950K-face subdivision at
-  // 50/10/2%, and every uv_fast.md comparison holds by both rules, the vase at 1% too.
-  // Measured around it (spot at 50/10%, Hausdorff and RMS over meshopt's): texture 0.05-0.09
-  // put one of them 1-5% above, 0.15 3%. Normals keep weight 1 (0.5 let the vase's texture
-  // slip at 2%). The quadric metric's: Schroeder's keeps the default loop's weights.
+  // Quadric metric, texture: its error (Hoppe 1999, §4) weighs 0.03 of the default loop's,
+  // a seam's drift as there (3.5 / sqrt kWorstCaseWeight): surface and texture at most
+  // meshopt's (tests/bench/attr_quality.md, uv_fast.md; tests/bench/README.md says more).
   static constexpr double kUvCostWeight = 0.03;
-  static_assert(kWorstCaseWeight == 2.0, "kDriftScale divides by its square root");
   static constexpr double kDriftScale = SeamDrift::kDriftScale * 0.70710678118654752;
   KeptPoints kept_;
   enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
