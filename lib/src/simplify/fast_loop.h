@@ -445,12 +445,11 @@ class FastSimplifier {
     aim(star, u, edge);
     return attributes_->collapse_cost(star.c, wedges);
   }
-  // v's key for a candidate of this cost, with a guess of its measure (kGuess): most of a
-  // neighbour's collapse leaves the points around v where they were, and a candidate
-  // queued at its quadric alone comes to the top to be sent back by its measure again and
-  // again.
+  // v's key for a candidate of this cost, with a guess of its measure (kGuess; none with
+  // Schroeder's metric, fast_schroeder.cpp): a neighbour's collapse mostly leaves v's points
+  // where they were, and a candidate queued at its cost alone comes up to go back again.
   float guessed_key(uint32_t v, double cost) const {
-    return combined(cost, kGuess * points_worst_[v]);
+    return schroeder_ ? static_cast<float>(cost) : combined(cost, kGuess * points_worst_[v]);
   }
   // A candidate's key from its cost and a measured distance: the quadric's plus the
   // distance's square, weighted; Schroeder's the larger of the two, the distance weighted,
@@ -673,8 +672,9 @@ class FastSimplifier {
       }
       measured_[v] = kMeasuredWhole;
       for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
-      const double worst =
+      double worst =
           KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), points_worst_[v]);
+      if (schroeder_) worst = KeptPoints::fans_apart(fan, moved, n_fan, old_fan, n_old, worst);
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);

@@ -114,6 +114,37 @@ double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace
   return worst;
 }
 
+double KeptPoints::fans_apart(const FanFace* fan, int moved, int n_fan, const FanFace* old_fan,
+                              int n_old, double worst) {
+  worst = grid_distance(old_fan, n_old, fan, n_fan, kOldFanSteps, worst);
+  return grid_distance(fan, moved, old_fan, n_old, kMovedFaceSteps, worst);
+}
+
+double KeptPoints::grid_distance(const FanFace* from, int n_from, const FanFace* to, int n_to,
+                                 int steps, double worst) {
+  if (n_to == 0 || steps < 2) return worst;
+  for (int g = 0; g < n_from; ++g) {
+    // A moved face is on both fans: its points are nearest to itself, most within `worst`.
+    int hint = -1;
+    for (int j = 0; j < n_to; ++j)
+      if (to[j].face == from[g].face) {
+        hint = j;
+        break;
+      }
+    const Vec3 &a = from[g].a, &b = from[g].b, &c = from[g].c;
+    for (int i = 0; i <= steps; ++i)
+      for (int j = 0; i + j <= steps; ++j) {
+        const int k = steps - i - j;
+        if (i == steps || j == steps || k == steps) continue;  // a corner
+        const Vec3 x = (a * double(i) + b * double(j) + c * double(k)) / double(steps);
+        int at;
+        const double d = nearest(x, to, n_to, worst, hint, &at);
+        if (d > worst && d != HUGE_VAL) worst = d;
+      }
+  }
+  return worst;
+}
+
 double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_old,
                                    const FanFace* fan, int n_fan) const {
   if (n_fan == 0) return 0;

@@ -70,6 +70,23 @@ class KeptPoints {
   static double surface_distance(const FanFace* fan, int moved, const FanFace* old_fan, int n_old,
                                  const Vec3& pu, double worst);
 
+  // Schroeder's metric measures more (fast_schroeder.cpp): the largest of `worst` and of the
+  // distances from a grid of points on each fan to the other fan, that is from the old fan
+  // (v's faces before the collapse, the two at v-u with them) to the new one (`fan`), and
+  // from the moved faces (its first `moved`) to the old one. Where the new fan leaves part of
+  // the old surface (a boundary or a crease pulled in), the removed points there were mostly
+  // dropped from the lists (near their face, so not among its farthest), and only the first
+  // sees them; the finer grid on the moved faces finds where they bulge away from the old
+  // surface better than surface_distance()'s centroids and midpoints.
+  static double fans_apart(const FanFace* fan, int moved, int n_fan, const FanFace* old_fan,
+                           int n_old, double worst);
+  // Steps per edge of the grids (a corner of a face is no point of its grid).
+  static constexpr int kOldFanSteps = 3, kMovedFaceSteps = 5;
+  // The largest of `worst` and the distances from the grid of `steps` per edge on each face
+  // of `from` to the nearest face of `to` (a face of the same id tried first).
+  static double grid_distance(const FanFace* from, int n_from, const FanFace* to, int n_to,
+                              int steps, double worst);
+
   // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
   // farthest, and returns the largest distance of a point to its new face. The points
   // left off a face's list go to `dropped` with their distance (dropped_points_bound.h).
