@@ -20,8 +20,8 @@
 // - no guess of the measure in the queued key (kGuess): the order is then greedy.
 // With 5 steps per edge on the moved faces, H geometric mean 1.02 -> 0.79, points above
 // 1.05x 11 -> 2 (largest 1.56 -> 1.21); RMS 0.96 -> 0.93, above 1.05x 2 -> 0 (largest 1.07
-// -> 1.04); the fast encode 0.74-1.29x the default loop's (tests/bench/fast_schroeder.md;
-// 0.45-0.73x before). With 8 steps H 0.77, 1 above (1.055), but 1.07-1.70x the default's
+// -> 1.04); the fast encode 0.74-1.29x the default loop's in the tuning runs, 0.82-1.57x in
+// tests/bench/fast_schroeder.md at load 7.6 (0.45-0.73x before). With 8 steps H 0.77, 1 above (1.055), but 1.07-1.70x the default's
 // encode. Without that grid H 0.85, 3 above (1.39). No guess alone mends RMS, not H.
 #include <algorithm>
 #include <cmath>
