@@ -6,6 +6,10 @@
 //   pmenc schroeder, pmenc quadric  pm::encode once per metric, geometry only like the peers
 //                                   (drop_attributes); the LOD is the finest level with at
 //                                   most the target's faces (pm::extract_level)
+//   the same with --fast            EncodeOptions::fast, both metrics
+//   pmenc REFERENCE (3cb92db)       the pmenc of an older commit (--reference-pmenc), run as
+//                                   a process with the same options; its .pm is read back
+//                                   with today's decoder and its levels taken the same way
 //   meshopt_simplify                meshoptimizer 0.18, no options, no error limit
 //   OpenMesh Decimater              DecimaterT with ModQuadricT alone, not binary; and a
 //                                   variant with ModNormalFlippingT, pmenc's 90-degree rule
@@ -27,6 +31,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -41,6 +46,7 @@
 #include "pm/lod.h"
 #include "pm/mesh.h"
 #include "pm/mesh_io.h"
+#include "pm/pm_codec.h"
 #include "pm/surface_distance.h"
 
 namespace {
@@ -60,28 +66,44 @@ constexpr double kStallTolerance = 0.02;
 // The rows of each target, in this order.
 enum class Method {
   kPmencSchroeder,
+  kPmencSchroederFast,       // EncodeOptions::fast
+  kPmencSchroederReference,  // the reference commit's pmenc (--reference-pmenc)
   kPmencQuadric,
-  kPmencFast,  // pmenc quadric --fast (EncodeOptions::fast)
+  kPmencQuadricFast,
+  kPmencQuadricReference,
   kMeshopt,
   kOpenMesh,
   kOpenMeshNormalFlipping,  // a variant: with pmenc's own 90-degree normal-flip rule
   kVtk,
 };
-constexpr std::array<Method, 7> kMethods = {
-    Method::kPmencSchroeder, Method::kPmencQuadric,           Method::kPmencFast, Method::kMeshopt,
-    Method::kOpenMesh,       Method::kOpenMeshNormalFlipping, Method::kVtk};
+constexpr std::array<Method, 10> kMethods = {
+    Method::kPmencSchroeder,         Method::kPmencSchroederFast, Method::kPmencSchroederReference,
+    Method::kPmencQuadric,           Method::kPmencQuadricFast,   Method::kPmencQuadricReference,
+    Method::kMeshopt,                Method::kOpenMesh,           Method::kOpenMeshNormalFlipping,
+    Method::kVtk};
 constexpr std::size_t index_of(Method method) {
   return static_cast<std::size_t>(method);
 }
 
-const char* method_name(Method method) {
+bool is_pmenc(Method method) {
+  return index_of(method) <= index_of(Method::kPmencQuadricReference);
+}
+
+// The reference commit's rows are named after it: "pmenc 3cb92db quadric".
+std::string method_name(Method method, const std::string& reference_label) {
   switch (method) {
     case Method::kPmencSchroeder:
       return "pmenc schroeder";
+    case Method::kPmencSchroederFast:
+      return "pmenc schroeder --fast";
+    case Method::kPmencSchroederReference:
+      return "pmenc " + reference_label + " schroeder";
     case Method::kPmencQuadric:
       return "pmenc quadric";
-    case Method::kPmencFast:
+    case Method::kPmencQuadricFast:
       return "pmenc quadric --fast";
+    case Method::kPmencQuadricReference:
+      return "pmenc " + reference_label + " quadric";
     case Method::kMeshopt:
       return "meshopt_simplify";
     case Method::kOpenMesh:
@@ -102,6 +124,10 @@ struct Settings {
   bool use_vtk = true;
   std::string vtk_script = PM_BENCH_VTK_SCRIPT;
   std::string python = "/usr/bin/python3";
+  // --reference-pmenc: the pmenc built from an older commit (run_quality.sh builds 3cb92db's,
+  // the default loop that issue 25's one loop must stay within 5% of); empty: its rows are n/a.
+  std::string reference_pmenc;
+  std::string reference_label = "reference";  // --reference-label, the rows' name
 };
 
 // One method's LOD at one target, measured.
@@ -129,7 +155,8 @@ struct MeshReport {
   std::string name;
   std::size_t faces = 0, vertices = 0;
   double diagonal = 0;
-  double schroeder_encode_ms = 0, quadric_encode_ms = 0, fast_encode_ms = 0;
+  // Indexed by Method; only pmenc's entries are used: one encode gives all its LODs.
+  std::array<double, kMethods.size()> encode_ms{};
   std::size_t openmesh_refused_faces = 0;
   std::string repairs;  // what pm::encode repaired, when anything
   std::vector<TargetRow> rows;
@@ -333,8 +360,7 @@ Simplified vtk_simplified(const Settings& settings, const fs::path& input_obj,
 
 // --dump: "cow.obj-580-pmenc_quadric.obj", for looking at what a number means.
 void dump_lod(const std::string& directory, const std::string& mesh_name, std::size_t target_faces,
-              Method method, const pm::Mesh& lod) {
-  std::string method_slug = method_name(method);
+              std::string method_slug, const pm::Mesh& lod) {
   std::replace(method_slug.begin(), method_slug.end(), ' ', '_');
   const fs::path path = fs::path(directory) / (mesh_name + "-" + std::to_string(target_faces) +
                                                "-" + method_slug + ".obj");
@@ -375,6 +401,38 @@ bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, bool fast,
   return s.is_ok();
 }
 
+// The reference commit's pmenc on the mesh file, as a process: geometry only like
+// encode_timed's (--drop-attributes), the metric given, the default loop (--fast-from 0:
+// 3cb92db took the fast loop from 1,000,000 faces on), the rest at that commit's defaults,
+// which EncodeOptions{} had then too. Its .pm is read with today's decoder (the format has
+// not changed: tests/data/golden still decodes). The time is the whole process: reading the
+// mesh, encoding and writing the .pm. False, with the reason in `note`, when it fails.
+bool reference_encode(const Settings& settings, const fs::path& input, pm::Metric metric,
+                      const fs::path& scratch, pm::ProgressiveMesh& progressive,
+                      double& milliseconds, std::string& note) {
+  const fs::path output = scratch / "reference.pm";
+  const std::string command =
+      shell_quoted(settings.reference_pmenc) + " --drop-attributes --fast-from 0 --metric " +
+      (metric == pm::Metric::kSchroeder ? "schroeder" : "quadric") + " -q " +
+      shell_quoted(input.string()) + " -o " + shell_quoted(output.string());
+  const auto start = Clock::now();
+  const int status = std::system(command.c_str());
+  milliseconds = milliseconds_since(start);
+  if (status != 0) {
+    note = settings.reference_pmenc + " failed";
+    std::cerr << "quality_bench: " << command << ": failed (exit status " << status << ")\n";
+    return false;
+  }
+  std::ifstream file(output, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (pm::Status s = pm::read_pm(bytes, progressive); !s) {
+    note = "cannot read its .pm: " + s.message();
+    std::cerr << "quality_bench: " << output.string() << ": " << note << "\n";
+    return false;
+  }
+  return true;
+}
+
 std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& settings,
                                    const fs::path& scratch, bool& vtk_available) {
   MeshReport report;
@@ -389,19 +447,39 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
   report.diagonal = pm::bounding_box_diagonal(original.positions);
   std::cerr << "[bench] " << report.name << ": " << report.faces << " faces\n";
 
-  pm::ProgressiveMesh schroeder, quadric, fast;
-  pm::EncodeStats stats, fast_stats;
-  if (!encode_timed(original, pm::Metric::kSchroeder, false, schroeder, report.schroeder_encode_ms,
-                    stats) ||
-      !encode_timed(original, pm::Metric::kQuadric, true, fast, report.fast_encode_ms,
-                    fast_stats) ||
-      !encode_timed(original, pm::Metric::kQuadric, false, quadric, report.quadric_encode_ms,
-                    stats))
-    return std::nullopt;
-  report.repairs = repair_summary(stats.repair);
-  std::cerr << "[bench]   pmenc encode: schroeder " << report.schroeder_encode_ms << " ms, quadric "
-            << report.quadric_encode_ms << " ms, quadric --fast " << report.fast_encode_ms
-            << " ms\n";
+  // Each pmenc method's sequence, indexed by Method; the reference's stays empty when it
+  // cannot run (its rows are then n/a, with the reason).
+  std::array<std::optional<pm::ProgressiveMesh>, kMethods.size()> encoded;
+  std::string reference_note = "no --reference-pmenc";
+  for (const Method method : kMethods) {
+    if (!is_pmenc(method)) continue;
+    const pm::Metric metric =
+        index_of(method) < index_of(Method::kPmencQuadric) ? pm::Metric::kSchroeder
+                                                             : pm::Metric::kQuadric;
+    pm::ProgressiveMesh progressive;
+    double& milliseconds = report.encode_ms[index_of(method)];
+    if (method == Method::kPmencSchroederReference || method == Method::kPmencQuadricReference) {
+      if (settings.reference_pmenc.empty()) continue;
+      if (!reference_encode(settings, path, metric, scratch, progressive, milliseconds,
+                            reference_note))
+        continue;
+    } else {
+      const bool fast =
+          method == Method::kPmencSchroederFast || method == Method::kPmencQuadricFast;
+      pm::EncodeStats stats;
+      if (!encode_timed(original, metric, fast, progressive, milliseconds, stats))
+        return std::nullopt;
+      if (fast && !stats.fast) {
+        std::cerr << "quality_bench: " << report.name << ": EncodeOptions::fast did not take "
+                  << "the fast loop\n";
+        return std::nullopt;
+      }
+      if (method == Method::kPmencQuadric) report.repairs = repair_summary(stats.repair);
+    }
+    std::cerr << "[bench]   " << method_name(method, settings.reference_label) << " encode: "
+              << milliseconds << " ms\n";
+    encoded[index_of(method)] = std::move(progressive);
+  }
 
   // VTK reads the input as written by pm's own OBJ writer: positions and faces only. The
   // attributes are left out: vtkOBJReader splits a vertex per texture coordinate, so a UV
@@ -426,11 +504,14 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
     row.target_faces = std::max<std::size_t>(
         1, static_cast<std::size_t>(std::llround(fraction * static_cast<double>(report.faces))));
     std::array<Simplified, kMethods.size()> lods;
-    lods[index_of(Method::kPmencSchroeder)] =
-        pmenc_level(schroeder, row.target_faces, report.schroeder_encode_ms);
-    lods[index_of(Method::kPmencQuadric)] =
-        pmenc_level(quadric, row.target_faces, report.quadric_encode_ms);
-    lods[index_of(Method::kPmencFast)] = pmenc_level(fast, row.target_faces, report.fast_encode_ms);
+    for (const Method method : kMethods) {
+      if (!is_pmenc(method)) continue;
+      const std::size_t m = index_of(method);
+      if (encoded[m])
+        lods[m] = pmenc_level(*encoded[m], row.target_faces, report.encode_ms[m]);
+      else
+        lods[m].note = reference_note;
+    }
     lods[index_of(Method::kMeshopt)] = meshopt_simplified(original, row.target_faces);
     lods[index_of(Method::kOpenMesh)] = openmesh_simplified(
         original, row.target_faces, /*guard_normals=*/false, report.openmesh_refused_faces);
@@ -453,19 +534,23 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
     for (std::size_t m = 0; m < kMethods.size(); ++m) {
       outcomes[m] = measure(original, lods[m], row.target_faces);
       if (!settings.dump_directory.empty() && lods[m].ok)
-        dump_lod(settings.dump_directory, report.name, row.target_faces, kMethods[m], lods[m].lod);
+        dump_lod(settings.dump_directory, report.name, row.target_faces,
+                 method_name(kMethods[m], settings.reference_label), lods[m].lod);
     }
     // Where vtk stalls, pmenc schroeder is also measured at vtk's face count.
     const Outcome& vtk = outcomes[index_of(Method::kVtk)];
     if (vtk.available && vtk.stalled) {
       row.schroeder_at_vtk_faces = measure(
-          original, pmenc_level(schroeder, vtk.faces, report.schroeder_encode_ms), vtk.faces);
+          original,
+          pmenc_level(*encoded[index_of(Method::kPmencSchroeder)], vtk.faces,
+                      report.encode_ms[index_of(Method::kPmencSchroeder)]),
+          vtk.faces);
     }
 
     for (std::size_t m = 0; m < kMethods.size(); ++m) {
       const Outcome& o = outcomes[m];
       std::cerr << "[bench]   " << report.name << " " << row.target_faces
-                << " faces: " << method_name(kMethods[m]);
+                << " faces: " << method_name(kMethods[m], settings.reference_label);
       if (o.available)
         std::cerr << " -> " << o.faces << " faces, H " << o.hausdorff_percent << "%, RMS "
                   << o.rms_percent << "%, " << o.milliseconds << " ms\n";
@@ -479,9 +564,15 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
 
 // --- The report ---
 
-std::string machine_description() {
+// The machine, date and commit, and how loaded the machine was: the times are one run each
+// on a machine shared with other work.
+std::string machine_description(const std::string& load_at_start, double total_seconds) {
   std::ostringstream text;
-  text << pm::bench::run_description(PM_BENCH_SOURCE_DIR) << "- peers: meshoptimizer "
+  text << pm::bench::run_description(PM_BENCH_SOURCE_DIR)
+       << "- load average (1, 5, 15 min) at the start: " << load_at_start
+       << ", at the end: " << command_output("cut -d' ' -f1-3 /proc/loadavg")
+       << "; the whole run took " << std::lround(total_seconds) << " s\n"
+       << "- peers: meshoptimizer "
        << MESHOPTIMIZER_VERSION / 1000 << "." << MESHOPTIMIZER_VERSION % 1000 / 10 << ", OpenMesh "
        << ((OM_VERSION >> 16) & 0xff) << "." << ((OM_VERSION >> 8) & 0xff) << ", VTK "
        << command_output(
@@ -501,9 +592,9 @@ std::string time_cell(Method method, const Outcome& outcome) {
   if (!outcome.available) return "n/a";
   char text[32];
   std::snprintf(text, sizeof text, "%.1f", outcome.milliseconds);
-  const bool whole_sequence = method == Method::kPmencSchroeder ||
-                              method == Method::kPmencQuadric || method == Method::kPmencFast;
-  return whole_sequence ? std::string(text) + " (all LODs)" : std::string(text);
+  if (method == Method::kPmencSchroederReference || method == Method::kPmencQuadricReference)
+    return std::string(text) + " (process, all LODs)";
+  return is_pmenc(method) ? std::string(text) + " (all LODs)" : std::string(text);
 }
 
 // pm's LOD against a peer's: both errors no larger. "yes: H a / b, RMS c / d" (pm / peer).
@@ -536,12 +627,142 @@ Comparison compare(const Outcome& ours, const Outcome& peer, const char* peer_sh
   return result;
 }
 
-std::string render(const std::vector<MeshReport>& reports, const Settings& settings, bool vtk_ran) {
+// --- Issue 25's quality line ---
+
+// Today's pmenc rows against the reference commit's row of the same metric (at most this
+// many times its Hausdorff and its RMS) and against meshopt_simplify (at most its Hausdorff
+// and its RMS), at every mesh and target.
+constexpr double kReferenceTolerance = 1.05;
+
+struct Candidate {
+  Method ours;
+  Method reference;
+};
+// The fast loop first: it is to become the only one. Today's default loop against the
+// reference shows how far main has moved from it (1.000 where nothing changed).
+constexpr Candidate kCandidates[] = {
+    {Method::kPmencQuadricFast, Method::kPmencQuadricReference},
+    {Method::kPmencSchroederFast, Method::kPmencSchroederReference},
+    {Method::kPmencQuadric, Method::kPmencQuadricReference},
+    {Method::kPmencSchroeder, Method::kPmencSchroederReference}};
+
+// One ratio ours / theirs, three decimals, bold over the limit.
+std::string ratio_cell(double ours, double theirs, double limit) {
+  char text[32];
+  if (theirs > 0)
+    std::snprintf(text, sizeof text, "%.3f", ours / theirs);
+  else
+    std::snprintf(text, sizeof text, "%s", ours > 0 ? "inf" : "1.000");
+  return ours > limit * theirs ? "**" + std::string(text) + "**" : std::string(text);
+}
+
+// The counts of one candidate over every point.
+struct AcceptanceCounts {
+  int points = 0;        // points where both comparisons could be made
+  int passed = 0;        // ... and both held, on Hausdorff and RMS
+  int failed_reference = 0, reference_hausdorff = 0, reference_rms = 0;
+  int failed_meshopt = 0, meshopt_hausdorff = 0, meshopt_rms = 0;
+  int not_compared = 0;  // a row missing or stalled
+};
+
+// One table row: "| mesh | target | H/ref | RMS/ref | H/meshopt | RMS/meshopt | verdict |".
+std::string acceptance_row(const MeshReport& report, const TargetRow& row,
+                           const Candidate& candidate, AcceptanceCounts& counts) {
+  const Outcome& ours = row.outcomes[index_of(candidate.ours)];
+  const Outcome& reference = row.outcomes[index_of(candidate.reference)];
+  const Outcome& meshopt = row.outcomes[index_of(Method::kMeshopt)];
+  std::ostringstream md;
+  md << "| " << report.name << " | " << with_thousands(row.target_faces) << " ("
+     << significant(100 * row.fraction) << "%) | ";
+  auto usable = [](const Outcome& o) { return o.available && !o.stalled; };
+  if (!usable(ours) || !usable(reference) || !usable(meshopt)) {
+    ++counts.not_compared;
+    const char* why = !usable(ours)        ? "this row"
+                      : !usable(reference) ? "the reference"
+                                           : "meshopt";
+    md << "n/a | n/a | n/a | n/a | not compared: " << why << " n/a or stalled |\n";
+    return md.str();
+  }
+  ++counts.points;
+  const bool reference_hausdorff =
+      ours.hausdorff_percent > kReferenceTolerance * reference.hausdorff_percent;
+  const bool reference_rms = ours.rms_percent > kReferenceTolerance * reference.rms_percent;
+  const bool meshopt_hausdorff = ours.hausdorff_percent > meshopt.hausdorff_percent;
+  const bool meshopt_rms = ours.rms_percent > meshopt.rms_percent;
+  counts.reference_hausdorff += reference_hausdorff;
+  counts.reference_rms += reference_rms;
+  counts.meshopt_hausdorff += meshopt_hausdorff;
+  counts.meshopt_rms += meshopt_rms;
+  counts.failed_reference += reference_hausdorff || reference_rms;
+  counts.failed_meshopt += meshopt_hausdorff || meshopt_rms;
+  std::vector<std::string> failures;
+  if (reference_hausdorff) failures.push_back("H over the reference's limit");
+  if (reference_rms) failures.push_back("RMS over the reference's limit");
+  if (meshopt_hausdorff) failures.push_back("H over meshopt's");
+  if (meshopt_rms) failures.push_back("RMS over meshopt's");
+  md << ratio_cell(ours.hausdorff_percent, reference.hausdorff_percent, kReferenceTolerance)
+     << " | " << ratio_cell(ours.rms_percent, reference.rms_percent, kReferenceTolerance) << " | "
+     << ratio_cell(ours.hausdorff_percent, meshopt.hausdorff_percent, 1.0) << " | "
+     << ratio_cell(ours.rms_percent, meshopt.rms_percent, 1.0) << " | ";
+  if (failures.empty()) {
+    ++counts.passed;
+    md << "yes |\n";
+  } else {
+    md << "**no**:";
+    for (std::size_t i = 0; i < failures.size(); ++i) md << (i ? ", " : " ") << failures[i];
+    md << " |\n";
+  }
+  return md.str();
+}
+
+std::string render_one_loop_acceptance(const std::vector<MeshReport>& reports,
+                                       const Settings& settings) {
+  const std::string& label = settings.reference_label;
+  std::ostringstream md, details;
+  md << "## Issue 25: against the default loop of " << label << " and meshopt_simplify\n\n"
+     << "Issue 25's quality line: at every mesh and target, the one loop's Hausdorff and RMS "
+        "each at most "
+     << kReferenceTolerance << " times the default loop's as of commit " << label
+     << " (the rows \"pmenc " << label
+     << " ...\": that commit's pmenc, built by run_quality.sh, its .pm decoded by today's "
+        "library and measured as every other row) and at most meshopt_simplify's. Each pmenc "
+        "row of today is set against the reference row of its own metric. Cells are ratios "
+        "(today / reference, today / meshopt), bold where over the limit ("
+     << kReferenceTolerance << " and 1). A point passes when all four hold.\n\n";
+  if (settings.reference_pmenc.empty())
+    md << "**NOTE: no --reference-pmenc: the reference rows are n/a and no point is "
+          "compared.**\n\n";
+  md << "| pmenc row | against | points compared | pass | fail against " << label << " x"
+     << kReferenceTolerance << " (H, RMS) | fail against meshopt (H, RMS) | not compared |\n"
+     << "|---|---|---:|---:|---:|---:|---:|\n";
+  for (const Candidate& candidate : kCandidates) {
+    AcceptanceCounts counts;
+    const std::string ours = method_name(candidate.ours, label);
+    details << "### " << ours << "\n\n"
+            << "| mesh | target faces | H / " << label << " | RMS / " << label
+            << " | H / meshopt | RMS / meshopt | passes |\n"
+            << "|---|---:|---:|---:|---:|---:|---|\n";
+    for (const MeshReport& report : reports)
+      for (const TargetRow& row : report.rows)
+        details << acceptance_row(report, row, candidate, counts);
+    details << "\n";
+    md << "| " << ours << " | " << method_name(candidate.reference, label) << ", meshopt | "
+       << counts.points << " | " << counts.passed << " | " << counts.failed_reference << " ("
+       << counts.reference_hausdorff << ", " << counts.reference_rms << ") | "
+       << counts.failed_meshopt << " (" << counts.meshopt_hausdorff << ", " << counts.meshopt_rms
+       << ") | " << counts.not_compared << " |\n";
+  }
+  md << "\n" << details.str();
+  return md.str();
+}
+
+std::string render(const std::vector<MeshReport>& reports, const Settings& settings, bool vtk_ran,
+                   const std::string& load_at_start, double total_seconds) {
   std::ostringstream md;
   md << "# Quality benchmark\n\n"
      << "Generated by `tests/bench/run_quality.sh` (see tests/bench/README.md for what is "
         "measured and the exact peer settings).\n\n"
-     << machine_description() << "\n"
+     << machine_description(load_at_start, total_seconds) << "\n"
      << "Errors: Hausdorff and RMS distance between the LOD and the input, both ways, by "
         "`pm::measure_surface_distance` (Metro-style sampling, 10 samples per face and every "
         "vertex), in percent of the input's bounding-box diagonal; the same code for every "
@@ -553,6 +774,16 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
         "mesh, and is the same for every target; each peer's time produces one LOD. "
         "OpenMesh's time is the decimater's setup and decimation (not building its mesh); "
         "vtkDecimatePro's is its `Update()` alone.\n\n"
+     << "pmenc's rows, per metric: the default loop (`pm::encode`), the fast loop "
+        "(`EncodeOptions::fast`, `pmenc --fast`), and **pmenc "
+     << settings.reference_label << "**: the default loop as of commit "
+     << settings.reference_label
+     << ", issue 25's reference, whose pmenc run_quality.sh builds from that commit's sources "
+        "and runs as a process (`--drop-attributes --fast-from 0 --metric M`, the rest at its "
+        "defaults); its .pm is decoded by today's library and its levels taken and measured "
+        "as the others' (its time is the whole process: reading, encoding, writing). The "
+        "section \"Issue 25\" below sets today's rows against it and against "
+        "meshopt_simplify.\n\n"
      << "pmenc encodes geometry only here (`EncodeOptions::drop_attributes`), as every peer is "
         "given positions and triangles only. With texture coordinates on both sides, pmenc "
         "against meshopt_simplify on a seam-split vertex buffer: [uv.md](uv.md) (UV error at "
@@ -561,10 +792,13 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
   for (const MeshReport& report : reports) {
     md << "## " << report.name << "\n\n"
        << with_thousands(report.faces) << " faces, " << with_thousands(report.vertices)
-       << " vertices, diagonal " << significant(report.diagonal) << ". pmenc encode: schroeder "
-       << std::lround(report.schroeder_encode_ms) << " ms, quadric "
-       << std::lround(report.quadric_encode_ms) << " ms, quadric --fast "
-       << std::lround(report.fast_encode_ms) << " ms.";
+       << " vertices, diagonal " << significant(report.diagonal) << ". pmenc encode:";
+    for (const Method method : kMethods)
+      if (is_pmenc(method))
+        md << (method == kMethods.front() ? " " : ", ")
+           << method_name(method, settings.reference_label).substr(std::strlen("pmenc ")) << " "
+           << std::lround(report.encode_ms[index_of(method)]) << " ms";
+    md << ".";
     if (!report.repairs.empty()) md << " pmenc repaired: " << report.repairs << ".";
     if (report.openmesh_refused_faces > 0)
       md << " OpenMesh refused " << report.openmesh_refused_faces
@@ -575,7 +809,8 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
       for (std::size_t m = 0; m < kMethods.size(); ++m) {
         const Outcome& o = row.outcomes[m];
         md << "| " << report.name << " | " << with_thousands(row.target_faces) << " ("
-           << significant(100 * row.fraction) << "%) | " << method_name(kMethods[m]) << " | "
+           << significant(100 * row.fraction) << "%) | "
+           << method_name(kMethods[m], settings.reference_label) << " | "
            << faces_cell(o) << " | "
            << (o.available ? significant(o.hausdorff_percent) : std::string("n/a")) << " | "
            << (o.available ? significant(o.rms_percent) : std::string("n/a")) << " | "
@@ -585,9 +820,11 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
     md << "\n";
   }
 
+  md << render_one_loop_acceptance(reports, settings);
+
   // The acceptance comparisons of issue 3, at the same face count, then two more that are
   // not part of it: against the OpenMesh variant, and against vtk at the count where it stalled.
-  md << "## Summary\n\n"
+  md << "## Summary (issue 3)\n\n"
      << "Does pm's LOD measure no larger than the peer's, on both Hausdorff and RMS? Cells read "
         "\"H pm / peer, RMS pm / peer\" in percent of the diagonal. The first three columns are "
         "issue 3's acceptance comparisons: pmenc quadric against meshopt_simplify and OpenMesh "
@@ -619,7 +856,8 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
           compare(schroeder, vtk, "vtk"),
           compare(quadric, o[index_of(Method::kOpenMeshNormalFlipping)], "OpenMesh"),
           {},
-          compare(o[index_of(Method::kPmencFast)], o[index_of(Method::kMeshopt)], "meshopt")};
+          compare(o[index_of(Method::kPmencQuadricFast)], o[index_of(Method::kMeshopt)],
+                  "meshopt")};
       if (row.schroeder_at_vtk_faces) {
         Outcome vtk_at_own_count = vtk;
         vtk_at_own_count.stalled = false;  // compared at the face count it reached
@@ -659,12 +897,13 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
 const char kUsage[] =
     "usage: pm_bench_quality [MESH_OR_DIRECTORY...] [--targets 0.5,0.1,0.02] [--out FILE]\n"
     "                        [--no-vtk] [--vtk-script PATH] [--dump DIRECTORY]\n"
+    "                        [--reference-pmenc PATH] [--reference-label NAME]\n"
     "Simplifies each mesh (default: ../shared/meshes next to the repository) to each target\n"
-    "fraction of its faces with pmenc schroeder, pmenc quadric (and --fast), meshopt_simplify,\n"
-    "OpenMesh's\n"
-    "Decimater (ModQuadric) and vtkDecimatePro, measures every LOD with the same code, and\n"
-    "prints a markdown report (also written to FILE with --out). Progress goes to stderr.\n"
-    "--dump writes every LOD to DIRECTORY as OBJ.\n";
+    "fraction of its faces with pmenc schroeder and quadric (each also with --fast, and with\n"
+    "the pmenc of --reference-pmenc, rows named after --reference-label), meshopt_simplify,\n"
+    "OpenMesh's Decimater (ModQuadric) and vtkDecimatePro, measures every LOD with the same\n"
+    "code, and prints a markdown report (also written to FILE with --out). Progress goes to\n"
+    "stderr. --dump writes every LOD to DIRECTORY as OBJ.\n";
 
 bool parse_arguments(int argc, char** argv, Settings& settings) {
   for (int i = 1; i < argc; ++i) {
@@ -685,6 +924,10 @@ bool parse_arguments(int argc, char** argv, Settings& settings) {
     } else if (argument == "--dump" && has_value) {
       settings.dump_directory = argv[++i];
       fs::create_directories(settings.dump_directory);
+    } else if (argument == "--reference-pmenc" && has_value) {
+      settings.reference_pmenc = argv[++i];
+    } else if (argument == "--reference-label" && has_value) {
+      settings.reference_label = argv[++i];
     } else if (argument == "--no-vtk") {
       settings.use_vtk = false;
     } else if (!argument.empty() && argument[0] == '-') {
@@ -712,6 +955,8 @@ int main(int argc, char** argv) {
     return 3;
   }
 
+  const std::string load_at_start = command_output("cut -d' ' -f1-3 /proc/loadavg");
+  const auto start = Clock::now();
   const fs::path scratch =
       fs::temp_directory_path() / ("pm_bench_quality." + std::to_string(getpid()));
   fs::create_directories(scratch);
@@ -725,7 +970,8 @@ int main(int argc, char** argv) {
   std::error_code ignored;
   fs::remove_all(scratch, ignored);
 
-  const std::string markdown = render(reports, settings, vtk_available);
+  const std::string markdown = render(reports, settings, vtk_available, load_at_start,
+                                      milliseconds_since(start) / 1000);
   std::cout << markdown;
   if (!settings.out_path.empty()) {
     std::ofstream out(settings.out_path, std::ios::binary);

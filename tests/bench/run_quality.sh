@@ -4,11 +4,14 @@
 # tests/bench/quality.md, then prints it. Extra arguments go to pm_bench_quality
 # (e.g. --targets 0.5,0.1 or --no-vtk). Then its texture-coordinate part (issue 4):
 # run_uv.sh, which writes tests/bench/uv.md. See tests/bench/README.md.
+# Issue 25's reference, the default loop as of commit 3cb92db, stays measurable after that
+# loop has left the library: this script builds that commit's pmenc (and nothing else) from
+# its sources in $build/reference-3cb92db/, once, and the benchmark runs it beside today's.
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${PM_BENCH_BUILD:-$repo/build-bench}"
-meshes="$repo/../shared/meshes"
+meshes="${PM_SHARED_MESHES_DIR:-$repo/../shared/meshes}"  # beside the checkout, or as given
 report="$repo/tests/bench/quality.md"
 
 # Bench-only dependencies: the product needs none of these but libopenmesh-dev.
@@ -24,12 +27,28 @@ if [[ ! -d "$meshes" ]]; then
   exit 0
 fi
 
+reference_commit=3cb92db
+reference="$build/reference-$reference_commit"
+if ! git -C "$repo" cat-file -e "$reference_commit^{commit}" 2>/dev/null; then
+  echo "run_quality.sh: commit $reference_commit (issue 25's reference loop) is not in $repo (a shallow clone? git fetch --unshallow)" >&2
+  exit 1
+fi
+if [[ ! -x "$reference/build/apps/pmenc" ]]; then
+  echo "run_quality.sh: building pmenc of commit $reference_commit in $reference" >&2
+  rm -rf "$reference"
+  mkdir -p "$reference/src"
+  git -C "$repo" archive "$reference_commit" | tar -x -C "$reference/src"
+  cmake -S "$reference/src" -B "$reference/build" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_TESTS=OFF >/dev/null
+  cmake --build "$reference/build" -j"$(nproc)" --target pmenc
+fi
+
 bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pm_bench_quality
 
 # Written to a temporary file first, so a failed run leaves the committed table in place.
 trap 'rm -f "$report.tmp"' EXIT
-nice "$build/tests/bench/pm_bench_quality" "$meshes" --out "$report.tmp" "$@" >/dev/null
+nice "$build/tests/bench/pm_bench_quality" "$meshes" --out "$report.tmp" \
+  --reference-pmenc "$reference/build/apps/pmenc" --reference-label "$reference_commit" "$@" >/dev/null
 mv "$report.tmp" "$report"
 cat "$report"
 
