@@ -486,13 +486,19 @@ class FastSimplifier {
     return true;
   }
 
-  // One of v's collapses as find_best() ranks them: by `rank` (the quadric metric: its
-  // cost), queued with its `cost`.
+  // One of v's collapses as find_best() ranks them (ranks_before()): by `rank` (the quadric
+  // metric: its cost), queued with its `cost`.
   struct Option {
     bool special;
     double cost, rank, length;
     int index;
   };
+  static bool ranks_before(const Option& a, const Option& b);
+  // With attributes and the quadric metric, the first of the `count` options (geometric
+  // costs set) by their whole costs, their attribute costs added lazily; null when none
+  // has a finite cost (fast_options.cpp). ring_v are v's neighbours; star and wedges v's.
+  const Option* cheapest_priced(const Neighbour* ring_v, Option* options, int count, Star& star,
+                                const CornerAttributes::StarWedges& wedges) const;
   // Schroeder's metric (fast_schroeder.cpp): each of the `count` options' cost and rank
   // for v of this kind (ring_v its n neighbours; star and wedges v's, with attributes).
   void schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,
@@ -511,109 +517,9 @@ class FastSimplifier {
     worker.drop(v);
     if (worker.holds(v)) best_[v].target = kNone;
   }
-  // In a round, v waits (false) when the cut is next to it or to its cheapest target.
-  bool find_best(Worker& worker, uint32_t v, bool check_legal) {
-    if (!owns(worker, v) || vertex_[v].dead || vertex_[v].pinned) return false;
-    Neighbour ring_v[kMaxValence];
-    bool boundary_v;
-    const int n = ring(v, ring_v, kMaxValence, &boundary_v);
-    if (n <= 0) return false;
-    Option options[kMaxValence];
-    int boundary_edges = 0, feature_edges = 0;
-    for (int i = 0; i < n; ++i) {
-      const uint32_t e = ring_v[i].edge;
-      const bool boundary = half_[e].twin == kNone, feature = !boundary && is_feature(e);
-      boundary_edges += boundary;
-      feature_edges += feature;
-      options[i] = {boundary || feature, 0.0, 0.0, 0.0, i};
-    }
-    const VertexKind kind = vertex_[v].input_corner
-                                ? VertexKind::kCorner
-                                : kind_from_edges(boundary_edges, feature_edges);
-    CollapseEdges edges = kCollapseEdges[static_cast<int>(kind)];
-    if (kind == VertexKind::kCorner && options_.keep_corners) edges = CollapseEdges::kNone;
-    if (edges == CollapseEdges::kNone) return false;
-    int count = n;
-    if (edges == CollapseEdges::kSpecialOnly)
-      count = static_cast<int>(
-          std::remove_if(options, options + n, [](const Option& o) { return !o.special; }) -
-          options);
-    // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses.
-    const Vec3 pv = point(v);
-    Star star;
-    CornerAttributes::StarWedges wedges;  // v's, the same for every target
-    if (attributes_) {
-      make_star(v, ring_v, n, star);
-      attributes_->star_wedges(star.c, wedges);
-    }
-    // Special edges first (a corner's), then the cheapest (Schroeder's metric: the
-    // shortest, fast_schroeder.cpp), ties to the shortest edge.
-    auto before = [](const Option& a, const Option& b) {
-      if (a.special != b.special) return a.special;
-      if (a.rank != b.rank) return a.rank < b.rank;
-      return a.length != b.length ? a.length < b.length : a.index < b.index;
-    };
-    for (int i = 0; i < count; ++i) {
-      const Neighbour& to = ring_v[options[i].index];
-      options[i].length = (point(to.vertex) - pv).sqrnorm();
-      if (!schroeder_) options[i].cost = options[i].rank = geometric_cost(v, to.vertex);
-    }
-    // Schroeder's, with their attribute costs.
-    if (schroeder_) schroeder_costs(v, kind, ring_v, n, options, count, star, wedges);
-    auto queue = [&](const Option& o, bool cheapest) {
-      if (!owns(worker, ring_v[o.index].vertex)) return false;
-      best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
-      measured_[v] = kNotMeasured;
-      vertex_[v].simple = kind == VertexKind::kSimple;
-      vertex_[v].cheapest = cheapest;
-      worker.queue(v, guessed_key(v, o.cost));
-      return true;
-    };
-    if (attributes_ && !schroeder_ && !check_legal) {
-      // Only the cheapest is wanted: the attribute cost (>= 0, so the geometric cost is a
-      // lower bound of the sum) is priced only for options whose geometric cost alone does
-      // not already lose to the best sum found, starting from the cheapest geometric one.
-      // The same option and cost as pricing every option (collapse_cost is ~18% of the
-      // loop's instructions with attributes).
-      int first = -1;
-      for (int i = 0; i < count; ++i)
-        if (options[i].cost < HUGE_VAL && (first < 0 || before(options[i], options[first])))
-          first = i;
-      int best = -1;
-      for (int k = -1; k < count; ++k) {
-        const int i = k < 0 ? first : k;
-        if (i < 0 || (k >= 0 && i == first)) continue;
-        if (best >= 0 && before(options[best], options[i])) continue;  // loses at its bound
-        const Neighbour& to = ring_v[options[i].index];
-        options[i].cost += attribute_cost(to.vertex, to.edge, star, wedges);
-        options[i].rank = options[i].cost;
-        if (options[i].cost < HUGE_VAL && (best < 0 || before(options[i], options[best])))
-          best = i;
-      }
-      return best >= 0 && queue(options[best], true);
-    }
-    if (attributes_ && !schroeder_)
-      for (int i = 0; i < count; ++i) {
-        const Neighbour& to = ring_v[options[i].index];
-        options[i].cost += attribute_cost(to.vertex, to.edge, star, wedges);
-        options[i].rank = options[i].cost;
-      }
-    count = static_cast<int>(std::remove_if(options, options + count,
-                                            [](const Option& o) {
-                                              return !(o.cost < HUGE_VAL);  // NaN or infinite
-                                            }) -
-                             options);
-    if (count == 0) return false;
-    if (!check_legal) return queue(*std::min_element(options, options + count, before), true);
-    std::sort(options, options + count, before);
-    for (int i = 0; i < count; ++i) {
-      const Neighbour& to = ring_v[options[i].index];
-      if (!owns(worker, to.vertex)) return false;
-      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star))
-        return queue(options[i], i == 0);
-    }
-    return false;
-  }
+  // evaluate()'s choice (fast_options.cpp). In a round, v waits (false) when the cut is
+  // next to it or to its cheapest target.
+  bool find_best(Worker& worker, uint32_t v, bool check_legal);
 
   // The vertex likely to be collapsed next (the heap's runner-up) is anywhere in the
   // region: its records, asked for one collapse ahead, are there when its turn comes.

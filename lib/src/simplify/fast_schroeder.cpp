@@ -1,7 +1,7 @@
 // Schroeder's metric in the fast loop (EncodeOptions::fast with Metric::kSchroeder): the
 // default loop's rules (simplifier.cpp, SchroederSimplifier::evaluate) on the fast loop's
 // flat arrays. Schroeder, Zarge and Lorensen 1992, "Decimation of triangle meshes": §3.1
-// the vertex's kind (fast_loop.h, find_best(): simple, boundary, interior edge, corner),
+// the vertex's kind (fast_options.cpp, find_best(): simple, boundary, interior edge, corner),
 // §3.2 its error (distance to the average plane, or to the boundary or feature line);
 // Schroeder 1997, "A topology modifying progressive decimation algorithm": §3 the corner
 // rule, §3.2 the shortest legal edge first. The formulas are schroeder_error.h's, the
