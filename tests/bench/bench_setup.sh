@@ -1,5 +1,15 @@
 # shellcheck shell=bash
 # Sourced by the benchmark scripts: what each of them needs before it runs.
+#   bench_start TOOL REPORT MESH TARGET... what a script that writes one table does first: sets
+#                                          repo (this checkout), build ($PM_BENCH_BUILD, else
+#                                          build-bench/), meshes ($PM_SHARED_MESHES_DIR, else
+#                                          ../shared/meshes) and report (tests/bench/REPORT);
+#                                          bench_install TOOL; bench_need_meshes for MESH in
+#                                          $meshes ("": the folder); configures build and
+#                                          builds the targets
+#   bench_write_report COMMAND...          runs COMMAND --out $report.tmp (its output dropped),
+#                                          then moves the table to $report and prints it: a
+#                                          failed run leaves the committed table in place
 #   bench_install TOOL [EXTRA_PACKAGE...]  installs the missing Debian packages the benchmarks
 #                                          build with, plus the script's own extras
 #   bench_configure REPO BUILD             configures BUILD for the benchmarks (tests off)
@@ -11,8 +21,9 @@
 #                                          (samples/textured.obj after 4 Loop steps keeping its
 #                                          attributes) unless it is newer than both its sources;
 #                                          prints its path
-#   bench_need_meshes MESHES REPORT        exits (0) with a note when the folder MESHES is
-#                                          missing, leaving REPORT as it was
+#   bench_need_meshes MESHES REPORT [MESH] exits (0) with a note when the folder MESHES, or
+#                                          the mesh MESH in it, is missing, leaving REPORT as it
+#                                          was
 
 bench_install() {
   local tool=$1
@@ -63,10 +74,11 @@ bench_commit() {
 }
 
 bench_need_meshes() {
-  [[ -d "$1" ]] && return 0
+  local need="$1${3:+/$3}"
+  [[ -e "$need" ]] && return 0
   echo >&2
-  echo "*** NOTE: $1 is missing: there is nothing to benchmark." >&2
-  echo "*** Put the test meshes there (see its README.md) and run this again." >&2
+  echo "*** NOTE: $need is missing: there is nothing to benchmark." >&2
+  echo "*** Put the test meshes in $1 (see its README.md) and run this again." >&2
   echo "*** $2 was left as it was." >&2
   exit 0
 }
@@ -82,4 +94,24 @@ bench_textured_mesh() {
     cp "$repo/samples/textured.mtl" "$bench/textured/"
   fi
   echo "$obj"
+}
+
+bench_start() {
+  local tool=$1 name=$2 mesh=$3
+  shift 3
+  repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+  build="${PM_BENCH_BUILD:-$repo/build-bench}"
+  meshes="${PM_SHARED_MESHES_DIR:-$repo/../shared/meshes}"
+  report="$repo/tests/bench/$name"
+  bench_install "$tool"
+  bench_need_meshes "$meshes" "$report" "$mesh"
+  bench_configure "$repo" "$build"
+  cmake --build "$build" -j"$(nproc)" --target "$@"
+}
+
+bench_write_report() {
+  trap 'rm -f "$report.tmp"' EXIT
+  "$@" --out "$report.tmp" >/dev/null
+  mv "$report.tmp" "$report"
+  cat "$report"
 }

@@ -9,31 +9,10 @@
 # "Geometric error with attributes kept".
 set -euo pipefail
 
-repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="${PM_BENCH_BUILD:-$repo/build-bench}"
-meshes="${PM_SHARED_MESHES_DIR:-$repo/../shared/meshes}"
-report="$repo/tests/bench/attr_quality.md"
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
-bench_install run_attr_quality.sh
+bench_start run_attr_quality.sh attr_quality.md spot.obj pm_bench_attr_quality pm_make_big_mesh
 
-if [[ ! -f "$meshes/spot.obj" ]]; then
-  echo >&2
-  echo "*** NOTE: $meshes/spot.obj is missing (see ../shared/meshes/README.md)." >&2
-  echo "*** $report was left as it was." >&2
-  exit 0
-fi
-
-bench_configure "$repo" "$build"
-cmake --build "$build" -j"$(nproc)" --target pm_bench_attr_quality pm_make_big_mesh
-
-bench="$build/tests/bench"
 big="$(bench_textured_mesh "$repo" "$build")"
-
-# Written to a temporary file first, so a failed run leaves the committed table in place.
-trap 'rm -f "$report.tmp"' EXIT
-"$bench/pm_bench_attr_quality" "$meshes/spot.obj" "$repo/samples/textured.obj" "$big" \
-  --out "$report.tmp" "$@" >/dev/null
-mv "$report.tmp" "$report"
-cat "$report"
+bench_write_report "$build/tests/bench/pm_bench_attr_quality" "$meshes/spot.obj" \
+  "$repo/samples/textured.obj" "$big" "$@"

@@ -7,30 +7,10 @@
 # See tests/bench/README.md, "Runtime".
 set -euo pipefail
 
-repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="${PM_BENCH_BUILD:-$repo/build-bench}"
-meshes="$repo/../shared/meshes"
-report="$repo/tests/bench/runtime.md"
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
-bench_install run_runtime.sh
+# The acceptance mesh is made from stanford-bunny.obj: without it the committed table stays.
+bench_start run_runtime.sh runtime.md stanford-bunny.obj pm_bench_runtime
 
-# The acceptance mesh is made from ../shared/meshes/stanford-bunny.obj: without it the
-# committed table stays.
-if [[ ! -f "$meshes/stanford-bunny.obj" ]]; then
-  echo >&2
-  echo "*** NOTE: $meshes/stanford-bunny.obj is missing: the ~1M-face mesh of issue 6 is made from it." >&2
-  echo "*** Put the test meshes there (see its README.md) and run this again." >&2
-  echo "*** $report was left as it was." >&2
-  exit 0
-fi
-
-bench_configure "$repo" "$build"
-cmake --build "$build" -j"$(nproc)" --target pm_bench_runtime
-
-# Written to a temporary file first, so a failed run leaves the committed table in place.
-trap 'rm -f "$report.tmp"' EXIT
-nice "$build/tests/bench/pm_bench_runtime" --out "$report.tmp" "$@" >/dev/null
-mv "$report.tmp" "$report"
-cat "$report"
+bench_write_report nice "$build/tests/bench/pm_bench_runtime" --mesh "$meshes/stanford-bunny.obj" \
+  "$@"

@@ -8,36 +8,17 @@
 # See tests/bench/README.md, "View-dependent refinement".
 set -euo pipefail
 
-repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="${PM_BENCH_BUILD:-$repo/build-bench}"
-meshes="$repo/../shared/meshes"
-report="$repo/tests/bench/view.md"
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
-bench_install run_view.sh
-
-if [[ ! -f "$meshes/stanford-bunny.obj" ]]; then
-  echo >&2
-  echo "*** NOTE: $meshes/stanford-bunny.obj is missing: the ~1M-face mesh of issue 7 is made from it." >&2
-  echo "*** Put the test meshes there (see its README.md) and run this again." >&2
-  echo "*** $report was left as it was." >&2
-  exit 0
-fi
-
-bench_configure "$repo" "$build"
-cmake --build "$build" -j"$(nproc)" --target pm_make_big_mesh pmenc pm_bench_view
+# The ~1M-face mesh of issue 7 is made from stanford-bunny.obj.
+bench_start run_view.sh view.md stanford-bunny.obj pm_make_big_mesh pmenc pm_bench_view
 
 data="$build/view-bench"
 mkdir -p "$data"
 if [[ ! -f "$data/bunny1m.pm" ]]; then
-  "$build/tests/bench/pm_make_big_mesh" stanford-bunny.obj 2 "$data/bunny1m.ply"
+  "$build/tests/bench/pm_make_big_mesh" "$meshes/stanford-bunny.obj" 2 "$data/bunny1m.ply"
   "$build/apps/pmenc" "$data/bunny1m.ply" -o "$data/bunny1m.pm.tmp"
   mv "$data/bunny1m.pm.tmp" "$data/bunny1m.pm"
 fi
 
-# Written to a temporary file first, so a failed run leaves the committed table in place.
-trap 'rm -f "$report.tmp"' EXIT
-nice "$build/tests/bench/pm_bench_view" --pm "$data/bunny1m.pm" --frames 200 --out "$report.tmp" "$@" >/dev/null
-mv "$report.tmp" "$report"
-cat "$report"
+bench_write_report nice "$build/tests/bench/pm_bench_view" --pm "$data/bunny1m.pm" --frames 200 "$@"
