@@ -445,12 +445,9 @@ class FastSimplifier {
     aim(star, u, edge);
     return attributes_->collapse_cost(star.c, wedges);
   }
-  // v's key for a candidate of this cost, with a guess of its measure (kGuess; none with
-  // Schroeder's metric, fast_schroeder.cpp): a neighbour's collapse mostly leaves v's points
-  // where they were, and a candidate queued at its cost alone comes up to go back again.
-  float guessed_key(uint32_t v, double cost) const {
-    return schroeder_ ? static_cast<float>(cost) : combined(cost, kGuess * points_worst_[v]);
-  }
+  // The key of a candidate of this cost before its measure: the cost alone, a lower bound,
+  // so the order stays greedy (a guess of the measure cost Hausdorff: kept_points.h's grids).
+  float queued_key(double cost) const { return static_cast<float>(cost); }
   // A candidate's key from its cost and a measured distance: the quadric's plus the
   // distance's square, weighted; Schroeder's the larger of the two, the distance weighted,
   // as the default loop's combined() (unweighted there).
@@ -463,7 +460,7 @@ class FastSimplifier {
   // Whether v's queued candidate is still its best after a collapse onto its neighbour u
   // (apply()'s shortcut, whose conditions hold): when v -> u costs more. Then, with
   // attributes, v is queued again as evaluate() would queue it, its key back to the cost
-  // of its candidate and the guess of its measure.
+  // of its candidate.
   bool keeps_best(Worker& worker, uint32_t v, uint32_t u) {
     const double geometric = geometric_cost(v, u);
     if (!attributes_) return static_cast<float>(geometric) > best_[v].key;
@@ -482,7 +479,7 @@ class FastSimplifier {
         !(static_cast<float>(geometric + attribute_cost(u, to->edge, star, wedges)) > best_[v].key))
       return false;
     const Best& best = best_[v];
-    worker.queue(v, guessed_key(v, cost_of(v, best.target, best.edge, star, wedges)));
+    worker.queue(v, queued_key(cost_of(v, best.target, best.edge, star, wedges)));
     return true;
   }
 
@@ -564,7 +561,7 @@ class FastSimplifier {
     // seam's drift), then the new fan's distance to the old one, only for a candidate still
     // at the top after the first (most go back after it: 2.3 of the 2.8 measures per
     // collapse on armadillo did). Either way the candidate is collapsed at the top with its
-    // whole measured key, which replaces the guess find_best() queued it with.
+    // whole measured key, which replaces the cost find_best() queued it with.
     if (measured_[v] != kMeasuredWhole) {
       if (measured_[v] == kNotMeasured) {
         measured_[v] = kMeasuredPoints;
@@ -580,7 +577,9 @@ class FastSimplifier {
       for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
       double worst =
           KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), points_worst_[v]);
-      if (schroeder_) worst = KeptPoints::fans_apart(fan, moved, n_fan, old_fan, n_old, worst);
+      worst = KeptPoints::fans_apart(
+          fan, moved, n_fan, old_fan, n_old, worst,
+          schroeder_ ? KeptPoints::kSchroederGrids : KeptPoints::kQuadricGrids);
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
@@ -852,7 +851,7 @@ class FastSimplifier {
   struct Best {
     uint32_t target;  // u
     uint32_t edge;    // a half-edge of a face on v-u (Neighbour::edge)
-    float key;        // its cost (the heap's key adds a guess of its measure: find_best())
+    float key;        // its cost (the heap's key adds its measure once measured: apply())
   };
   std::vector<Best> best_;
   // The measured error: points kept per face, and per vertex whether its queued key holds
@@ -862,19 +861,14 @@ class FastSimplifier {
   // against the old one rather than the input), and on the shared meshes at 50/10/2% the
   // weight 2 brings its Hausdorff distance from 1.05x the default loop's to 0.97x
   // (geometric means; RMS 1.01x -> 0.99x), 3 and 4 about as well, 1.5 less
-  // (tests/bench/fast.md; the fastquality helper's notes). A heavier measure sends more
-  // candidates back, so an unmeasured candidate is queued with kGuess times its last
-  // measured points' distance (points_worst_) rather than 0: its key is then no lower
-  // bound and the order not exactly greedy (kGuess 1.0 costs spot at 2% 1.6x in
-  // Hausdorff; 0.85 holds the instructions within 3% of the weight 1's on armadillo and
-  // homer, where the weight 2 alone took 14-16% more).
+  // (tests/bench/fast.md; the fastquality helper's notes). A candidate is queued at its
+  // cost alone (queued_key()); kept_points.h's kQuadricGrids says what a guess cost.
   static constexpr double kWorstCaseWeight = 2.0;
   // With Schroeder's metric the measured distance joins the key as the larger of the two,
   // as in the default loop, but weighs three times for the same reason (on 6 shared meshes
   // at 50/10/2%, fast/default Hausdorff geometric mean 1.15 at weight 1, 1.08 at 2, 1.04 at
   // 3; RMS 1.04, 0.97, 0.95: tests/bench/fast_schroeder.md).
   static constexpr double kSchroederWorstWeight = 3.0;
-  static constexpr double kGuess = 0.85;
   // Quadric metric, texture: its error (Hoppe 1999, §4) weighs 0.03 of the default loop's,
   // a seam's drift as there (3.5 / sqrt kWorstCaseWeight): surface and texture at most
   // meshopt's (tests/bench/attr_quality.md, uv_fast.md; tests/bench/README.md says more).

@@ -99,7 +99,7 @@ bool FastSimplifier::find_best(Worker& worker, uint32_t v, bool check_legal) {
     measured_[v] = kNotMeasured;
     vertex_[v].simple = kind == VertexKind::kSimple;
     vertex_[v].cheapest = cheapest;
-    worker.queue(v, guessed_key(v, o.cost));
+    worker.queue(v, queued_key(o.cost));
     return true;
   };
   const bool attribute_costs_to_add = attributes_ && !schroeder_;

@@ -78,10 +78,33 @@ class KeptPoints {
   // dropped from the lists (near their face, so not among its farthest), and only the first
   // sees them; the finer grid on the moved faces finds where they bulge away from the old
   // surface better than surface_distance()'s centroids and midpoints.
+  //
+  // Steps per edge of the grids (a corner of a face is no point of its grid), on the old
+  // fan and on the moved faces. Schroeder's metric: fast_schroeder.cpp. The quadric metric
+  // (fast_loop.h, apply(); with no guess of the measure in the queued key, queued_key()),
+  // on the 8 shared meshes at 50/10/2% of the faces (24 points, fast/default Hausdorff H
+  // and RMS, tests/bench/fast.md), before -> after: points above 1.05x in H 8 -> 3 (largest
+  // 1.19 -> 1.46, spot at 10%; armadillo 10% 1.19 -> 0.98, nefertiti 2% 1.18 -> 1.12,
+  // rocker-arm 10% and 2% 1.12 -> 0.96, 0.99), H geometric mean 0.98 -> 0.91; RMS 0 -> 0
+  // above (largest 1.03 -> 1.05). At 9 targets (45/50/55, 9/10/11, 1.8/2/2.2%: 72 points)
+  // 25 -> 8 above in H, RMS 1 -> 1. Where the fast loop's levels were farthest (armadillo
+  // 10%, nefertiti 2%, spot 10%), the level lay away from the input (the backward
+  // distance, level to input), not an input point away from the level: the centroids and
+  // midpoints of surface_distance() see too little of the new surface's bulge. Variants,
+  // 24 and 72 points above 1.05x in H, RMS above at 72: these steps with the guess 0.85
+  // (the earlier kGuess) 3, 10, 6; 3 and 5 as Schroeder's 4, 10, 3 (with the guess 5, 11,
+  // 8); 2 and 4: 2, 12, 2; the moved faces' grid alone (5 steps) 4, 10, 1; the old fan's
+  // alone 9 at 24; 2 and 2 or 3 and 2: 27 at 72. Only for boundary or crease collapses:
+  // no change (the cause is not there, unlike Schroeder's metric). A bound accumulated
+  // per face (each step's distance plus the old face's, Guéziec 1996's tolerance volumes
+  // in spirit) overestimates: 14 above at 24 points, RMS 14. The fast encode: 0.23-0.85x
+  // the default loop's in tests/bench/fast.md at load 6 (0.15-0.34x before, load 5-7).
+  struct Grids {
+    int old_fan, moved_faces;
+  };
+  static constexpr Grids kSchroederGrids{3, 5}, kQuadricGrids{2, 3};
   static double fans_apart(const FanFace* fan, int moved, int n_fan, const FanFace* old_fan,
-                           int n_old, double worst);
-  // Steps per edge of the grids (a corner of a face is no point of its grid).
-  static constexpr int kOldFanSteps = 3, kMovedFaceSteps = 5;
+                           int n_old, double worst, Grids steps);
   // The largest of `worst` and the distances from the grid of `steps` per edge on each face
   // of `from` to the nearest face of `to` (a face of the same id tried first).
   static double grid_distance(const FanFace* from, int n_from, const FanFace* to, int n_to,
