@@ -3,9 +3,9 @@
 #include "simplify/corner_attributes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 #include <utility>
 
 namespace pm {
@@ -18,30 +18,32 @@ constexpr uint32_t kNoWedge = 0xFFFFFFFFu;
 constexpr double kNormalScaleOfDiagonal = 0.01;
 
 // Ids whose values have the same bits get the smallest such id: seams are where values
-// differ, whatever ids the file gave them.
+// differ, whatever ids the file gave them. An open-addressed table of ids (a million normals
+// in a node-based map are a million allocations, and their frees).
 std::vector<uint32_t> value_classes(const std::vector<float>& values, int dims) {
   const std::size_t count = values.size() / dims;
   std::vector<uint32_t> cls(count);
-  struct Key {
-    uint32_t bits[3] = {0, 0, 0};
-    bool operator==(const Key& o) const {
-      return bits[0] == o.bits[0] && bits[1] == o.bits[1] && bits[2] == o.bits[2];
-    }
+  auto bits_of = [&](std::size_t i) {
+    std::array<uint32_t, 3> bits = {0, 0, 0};
+    std::memcpy(bits.data(), values.data() + i * dims, sizeof(float) * dims);
+    return bits;
   };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      uint64_t h = k.bits[0] * 0x9E3779B97F4A7C15ull;
-      h ^= (h >> 29) + k.bits[1] * 0xBF58476D1CE4E5B9ull;
-      h ^= (h >> 31) + k.bits[2] * 0x94D049BB133111EBull;
-      return static_cast<std::size_t>(h ^ (h >> 32));
-    }
+  auto hash = [](const std::array<uint32_t, 3>& bits) {
+    uint64_t h = bits[0] * 0x9E3779B97F4A7C15ull;
+    h ^= (h >> 29) + bits[1] * 0xBF58476D1CE4E5B9ull;
+    h ^= (h >> 31) + bits[2] * 0x94D049BB133111EBull;
+    return h ^ (h >> 32);
   };
-  std::unordered_map<Key, uint32_t, KeyHash> first;
-  first.reserve(count);
+  std::size_t slots = 16;
+  while (slots < 2 * count) slots *= 2;
+  constexpr uint32_t kEmpty = 0xFFFFFFFFu;
+  std::vector<uint32_t> table(slots, kEmpty);  // ids, the first of their values
   for (std::size_t i = 0; i < count; ++i) {
-    Key key;
-    std::memcpy(key.bits, values.data() + i * dims, sizeof(float) * dims);
-    cls[i] = first.emplace(key, static_cast<uint32_t>(i)).first->second;
+    const std::array<uint32_t, 3> bits = bits_of(i);
+    std::size_t slot = hash(bits) & (slots - 1);
+    while (table[slot] != kEmpty && bits_of(table[slot]) != bits) slot = (slot + 1) & (slots - 1);
+    if (table[slot] == kEmpty) table[slot] = static_cast<uint32_t>(i);
+    cls[i] = table[slot];
   }
   return cls;
 }
