@@ -577,9 +577,18 @@ class FastSimplifier {
       for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
       double worst =
           KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), points_worst_[v]);
-      worst = KeptPoints::fans_apart(
-          fan, moved, n_fan, old_fan, n_old, worst,
-          schroeder_ ? KeptPoints::kSchroederGrids : KeptPoints::kQuadricGrids);
+      if (schroeder_) {
+        worst = KeptPoints::fans_apart(fan, moved, n_fan, old_fan, n_old, worst,
+                                       KeptPoints::kSchroederGrids);
+      } else {
+        // The moved faces against the input around v and its neighbours (kept_points.h).
+        uint32_t region[kMaxValence + 1];
+        int n_region = 0;
+        region[n_region++] = v;
+        for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
+        worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old,
+                                     input_, worst);
+      }
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
@@ -862,7 +871,8 @@ class FastSimplifier {
   // weight 2 brings its Hausdorff distance from 1.05x the default loop's to 0.97x
   // (geometric means; RMS 1.01x -> 0.99x), 3 and 4 about as well, 1.5 less
   // (tests/bench/fast.md; the fastquality helper's notes). A candidate is queued at its
-  // cost alone (queued_key()); kept_points.h's kQuadricGrids says what a guess cost.
+  // cost alone (queued_key()). With the measure against the input (kept_points.h's
+  // input_distance()), 2 stays best: 1.5, 2.5 and 3 left more points above 1.05x.
   static constexpr double kWorstCaseWeight = 2.0;
   // With Schroeder's metric the measured distance joins the key as the larger of the two,
   // as in the default loop, but weighs three times for the same reason (on 6 shared meshes
@@ -875,6 +885,7 @@ class FastSimplifier {
   static constexpr double kUvCostWeight = 0.03;
   static constexpr double kDriftScale = SeamDrift::kDriftScale * 0.70710678118654752;
   KeptPoints kept_;
+  KeptPoints::InputSurface input_;  // the quadric metric's: kept_.input_distance()
   enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
   std::vector<uint8_t> measured_;     // per vertex: how much of its queued key is measured
   std::vector<double> points_worst_;  // kMeasuredPoints' distance (apply())

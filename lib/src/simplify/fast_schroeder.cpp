@@ -9,8 +9,8 @@
 // measure (kept_points.h) joins the key as the larger of the two (combined()).
 //
 // Two changes to the measure, made for this metric first (fast_loop.h, apply() and
-// queued_key(); the quadric metric took both since, with coarser grids: kept_points.h's
-// kQuadricGrids), measured on the 8 shared meshes at 50/10/2% of the faces (24 points;
+// queued_key(); the quadric metric took both since, with coarser grids, until kept_points.h's
+// input_distance() replaced its grids), measured on the 8 shared meshes at 50/10/2% of the faces (24 points;
 // fast/default Hausdorff H and RMS, tests/bench/fast_schroeder.md):
 // - grids on both fans, each against the other (KeptPoints::fans_apart()): the old fan
 //   against the new one sees the input points a collapse leaves behind where it pulls a

@@ -27,6 +27,11 @@ void FastSimplifier::run() {
   measured_.assign(n_vertices, kNotMeasured);
   points_worst_.assign(n_vertices, 0.0);
   kept_.reset(half_.size() / 3, xyz_.data());
+  if (!schroeder_) {  // the input's faces, before any collapse (kept_.input_distance())
+    std::vector<uint32_t> corners(half_.size());
+    for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
+    input_.build(corners.data(), half_.size() / 3, n_vertices);
+  }
   dropped_.reset(half_.size() / 3);
   faces_alive_ = half_.size() / 3;
   vertices_alive_ = n_vertices;
@@ -75,6 +80,7 @@ void FastSimplifier::run() {
   std::vector<uint8_t>().swap(measured_);
   std::vector<double>().swap(points_worst_);
   kept_.reset(0, nullptr);
+  input_.clear();
   seam_drift_.reset();  // it reads xyz_
   std::vector<uint8_t>().swap(seam_);
   dropped_.reset(0);

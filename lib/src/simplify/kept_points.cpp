@@ -145,6 +145,113 @@ double KeptPoints::grid_distance(const FanFace* from, int n_from, const FanFace*
   return worst;
 }
 
+void KeptPoints::InputSurface::build(const uint32_t* corner_ids, std::size_t n_faces,
+                                     std::size_t n_vertices) {
+  corners.assign(corner_ids, corner_ids + 3 * n_faces);
+  begin.assign(n_vertices + 1, 0);
+  for (uint32_t x : corners) ++begin[x + 1];
+  for (std::size_t x = 0; x < n_vertices; ++x) begin[x + 1] += begin[x];
+  faces.resize(corners.size());
+  std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    faces[fill[corners[i]]++] = static_cast<uint32_t>(i / 3);
+}
+
+double KeptPoints::walk_input(const Vec3& x, uint32_t* f, double d, double stop,
+                              const InputSurface& input) const {
+  for (int step = 0; step < kWalkSteps && d > stop; ++step) {
+    uint32_t best_f = *f;
+    double best_d = d;
+    const uint32_t* c = &input.corners[3 * std::size_t{*f}];
+    for (int k = 0; k < 3; ++k)
+      for (uint32_t i = input.begin[c[k]]; i < input.begin[c[k] + 1]; ++i) {
+        const uint32_t g = input.faces[i];
+        if (g == *f) continue;
+        const double dg = input_face_distance(x, g, input);
+        if (dg < best_d) best_d = dg, best_f = g;
+      }
+    if (best_f == *f) break;  // a local minimum of the distance on the input
+    *f = best_f;
+    d = best_d;
+  }
+  return d;
+}
+
+double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
+                                  const uint32_t* region, int n_region, const uint32_t* old_faces,
+                                  int n_old, const InputSurface& input, double worst) const {
+  if (moved == 0) return worst;
+  // The grid points: each moved face's inside, then its edges at u, those its neighbour
+  // shares measured once (the same two corners, the same sums: the same point, bit for bit).
+  constexpr int kPerFace = (kInputSteps - 1) * (kInputSteps - 2) / 2 + 2 * (kInputSteps - 1);
+  Vec3 points[64 * kPerFace];
+  int n_points = 0;
+  for (int g = 0; g < moved && g < 64; ++g) {
+    const Vec3* corners[3] = {&fan[g].a, &fan[g].b, &fan[g].c};
+    int at_u = 0;
+    while (at_u < 3 && *corners[at_u] != pu) ++at_u;
+    if (at_u == 3) at_u = 0;  // no corner at u: any, its edges are measured then
+    const Vec3 &p0 = *corners[at_u], &p1 = *corners[(at_u + 1) % 3], &p2 = *corners[(at_u + 2) % 3];
+    for (int i = 1; i < kInputSteps; ++i)
+      for (int j = 1; i + j < kInputSteps; ++j)
+        points[n_points++] =
+            (p0 * double(kInputSteps - i - j) + p1 * double(i) + p2 * double(j)) / double(kInputSteps);
+    for (const Vec3* w : {&p1, &p2})
+      for (int t = 1; t < kInputSteps; ++t) {
+        const Vec3 x = (p0 * double(kInputSteps - t) + *w * double(t)) / double(kInputSteps);
+        if (std::find(points, points + n_points, x) == points + n_points) points[n_points++] = x;
+      }
+  }
+  // The region's input faces, each once (a small open-addressed set on the stack).
+  constexpr int kSlots = 4 * kMaxInputFaces;
+  uint32_t seen[kSlots];
+  std::fill(seen, seen + kSlots, kNone);
+  FanFace faces[kMaxInputFaces];
+  int n_faces = 0;
+  auto add_around = [&](uint32_t x) {
+    for (uint32_t i = input.begin[x]; i < input.begin[x + 1] && n_faces < kMaxInputFaces; ++i) {
+      const uint32_t f = input.faces[i];
+      uint32_t slot = (f * 0x9E3779B1u) & (kSlots - 1);  // Fibonacci hashing
+      while (seen[slot] != kNone && seen[slot] != f) slot = (slot + 1) & (kSlots - 1);
+      if (seen[slot] == f) continue;
+      seen[slot] = f;
+      const uint32_t* c = &input.corners[3 * std::size_t{f}];
+      faces[n_faces++] = FanFace::make(f, position(c[0]), position(c[1]), position(c[2]));
+    }
+  };
+  // A point within `worst` of some region face cannot raise it, whatever is nearer still.
+  // `last`: the region is whole; a point not settled walks from its nearest region face.
+  int pending[64 * kPerFace];
+  auto measure = [&](int n_pending, bool last) {
+    int hint = -1, left = 0;  // the points come face by face: the last one's face first
+    for (int p = 0; p < n_pending; ++p) {
+      const Vec3& x = points[pending[p]];
+      int at;
+      double d = nearest(x, faces, n_faces, worst, hint, &at);
+      if (at >= 0) hint = at;
+      if (!(d > worst) || d == HUGE_VAL) continue;
+      if (!last) {
+        pending[left++] = pending[p];
+        continue;
+      }
+      uint32_t f = faces[at].face;
+      d = walk_input(x, &f, d, worst, input);
+      if (d > worst) worst = d;
+    }
+    return left;
+  };
+  for (int i = 0; i < n_region; ++i) add_around(region[i]);
+  for (int i = 0; i < n_points; ++i) pending[i] = i;
+  const int n_pending = measure(n_points, false);
+  if (n_pending == 0) return worst;
+  for (int i = 0; i < n_old; ++i) {
+    const uint32_t* kept = &point_[kKept * std::size_t{old_faces[i]}];
+    for (int k = 0; k < kKept && kept[k] != kNone; ++k) add_around(kept[k]);
+  }
+  measure(n_pending, true);
+  return worst;
+}
+
 double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_old,
                                    const FanFace* fan, int n_fan) const {
   if (n_fan == 0) return 0;

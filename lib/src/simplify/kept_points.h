@@ -80,35 +80,75 @@ class KeptPoints {
   // surface better than surface_distance()'s centroids and midpoints.
   //
   // Steps per edge of the grids (a corner of a face is no point of its grid), on the old
-  // fan and on the moved faces. Schroeder's metric: fast_schroeder.cpp. The quadric metric
-  // (fast_loop.h, apply(); with no guess of the measure in the queued key, queued_key()),
-  // on the 8 shared meshes at 50/10/2% of the faces (24 points, fast/default Hausdorff H
-  // and RMS, tests/bench/fast.md), before -> after: points above 1.05x in H 8 -> 3 (largest
-  // 1.19 -> 1.46, spot at 10%; armadillo 10% 1.19 -> 0.98, nefertiti 2% 1.18 -> 1.12,
-  // rocker-arm 10% and 2% 1.12 -> 0.96, 0.99), H geometric mean 0.98 -> 0.91; RMS 0 -> 0
-  // above (largest 1.03 -> 1.05). At 9 targets (45/50/55, 9/10/11, 1.8/2/2.2%: 72 points)
-  // 25 -> 8 above in H, RMS 1 -> 1. Where the fast loop's levels were farthest (armadillo
-  // 10%, nefertiti 2%, spot 10%), the level lay away from the input (the backward
-  // distance, level to input), not an input point away from the level: the centroids and
-  // midpoints of surface_distance() see too little of the new surface's bulge. Variants,
-  // 24 and 72 points above 1.05x in H, RMS above at 72: these steps with the guess 0.85
-  // (the earlier kGuess) 3, 10, 6; 3 and 5 as Schroeder's 4, 10, 3 (with the guess 5, 11,
-  // 8); 2 and 4: 2, 12, 2; the moved faces' grid alone (5 steps) 4, 10, 1; the old fan's
-  // alone 9 at 24; 2 and 2 or 3 and 2: 27 at 72. Only for boundary or crease collapses:
-  // no change (the cause is not there, unlike Schroeder's metric). A bound accumulated
-  // per face (each step's distance plus the old face's, Guéziec 1996's tolerance volumes
-  // in spirit) overestimates: 14 above at 24 points, RMS 14. The fast encode: 0.23-0.85x
-  // the default loop's in tests/bench/fast.md at load 6 (0.15-0.34x before, load 5-7).
+  // fan and on the moved faces: Schroeder's metric (fast_schroeder.cpp). The quadric
+  // metric used {2, 3} (the quadricsample helper's measurements: H above 1.05x the
+  // default loop's at 24 points 8 -> 3, at 72 points 25 -> 8; a bound accumulated per
+  // face instead, Guéziec 1996's tolerance volumes in spirit, overestimated: 14 above at
+  // 24), until input_distance() replaced both grids (below).
   struct Grids {
     int old_fan, moved_faces;
   };
-  static constexpr Grids kSchroederGrids{3, 5}, kQuadricGrids{2, 3};
+  static constexpr Grids kSchroederGrids{3, 5};
   static double fans_apart(const FanFace* fan, int moved, int n_fan, const FanFace* old_fan,
                            int n_old, double worst, Grids steps);
   // The largest of `worst` and the distances from the grid of `steps` per edge on each face
   // of `from` to the nearest face of `to` (a face of the same id tried first).
   static double grid_distance(const FanFace* from, int n_from, const FanFace* to, int n_to,
                               int steps, double worst);
+
+  // The input surface as it was before the first collapse (the loop's faces change, the
+  // positions never do: a half-edge collapse keeps u where it is): per face its three
+  // vertices, per vertex its faces (compressed rows, faces[begin[x]] to
+  // faces[begin[x + 1]]), in the loop's local ids. 4 bytes per corner twice, 4 per vertex.
+  struct InputSurface {
+    std::vector<uint32_t> corners, begin, faces;
+    void build(const uint32_t* corner_ids, std::size_t n_faces, std::size_t n_vertices);
+    void clear() {
+      std::vector<uint32_t>().swap(corners);
+      std::vector<uint32_t>().swap(begin);
+      std::vector<uint32_t>().swap(faces);
+    }
+  };
+
+  // The quadric metric's measure of the new surface: the distance of the moved faces to
+  // the input itself (the backward distance, level to input), where fans_apart() compares
+  // them with the surface they replace, which after many collapses has drifted off the
+  // input: on the shared meshes the levels farthest from the input (spot 10% 1.46x the
+  // default loop's Hausdorff distance, spot 2%, nefertiti 2%) were farthest that way.
+  // As the default loop's RemovedPoints (after Klein, Liebich and Straßer 1996), against
+  // the input faces around the fan's corners, and for the points not settled there, the
+  // input faces around the removed points too (here the points kept on v's faces); but
+  // with a grid of kInputSteps per edge on each moved face instead of its centroid and
+  // midpoints, and then, for a point still farther than `worst`, a walk on the input
+  // (walk_input()): where a face has grown larger than the region (at 2% of the faces a
+  // face stands for 50 input faces), the nearest region face is only the nearest edge of
+  // it, and without the walk the levels at 2% were up to 5.8x the default loop's.
+  //
+  // The largest of `worst` and the distances from the grid points of the first `moved`
+  // faces of `fan` (u at pu) to the input: each face's points inside and on its two edges
+  // at u (those shared with its neighbours measured once; its third edge is an edge of the
+  // old surface, measured when it was made). `region`: v and its neighbours (n_region),
+  // whose input faces are tried first; then the input faces around the points kept on
+  // old_faces (v's faces); at most kMaxInputFaces in all. What it measures orders the
+  // collapses (it joins the key); the record stays the kept points' and the slack's.
+  //
+  // On the 8 shared meshes at 50/10/2% (24 points, fast/default Hausdorff H and RMS, with
+  // no grids against the old fan), before -> after: H above 1.05x 3 -> 0 (largest 1.46 ->
+  // 0.995), geometric mean 0.91 -> 0.85; RMS above 0 -> 1 (largest 1.05 -> 1.05,
+  // rocker-arm 2%). At 72 points (45/50/55, 9/10/11, 1.8/2/2.2%) H above 8 -> 2, RMS above
+  // 1 -> 3 (at most 1.06). The encode about 1.2x as long (0.62 -> 0.77x the default
+  // loop's, CPU time, load 3). Variants (H above at 24 and 72, RMS above at 72): with the
+  // grids {2, 3} kept too, 2, 6, 2 (1.4x as long); 2 steps 2, -, 3 (24: H max 1.20);
+  // 4 steps 2, 11, 4; without the kept points' faces 0, 3, 5; the measure weighed
+  // (kWorstCaseWeight) 1.5 or 3: 2 and 2 at 24; without surface_distance() 2 at 24; a
+  // walk across edges only (three faces a step) 7 at 24; the walk alone, from the faces
+  // around the moved face's corners, 1 at 24, but 1.3x as long as the region.
+  static constexpr int kInputSteps = 3;
+  static constexpr int kMaxInputFaces = 256;
+  static constexpr int kWalkSteps = 16;  // none took more on the shared meshes
+  double input_distance(const FanFace* fan, int moved, const Vec3& pu, const uint32_t* region,
+                        int n_region, const uint32_t* old_faces, int n_old,
+                        const InputSurface& input, double worst) const;
 
   // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
   // farthest, and returns the largest distance of a point to its new face. The points
@@ -133,6 +173,15 @@ class KeptPoints {
   // those faces when `take`. Returns their count.
   int gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan,
              bool take, Moving* moving) const;
+  // From input face *f at distance d of x, to the input face sharing a corner with it
+  // nearest to x, while one is nearer (a descent on the input surface), until within
+  // `stop` or after kWalkSteps steps; *f where it ends, and its distance.
+  double walk_input(const Vec3& x, uint32_t* f, double d, double stop,
+                    const InputSurface& input) const;
+  double input_face_distance(const Vec3& x, uint32_t f, const InputSurface& input) const {
+    const uint32_t* c = &input.corners[3 * std::size_t{f}];
+    return point_triangle_distance(x, position(c[0]), position(c[1]), position(c[2]));
+  }
   Vec3 position(uint32_t v) const {
     const float* p = xyz_ + 3 * std::size_t{v};
     return Vec3(p[0], p[1], p[2]);
