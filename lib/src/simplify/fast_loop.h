@@ -577,18 +577,17 @@ class FastSimplifier {
       for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
       double worst =
           KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), points_worst_[v]);
-      if (schroeder_) {
-        worst = KeptPoints::fans_apart(fan, moved, n_fan, old_fan, n_old, worst,
-                                       KeptPoints::kSchroederGrids);
-      } else {
-        // The moved faces against the input around v and its neighbours (kept_points.h).
-        uint32_t region[kMaxValence + 1];
-        int n_region = 0;
-        region[n_region++] = v;
-        for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
-        worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old,
-                                     input_, worst);
-      }
+      // Schroeder's metric: the old fan against the new one too (kept_points.h).
+      if (schroeder_)
+        worst = KeptPoints::grid_distance(old_fan, n_old, fan, n_fan,
+                                          KeptPoints::kSchroederOldFanSteps, worst);
+      // The moved faces against the input around v and its neighbours (kept_points.h).
+      uint32_t region[kMaxValence + 1];
+      int n_region = 0;
+      region[n_region++] = v;
+      for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
+      worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old,
+                                   input_, worst);
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
@@ -877,7 +876,8 @@ class FastSimplifier {
   // With Schroeder's metric the measured distance joins the key as the larger of the two,
   // as in the default loop, but weighs three times for the same reason (on 6 shared meshes
   // at 50/10/2%, fast/default Hausdorff geometric mean 1.15 at weight 1, 1.08 at 2, 1.04 at
-  // 3; RMS 1.04, 0.97, 0.95: tests/bench/fast_schroeder.md).
+  // 3; RMS 1.04, 0.97, 0.95: tests/bench/fast_schroeder.md). Measured against the input
+  // too (kept_points.h), 3 stays best: 2 left 2 of 72 points above 1.05x, 3 none.
   static constexpr double kSchroederWorstWeight = 3.0;
   // Quadric metric, texture: its error (Hoppe 1999, §4) weighs 0.03 of the default loop's,
   // a seam's drift as there (3.5 / sqrt kWorstCaseWeight): surface and texture at most
@@ -885,7 +885,7 @@ class FastSimplifier {
   static constexpr double kUvCostWeight = 0.03;
   static constexpr double kDriftScale = SeamDrift::kDriftScale * 0.70710678118654752;
   KeptPoints kept_;
-  KeptPoints::InputSurface input_;  // the quadric metric's: kept_.input_distance()
+  KeptPoints::InputSurface input_;  // kept_.input_distance()'s
   enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
   std::vector<uint8_t> measured_;     // per vertex: how much of its queued key is measured
   std::vector<double> points_worst_;  // kMeasuredPoints' distance (apply())

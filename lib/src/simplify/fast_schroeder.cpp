@@ -8,24 +8,12 @@
 // default loop's. In place of Schroeder 1997 §3.3's error accumulation, the fast loop's
 // measure (kept_points.h) joins the key as the larger of the two (combined()).
 //
-// Two changes to the measure, made for this metric first (fast_loop.h, apply() and
-// queued_key(); the quadric metric took both since, with coarser grids, until kept_points.h's
-// input_distance() replaced its grids), measured on the 8 shared meshes at 50/10/2% of the faces (24 points;
-// fast/default Hausdorff H and RMS, tests/bench/fast_schroeder.md):
-// - grids on both fans, each against the other (KeptPoints::fans_apart()): the old fan
-//   against the new one sees the input points a collapse leaves behind where it pulls a
-//   boundary or a crease in (they were dropped from the faces' lists, being near their
-//   face: the bunny at 2% had an input vertex at its bottom's hole 0.64% of the diagonal
-//   from the level, hidden under a boundary collapse measured at 0.07%); the finer grid on
-//   the moved faces sees them bulge away from the old surface;
-// - no guess of the measure in the queued key (the quadric's kGuess then): the order is
-//   then greedy.
-// With 5 steps per edge on the moved faces (kSchroederGrids), H geometric mean 1.02 ->
-// 0.79, points above 1.05x 11 -> 2 (largest 1.56 -> 1.21); RMS 0.96 -> 0.93, above 1.05x
-// 2 -> 0 (largest 1.07 -> 1.04); the fast encode 0.74-1.29x the default loop's in the
-// tuning runs, 0.82-1.57x in tests/bench/fast_schroeder.md at load 7.6 (0.45-0.73x
-// before). With 8 steps H 0.77, 1 above (1.055), but 1.07-1.70x the default's
-// encode. Without that grid H 0.85, 3 above (1.39). No guess alone mends RMS, not H.
+// The measure (fast_loop.h's apply()) is the quadric metric's, the moved faces against the
+// input (KeptPoints::input_distance()), and one more grid: the old fan against the new one
+// (KeptPoints::kSchroederOldFanSteps), which sees the input points a collapse leaves behind
+// where it pulls a boundary or a crease in. The queued key holds no guess of the measure:
+// the order stays greedy. Measurements: tests/bench/fast_schroeder.md and
+// tests/bench/README.md.
 #include <algorithm>
 #include <cmath>
 

@@ -27,7 +27,9 @@ void FastSimplifier::run() {
   measured_.assign(n_vertices, kNotMeasured);
   points_worst_.assign(n_vertices, 0.0);
   kept_.reset(half_.size() / 3, xyz_.data());
-  if (!schroeder_) {  // the input's faces, before any collapse (kept_.input_distance())
+  // The input's faces, before any collapse (kept_.input_distance()); the copy of the
+  // corners goes with the block.
+  {
     std::vector<uint32_t> corners(half_.size());
     for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
     input_.build(corners.data(), half_.size() / 3, n_vertices);

@@ -114,12 +114,6 @@ double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace
   return worst;
 }
 
-double KeptPoints::fans_apart(const FanFace* fan, int moved, int n_fan, const FanFace* old_fan,
-                              int n_old, double worst, Grids steps) {
-  worst = grid_distance(old_fan, n_old, fan, n_fan, steps.old_fan, worst);
-  return grid_distance(fan, moved, old_fan, n_old, steps.moved_faces, worst);
-}
-
 double KeptPoints::grid_distance(const FanFace* from, int n_from, const FanFace* to, int n_to,
                                  int steps, double worst) {
   if (n_to == 0 || steps < 2) return worst;

@@ -6,12 +6,12 @@
 // is a maximum, made of the farthest points; the nearer ones seldom become the farthest, so
 // dropping them costs the measure little, and bounds its cost: a collapse measures at most
 // 1 + kKept points per face of v's fan against that fan, however many points its faces have
-// absorbed (where RemovedPoints samples up to 512 per collapse). And the other way round:
-// the centroids of the faces that change and the midpoints of their new edges, to the faces
-// they replace (where RemovedPoints measures them against the input faces around, which
-// costs as much as the whole default loop: measured in tests/bench/fast.md's notes). Flat arrays; safe on
-// several threads for collapses whose faces are apart (the fast loop's regions): all
-// scratch is on the stack. Internal to simplify/.
+// absorbed (where RemovedPoints samples up to 512 per collapse). And the other way round,
+// for both metrics: the moved faces against the faces they replace (surface_distance()) and
+// against the input around them (input_distance()), a bounded grid per face. Flat arrays;
+// safe on several threads for collapses whose faces are apart (the fast loop's regions):
+// all scratch is on the stack. Internal to simplify/. Measurements:
+// tests/bench/fast.md, fast_schroeder.md and tests/bench/README.md.
 //
 // What it measures is a lower bound of the distance of the removed input vertices to the
 // surface (the dropped points are not counted): it orders the collapses. The record of a
@@ -70,27 +70,13 @@ class KeptPoints {
   static double surface_distance(const FanFace* fan, int moved, const FanFace* old_fan, int n_old,
                                  const Vec3& pu, double worst);
 
-  // Schroeder's metric measures more (fast_schroeder.cpp): the largest of `worst` and of the
-  // distances from a grid of points on each fan to the other fan, that is from the old fan
-  // (v's faces before the collapse, the two at v-u with them) to the new one (`fan`), and
-  // from the moved faces (its first `moved`) to the old one. Where the new fan leaves part of
-  // the old surface (a boundary or a crease pulled in), the removed points there were mostly
-  // dropped from the lists (near their face, so not among its farthest), and only the first
-  // sees them; the finer grid on the moved faces finds where they bulge away from the old
-  // surface better than surface_distance()'s centroids and midpoints.
-  //
-  // Steps per edge of the grids (a corner of a face is no point of its grid), on the old
-  // fan and on the moved faces: Schroeder's metric (fast_schroeder.cpp). The quadric
-  // metric used {2, 3} (the quadricsample helper's measurements: H above 1.05x the
-  // default loop's at 24 points 8 -> 3, at 72 points 25 -> 8; a bound accumulated per
-  // face instead, Guéziec 1996's tolerance volumes in spirit, overestimated: 14 above at
-  // 24), until input_distance() replaced both grids (below).
-  struct Grids {
-    int old_fan, moved_faces;
-  };
-  static constexpr Grids kSchroederGrids{3, 5};
-  static double fans_apart(const FanFace* fan, int moved, int n_fan, const FanFace* old_fan,
-                           int n_old, double worst, Grids steps);
+  // Schroeder's metric also measures the old fan (v's faces before the collapse, the two
+  // at v-u with them) against the new one (`fan`), with grid_distance(): where the new fan
+  // leaves part of the old surface (a boundary or a crease pulled in), the removed points
+  // there were mostly dropped from the lists (near their face, so not among its farthest),
+  // and only this grid sees them. Without it, 2 of 72 points above 1.05x the default loop's
+  // Hausdorff distance (tests/bench/README.md); the quadric metric is better without it.
+  static constexpr int kSchroederOldFanSteps = 3;
   // The largest of `worst` and the distances from the grid of `steps` per edge on each face
   // of `from` to the nearest face of `to` (a face of the same id tried first).
   static double grid_distance(const FanFace* from, int n_from, const FanFace* to, int n_to,
@@ -110,11 +96,12 @@ class KeptPoints {
     }
   };
 
-  // The quadric metric's measure of the new surface: the distance of the moved faces to
-  // the input itself (the backward distance, level to input), where fans_apart() compares
-  // them with the surface they replace, which after many collapses has drifted off the
-  // input: on the shared meshes the levels farthest from the input (spot 10% 1.46x the
-  // default loop's Hausdorff distance, spot 2%, nefertiti 2%) were farthest that way.
+  // The measure of the new surface: the distance of the moved faces to the input itself
+  // (the backward distance, level to input), where the grids of points on them used to be
+  // measured against the surface they replace, which after many collapses has drifted off
+  // the input: the levels farthest from the input (quadric metric: spot 10% 1.46x the
+  // default loop's Hausdorff distance; Schroeder's: rocker-arm 2% 1.21x) were farthest
+  // that way.
   // As the default loop's RemovedPoints (after Klein, Liebich and Straßer 1996), against
   // the input faces around the fan's corners, and for the points not settled there, the
   // input faces around the removed points too (here the points kept on v's faces); but
@@ -132,17 +119,9 @@ class KeptPoints {
   // old_faces (v's faces); at most kMaxInputFaces in all. What it measures orders the
   // collapses (it joins the key); the record stays the kept points' and the slack's.
   //
-  // On the 8 shared meshes at 50/10/2% (24 points, fast/default Hausdorff H and RMS, with
-  // no grids against the old fan), before -> after: H above 1.05x 3 -> 0 (largest 1.46 ->
-  // 0.995), geometric mean 0.91 -> 0.85; RMS above 0 -> 1 (largest 1.05 -> 1.05,
-  // rocker-arm 2%). At 72 points (45/50/55, 9/10/11, 1.8/2/2.2%) H above 8 -> 2, RMS above
-  // 1 -> 3 (at most 1.06). The encode about 1.2x as long (0.62 -> 0.77x the default
-  // loop's, CPU time, load 3). Variants (H above at 24 and 72, RMS above at 72): with the
-  // grids {2, 3} kept too, 2, 6, 2 (1.4x as long); 2 steps 2, -, 3 (24: H max 1.20);
-  // 4 steps 2, 11, 4; without the kept points' faces 0, 3, 5; the measure weighed
-  // (kWorstCaseWeight) 1.5 or 3: 2 and 2 at 24; without surface_distance() 2 at 24; a
-  // walk across edges only (three faces a step) 7 at 24; the walk alone, from the faces
-  // around the moved face's corners, 1 at 24, but 1.3x as long as the region.
+  // With 3 steps per edge (2 and 4 measured worse), the walk and the kept points' faces,
+  // no point of 24 is above 1.05x the default loop's Hausdorff distance, for either metric
+  // (tests/bench/README.md, "The fast loop's measure").
   static constexpr int kInputSteps = 3;
   static constexpr int kMaxInputFaces = 256;
   static constexpr int kWalkSteps = 16;  // none took more on the shared meshes
