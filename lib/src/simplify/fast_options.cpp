@@ -107,12 +107,39 @@ bool FastSimplifier::find_best(Worker& worker, uint32_t v, bool check_legal) {
     const Option* best = cheapest_priced(ring_v, options, count, star, wedges);
     return best && queue(*best, true);
   }
-  if (attribute_costs_to_add)
-    for (int i = 0; i < count; ++i) {
-      const Neighbour& to = ring_v[options[i].index];
-      options[i].cost += attribute_cost(to.vertex, to.edge, star, wedges);
-      options[i].rank = options[i].cost;
+  if (attribute_costs_to_add) {
+    // Legality in order of whole cost, priced lazily as cheapest_priced(): in order of
+    // geometric cost (a lower bound), an option is priced only while its bound does not
+    // rank behind the best priced one not yet asked, which is then the next in whole order.
+    // The same options asked in the same order as pricing them all.
+    count = finite_only(options, count);
+    std::sort(options, options + count, ranks_before);
+    Option* waiting[kMaxValence];  // priced, finite, not yet asked
+    int n_waiting = 0, priced = 0, asked = 0;
+    for (;;) {
+      int best = -1;
+      for (int i = 0; i < n_waiting; ++i)
+        if (best < 0 || ranks_before(*waiting[i], *waiting[best])) best = i;
+      for (; priced < count && (best < 0 || !ranks_before(*waiting[best], options[priced]));
+           ++priced) {
+        Option& o = options[priced];
+        const Neighbour& to = ring_v[o.index];
+        o.cost += attribute_cost(to.vertex, to.edge, star, wedges);
+        o.rank = o.cost;
+        if (!(o.cost < HUGE_VAL)) continue;
+        waiting[n_waiting] = &o;
+        if (best < 0 || ranks_before(o, *waiting[best])) best = n_waiting;
+        ++n_waiting;
+      }
+      if (best < 0) return false;
+      const Option& o = *waiting[best];
+      waiting[best] = waiting[--n_waiting];
+      const Neighbour& to = ring_v[o.index];
+      if (!owns(worker, to.vertex)) return false;
+      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star)) return queue(o, asked == 0);
+      ++asked;
     }
+  }
   count = finite_only(options, count);
   if (count == 0) return false;
   if (!check_legal) return queue(*std::min_element(options, options + count, ranks_before), true);
