@@ -30,6 +30,7 @@ namespace pm::fast_loop {
 
 constexpr uint32_t kNone = 0xffffffffu;
 constexpr int kMaxValence = 64;  // as the default loop: a vertex of larger valence stays
+static_assert(kMaxValence <= KeptPoints::kMaxMoved, "KeptPoints' scratch holds a whole fan");
 
 inline uint32_t next_of(uint32_t h) {
   return h % 3 == 2 ? h - 2 : h + 1;

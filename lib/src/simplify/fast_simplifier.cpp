@@ -7,6 +7,7 @@
 #include "simplify/fast_simplifier.h"
 
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 #include "core/in_turn.h"
@@ -27,12 +28,11 @@ void FastSimplifier::run() {
   measured_.assign(n_vertices, kNotMeasured);
   points_worst_.assign(n_vertices, 0.0);
   kept_.reset(half_.size() / 3, xyz_.data());
-  // The input's faces, before any collapse (kept_.input_distance()); the copy of the
-  // corners goes with the block.
+  // The input's faces, before any collapse (kept_.input_distance()).
   {
     std::vector<uint32_t> corners(half_.size());
     for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
-    input_.build(corners.data(), half_.size() / 3, n_vertices);
+    input_.build(std::move(corners), n_vertices);
   }
   dropped_.reset(half_.size() / 3);
   faces_alive_ = half_.size() / 3;

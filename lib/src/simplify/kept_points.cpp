@@ -6,6 +6,7 @@
 #include "simplify/dropped_points_bound.h"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 
 namespace pm::fast_loop {
@@ -84,10 +85,10 @@ double KeptPoints::surface_distance(const FanFace* fan, int moved, const FanFace
   // either, so it is measured once. Each point tries first the face its own face replaces
   // (the fan and old_fan list v's faces in the same order, old_fan with those at v-u too),
   // which holds most of them within `worst`.
-  Vec3 points[3 * 64];
-  int hint[3 * 64];
+  Vec3 points[3 * kMaxMoved];
+  int hint[3 * kMaxMoved];
   int n_points = 0;
-  for (int i = 0, j = 0; i < moved && i < 64; ++i) {
+  for (int i = 0, j = 0; i < moved && i < kMaxMoved; ++i) {
     while (j < n_old && old_fan[j].face != fan[i].face) ++j;
     const int same = j < n_old ? j : -1;
     const Vec3 &a = fan[i].a, &b = fan[i].b, &c = fan[i].c;
@@ -139,9 +140,8 @@ double KeptPoints::grid_distance(const FanFace* from, int n_from, const FanFace*
   return worst;
 }
 
-void KeptPoints::InputSurface::build(const uint32_t* corner_ids, std::size_t n_faces,
-                                     std::size_t n_vertices) {
-  corners.assign(corner_ids, corner_ids + 3 * n_faces);
+void KeptPoints::InputSurface::build(std::vector<uint32_t> corner_ids, std::size_t n_vertices) {
+  corners = std::move(corner_ids);
   begin.assign(n_vertices + 1, 0);
   for (uint32_t x : corners) ++begin[x + 1];
   for (std::size_t x = 0; x < n_vertices; ++x) begin[x + 1] += begin[x];
@@ -178,9 +178,9 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
   // The grid points: each moved face's inside, then its edges at u, those its neighbour
   // shares measured once (the same two corners, the same sums: the same point, bit for bit).
   constexpr int kPerFace = (kInputSteps - 1) * (kInputSteps - 2) / 2 + 2 * (kInputSteps - 1);
-  Vec3 points[64 * kPerFace];
+  Vec3 points[kMaxMoved * kPerFace];
   int n_points = 0;
-  for (int g = 0; g < moved && g < 64; ++g) {
+  for (int g = 0; g < moved && g < kMaxMoved; ++g) {
     const Vec3* corners[3] = {&fan[g].a, &fan[g].b, &fan[g].c};
     int at_u = 0;
     while (at_u < 3 && *corners[at_u] != pu) ++at_u;
@@ -215,7 +215,7 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
   };
   // A point within `worst` of some region face cannot raise it, whatever is nearer still.
   // `last`: the region is whole; a point not settled walks from its nearest region face.
-  int pending[64 * kPerFace];
+  int pending[kMaxMoved * kPerFace];
   auto measure = [&](int n_pending, bool last) {
     int hint = -1, left = 0;  // the points come face by face: the last one's face first
     for (int p = 0; p < n_pending; ++p) {

@@ -55,6 +55,11 @@ class KeptPoints {
   // stays the caller's and must not change. n_faces 0: frees the memory.
   void reset(std::size_t n_faces, const float* xyz);
 
+  // The most moved faces a measure looks at (the loop's largest valence, fast_loop.h's
+  // kMaxValence, asserts it): the scratch of surface_distance() and input_distance() is
+  // sized by it, on the stack.
+  static constexpr int kMaxMoved = 64;
+
   // The measured distance of the collapse v -> u is the larger of points_distance() and
   // surface_distance() (fast_loop.h's apply() asks for the second only when the first
   // leaves the collapse the cheapest); 0 when the fan is empty.
@@ -88,7 +93,8 @@ class KeptPoints {
   // faces[begin[x + 1]]), in the loop's local ids. 4 bytes per corner twice, 4 per vertex.
   struct InputSurface {
     std::vector<uint32_t> corners, begin, faces;
-    void build(const uint32_t* corner_ids, std::size_t n_faces, std::size_t n_vertices);
+    // corner_ids: 3 per face, taken over.
+    void build(std::vector<uint32_t> corner_ids, std::size_t n_vertices);
     void clear() {
       std::vector<uint32_t>().swap(corners);
       std::vector<uint32_t>().swap(begin);
