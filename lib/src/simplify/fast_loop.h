@@ -492,11 +492,6 @@ class FastSimplifier {
     int index;
   };
   static bool ranks_before(const Option& a, const Option& b);
-  // With attributes and the quadric metric, the first of the `count` options (geometric
-  // costs set) by their whole costs, their attribute costs added lazily; null when none
-  // has a finite cost (fast_options.cpp). ring_v are v's neighbours; star and wedges v's.
-  const Option* cheapest_priced(const Neighbour* ring_v, Option* options, int count, Star& star,
-                                const CornerAttributes::StarWedges& wedges) const;
   // Schroeder's metric (fast_schroeder.cpp): each of the `count` options' cost and rank
   // for v of this kind (ring_v its n neighbours; star and wedges v's, with attributes).
   void schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,

@@ -29,30 +29,54 @@ int finite_only(Option* options, int count) {
                           options);
 }
 
+// The options in order of whole cost (ranks_before()), each priced (price(o) adds its
+// attribute cost to o.cost and o.rank) only when it must be: in order of geometric cost (a
+// lower bound of the whole), an option is priced while its bound does not rank behind the
+// best priced one not yet given, which is then the next in whole order. The options with
+// no finite cost are never given. The same order as pricing them all.
+template <typename Option, typename Price, typename RanksBefore>
+class InOrderOfWholeCost {
+ public:
+  InOrderOfWholeCost(Option* options, int count, Price price, RanksBefore ranks_before)
+      : options_(options), count_(finite_only(options, count)), price_(price),
+        ranks_before_(ranks_before) {
+    std::sort(options_, options_ + count_, ranks_before_);
+  }
+  // The next option; null after the last.
+  const Option* next() {
+    int best = -1;
+    for (int i = 0; i < n_waiting_; ++i)
+      if (best < 0 || ranks_before_(*waiting_[i], *waiting_[best])) best = i;
+    for (; priced_ < count_ && (best < 0 || !ranks_before_(*waiting_[best], options_[priced_]));
+         ++priced_) {
+      Option& o = options_[priced_];
+      price_(o);
+      if (!(o.cost < HUGE_VAL)) continue;
+      waiting_[n_waiting_] = &o;
+      if (best < 0 || ranks_before_(o, *waiting_[best])) best = n_waiting_;
+      ++n_waiting_;
+    }
+    if (best < 0) return nullptr;
+    const Option* o = waiting_[best];
+    waiting_[best] = waiting_[--n_waiting_];
+    return o;
+  }
+
+ private:
+  Option* options_;
+  int count_;
+  Price price_;
+  RanksBefore ranks_before_;
+  Option* waiting_[kMaxValence];  // priced, finite, not yet given
+  int n_waiting_ = 0, priced_ = 0;
+};
+
 }  // namespace
 
 bool FastSimplifier::ranks_before(const Option& a, const Option& b) {
   if (a.special != b.special) return a.special;
   if (a.rank != b.rank) return a.rank < b.rank;
   return a.length != b.length ? a.length < b.length : a.index < b.index;
-}
-
-const FastSimplifier::Option* FastSimplifier::cheapest_priced(
-    const Neighbour* ring_v, Option* options, int count, Star& star,
-    const CornerAttributes::StarWedges& wedges) const {
-  count = finite_only(options, count);
-  std::sort(options, options + count, ranks_before);
-  const Option* best = nullptr;
-  for (int i = 0; i < count; ++i) {
-    Option& o = options[i];
-    // Its geometric cost alone ranks behind the best: so does every later option's.
-    if (best && ranks_before(*best, o)) break;
-    const Neighbour& to = ring_v[o.index];
-    o.cost += attribute_cost(to.vertex, to.edge, star, wedges);
-    o.rank = o.cost;
-    if (o.cost < HUGE_VAL && (!best || ranks_before(o, *best))) best = &o;
-  }
-  return best;
 }
 
 bool FastSimplifier::find_best(Worker& worker, uint32_t v, bool check_legal) {
@@ -102,42 +126,21 @@ bool FastSimplifier::find_best(Worker& worker, uint32_t v, bool check_legal) {
     worker.queue(v, queued_key(o.cost));
     return true;
   };
-  const bool attribute_costs_to_add = attributes_ && !schroeder_;
-  if (attribute_costs_to_add && !check_legal) {
-    const Option* best = cheapest_priced(ring_v, options, count, star, wedges);
-    return best && queue(*best, true);
-  }
-  if (attribute_costs_to_add) {
-    // Legality in order of whole cost, priced lazily as cheapest_priced(): in order of
-    // geometric cost (a lower bound), an option is priced only while its bound does not
-    // rank behind the best priced one not yet asked, which is then the next in whole order.
-    // The same options asked in the same order as pricing them all.
-    count = finite_only(options, count);
-    std::sort(options, options + count, ranks_before);
-    Option* waiting[kMaxValence];  // priced, finite, not yet asked
-    int n_waiting = 0, priced = 0, asked = 0;
-    for (;;) {
-      int best = -1;
-      for (int i = 0; i < n_waiting; ++i)
-        if (best < 0 || ranks_before(*waiting[i], *waiting[best])) best = i;
-      for (; priced < count && (best < 0 || !ranks_before(*waiting[best], options[priced]));
-           ++priced) {
-        Option& o = options[priced];
-        const Neighbour& to = ring_v[o.index];
-        o.cost += attribute_cost(to.vertex, to.edge, star, wedges);
-        o.rank = o.cost;
-        if (!(o.cost < HUGE_VAL)) continue;
-        waiting[n_waiting] = &o;
-        if (best < 0 || ranks_before(o, *waiting[best])) best = n_waiting;
-        ++n_waiting;
-      }
-      if (best < 0) return false;
-      const Option& o = *waiting[best];
-      waiting[best] = waiting[--n_waiting];
+  if (attributes_ && !schroeder_) {
+    auto price = [&](Option& o) {
       const Neighbour& to = ring_v[o.index];
+      o.cost += attribute_cost(to.vertex, to.edge, star, wedges);
+      o.rank = o.cost;
+    };
+    InOrderOfWholeCost order(options, count, price, ranks_before);
+    // Legality in order of whole cost until an option passes.
+    for (int asked = 0;; ++asked) {
+      const Option* o = order.next();
+      if (!o) return false;
+      if (!check_legal) return queue(*o, true);
+      const Neighbour& to = ring_v[o->index];
       if (!owns(worker, to.vertex)) return false;
-      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star)) return queue(o, asked == 0);
-      ++asked;
+      if (legal(v, to.vertex, to.edge, ring_v, n, boundary_v, &star)) return queue(*o, asked == 0);
     }
   }
   count = finite_only(options, count);
