@@ -27,10 +27,8 @@ struct Settings {
   bool create_directories = false;  // --out-dir: the mirrored tree is made as needed
   bool layered = false;             // --layered
   int error_bits = -1;              // --error-bits; -1: kQuantizedErrorBits with --quantize, else 0
-  // --fast-from: the fast loop on meshes of at least this many faces (0: only with --fast).
-  // The default loop's measured error costs 30 to 55 microseconds a face: 46 to 87 s on 1.6
-  // million faces (by the machine's load), against under 3 s for the fast loop
-  // (tests/bench/scale.md).
+  // --fast-from: accepted and checked, then ignored (one collapse loop since issue 25), so
+  // that scripts that pass it keep working.
   std::size_t fast_from = 1000000;
 };
 
@@ -61,8 +59,9 @@ std::string json_members(const std::string& output, const pm::EncodeStats* stats
   member("base_vertices", stats ? stats->base_vertices : 0);
   member("splits", stats ? stats->collapses : 0);
   member("pm_bytes", pm_bytes);
-  // Which collapse loop ran: the fast one with --fast, or by --fast-from.
-  json += std::string(",\"loop\":") + (stats ? (stats->fast ? "\"fast\"" : "\"default\"") : "null");
+  // Which collapse loop ran: always "fast" since issue 25 (one loop, the former fast one);
+  // kept so that scripts reading it keep working.
+  json += std::string(",\"loop\":") + (stats ? "\"fast\"" : "null");
   return json;
 }
 
@@ -118,10 +117,6 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     progress.note(input + ": not kept: " + dropped);
 
   pm::EncodeOptions options = settings.encode;
-  // Large meshes take the fast loop unless asked otherwise (--fast-from).
-  const bool fast_by_size =
-      !options.fast && settings.fast_from != 0 && mesh.face_count() >= settings.fast_from;
-  if (fast_by_size) options.fast = true;
   // --layered: whole chunks. The windows of layered splits stay inside the stream's chunks
   // (--chunk-splits), those of the options the stream is written with.
   if (settings.layered) options.layer_window = std::numeric_limits<double>::infinity();
@@ -132,10 +127,6 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     return failed(s);
   mesh = pm::Mesh();
   if (stats.repair.any()) progress.note(repairs_note(input, stats.repair));
-  if (fast_by_size && stats.fast)
-    progress.note(input + ": " + std::to_string(stats.input_faces) + " faces, at least --fast-from " +
-                  std::to_string(settings.fast_from) +
-                  ": the fast loop ran (--fast-from 0 for the default loop and its measured errors)");
 
   std::string encoded;
   if (pm::Status s = pm::write_pm(progressive, settings.write, encoded); !s) return failed(s);
@@ -196,17 +187,14 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
   app.add_flag("--fast", settings.encode.fast,
-               "Fast collapse loop: either metric (--metric) on flat arrays, with a cheaper "
-               "measured error (many times faster; levels about as close to the input, "
-               "recorded errors bounds, but looser). Keeps texture coordinates, normals, colours and materials "
-               "with their seams as the default loop does");
+               "Accepted and ignored: there is one collapse loop (the former --fast loop, "
+               "now what every input takes)");
   app.add_option("--fast-from", settings.fast_from,
-                 "Take the fast loop (as --fast) on meshes of at least this many faces, where "
-                 "the default loop's measured error takes minutes; 0: only with --fast")
+                 "Accepted and ignored (a whole number of faces): there is one collapse loop")
       ->capture_default_str()
       ->check(pm::cli::whole_number());
   app.add_option("--threads", settings.encode.threads,
-                 "Threads for --fast on large meshes and for compressing the stream (0: the cores, "
+                 "Threads for the collapse loop on large meshes and for compressing the stream (0: the cores, "
                  "or 1 per file when several files are converted at once); the output is the "
                  "same for any number")
       ->capture_default_str();

@@ -1450,13 +1450,13 @@ TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
     for (const char* name : {"spot.obj", "cow.obj", "fandisk.obj"}) paths.push_back(test::shared_mesh_path(name));
   }
   for (const std::string& path : paths)
-    for (const bool fast : {false, true}) {  // either collapse loop
-      SCOPED_TRACE(path + (fast ? " (fast loop)" : ""));
+    for (const Metric metric : {Metric::kQuadric, Metric::kSchroeder}) {
+      SCOPED_TRACE(path + (metric == Metric::kSchroeder ? " (schroeder)" : ""));
       Mesh input;
       ASSERT_TRUE(read_mesh(path, input).is_ok());
       EncodeOptions options;
       options.keep_order = true;
-      options.fast = fast;
+      options.metric = metric;
       ProgressiveMesh pm;
       ASSERT_TRUE(encode(input, options, pm).is_ok());
       EXPECT_EQ(pm.input_vertices.size(), input.vertex_count());
@@ -1465,7 +1465,7 @@ TEST(PmStream, KeepOrderGivesTheInputsArraysAtFullDetail) {
       expect_same_arrays(extract_level(decoded, decoded.splits.size()), input);
       // Coarser levels are as without the order; a prefix does not read it.
       EncodeOptions without_order;
-      without_order.fast = fast;
+      without_order.metric = metric;
       ProgressiveMesh plain;
       ASSERT_TRUE(encode(input, without_order, plain).is_ok());
       const std::size_t half = plain.splits.size() / 2;

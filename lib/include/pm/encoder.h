@@ -52,27 +52,22 @@ struct EncodeOptions {
   // coarser: fandisk at 259 faces, Hausdorff 0.36% -> 0.60% of the diagonal).
   // pmenc --layer-window, --layered.
   double layer_window = 1.0 / 16;
-  // The fast collapse loop (pmenc --fast): either metric on a flat connectivity, with
-  // a cheaper measured distance than the default loop's (each face keeps its four farthest
-  // removed input vertices; the faces that change are measured against those they
-  // replace, not against the input). Many times faster (tests/bench/fast.md, scale.md);
-  // the levels keep the same topology rules and about the default loop's distance to the
-  // input (tests/bench/fast.md, fast_schroeder.md). Their recorded errors are bounds of
-  // every input vertex's distance to the level, as the default loop's (the kept points
-  // measured, a slack for those dropped: tests/bench/bound.md), though looser. Texture
-  // coordinates, normals, colours and materials are kept as the default loop keeps them
-  // (the same code). With the Schroeder metric, its rules as the default loop has them
-  // (classification, errors, edge choice), the measure joining the key as the larger of
-  // the two (EncodeStats::fast tells which loop ran).
+  // Ignored, kept so that callers still compile: there is one collapse loop (issue 25),
+  // the former fast loop (pmenc --fast, also a no-op now). It runs either metric on a flat
+  // connectivity; its measured distance keeps a few removed input vertices per face and
+  // measures the faces that change against the input (tests/bench/fast.md, quality.md).
+  // Its recorded errors bound every input vertex's distance to the level (the kept points
+  // measured, a slack for those dropped: tests/bench/bound.md). Texture coordinates,
+  // normals, colours and materials are kept with their seams.
   bool fast = false;
-  // The fast loop on a mesh of at least this many vertices, without welds or faces carried
+  // The collapse loop on a mesh of at least this many vertices, without welds or faces carried
   // by the repair: its collapses run in rounds, each in eight regions of the mesh at once
   // (on `threads` threads), then merged in order of cost; the last thirty-second run in one
   // heap. The sequence is the same whatever the number of threads, but not exactly the
   // one-heap greedy order (vertices next to a region's edge wait for a later round). 0 or SIZE_MAX:
   // never.
   std::size_t fast_partition_vertices = 131072;
-  // Threads the fast loop may use (its regions, and parts of building its arrays), and the
+  // Threads the collapse loop may use (its regions, and parts of building its arrays), and the
   // splits' layers (two stages at once): 0, the machine's cores. The result is the same for
   // any number.
   unsigned threads = 0;
@@ -109,7 +104,7 @@ struct EncodeStats {
   std::size_t base_faces = 0;
   std::size_t base_vertices = 0;
   std::size_t collapses = 0;
-  bool fast = false;  // the fast collapse loop ran (EncodeOptions::fast)
+  bool fast = true;  // always true: the one collapse loop is the former fast one (EncodeOptions::fast)
 };
 
 // Recorded errors are float32 distances between points of the mesh, so at most its

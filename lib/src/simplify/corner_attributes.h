@@ -88,7 +88,7 @@ class CornerAttributes {
   // quadrics at u's position and at the values the corners take, as a mean over their
   // area, times the kind's scale squared and its weight (weigh_costs()).
   double collapse_cost(const CollapseStar& c) const;
-  // How much each kind's error counts in collapse_cost(): 1 and 1 unless set (the default
+  // How much each kind's error counts in collapse_cost(): 1 and 1 unless set (the former default
   // loop's); the fast loop weighs the texture error less (fast_loop.h, kUvCostWeight).
   void weigh_costs(double uv, double normal) {
     kinds_[kUv].cost_weight = uv;
@@ -99,7 +99,7 @@ class CornerAttributes {
   // the part of the cost that is the same for every target, so that a loop pricing all of
   // v's options finds them once (star_wedges(), then collapse_cost(c, wedges) per target).
   struct StarWedges {
-    static constexpr int kMost = 256;  // HalfEdgeStar's most faces
+    static constexpr int kMost = 256;  // the most faces a star has (fast_loop.h: kMaxValence is less)
     struct Wedge {
       uint32_t slot;     // its quadric
       uint32_t v_class;  // v's value class there

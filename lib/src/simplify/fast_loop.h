@@ -29,7 +29,7 @@
 namespace pm::fast_loop {
 
 constexpr uint32_t kNone = 0xffffffffu;
-constexpr int kMaxValence = 64;  // as the default loop: a vertex of larger valence stays
+constexpr int kMaxValence = 64;  // as the former default loop: a vertex of larger valence stays
 static_assert(kMaxValence <= KeptPoints::kMaxMoved, "KeptPoints' scratch holds a whole fan");
 
 inline uint32_t next_of(uint32_t h) {
@@ -203,8 +203,8 @@ class FastSimplifier {
 
   // Schroeder, Zarge and Lorensen 1992, §3.1: an edge is a feature when its faces' normals
   // differ by more than the feature angle (a degenerate face's edges are features).
-  // Attribute seams and material borders are features too, as in the default loop
-  // (vertex_classification.h; Garland and Heckbert 1998, §4).
+  // Attribute seams and material borders are features too (Garland and Heckbert 1998, §4:
+  // discontinuities are kept like boundaries).
   bool is_feature(uint32_t h) const {
     if (!features_ || half_[h].twin == kNone) return false;
     if (attributes_ && seam_[h]) return true;
@@ -307,8 +307,9 @@ class FastSimplifier {
     return false;
   }
 
-  // Schroeder, Zarge and Lorensen 1992, §3.1, with Schroeder 1997's corner rule: the same
-  // answers as classify_vertex (vertex_classification.h).
+  // Schroeder, Zarge and Lorensen 1992, §3.1, with Schroeder 1997's corner rule
+  // (vertex_classification.h's kinds): a pinned vertex, or one the ring walk refuses, is
+  // complex.
   VertexKind kind_of(uint32_t v) const {
     if (vertex_[v].pinned) return VertexKind::kComplex;
     Neighbour ring_of_v[kMaxValence];
@@ -334,8 +335,12 @@ class FastSimplifier {
     return half_[edge].vertex == v ? Sides{edge, half_[edge].twin} : Sides{half_[edge].twin, edge};
   }
 
-  // The link condition (Dey, Edelsbrunner, Guha and Nekhayev 1999, §2) and Hoppe et al.
-  // 1993's boundary rule, as collapse_keeps_topology states them (collapse_legality.h).
+  // Topology: the collapse v -> u keeps the mesh a manifold of the same genus and number of
+  // boundary loops. That is the link condition (Dey, Edelsbrunner, Guha and Nekhayev 1999,
+  // "Topology preserving edge contraction", §2: the common neighbours of v and u are exactly
+  // vl and vr) plus the boundary rules of Hoppe et al. 1993 ("Mesh optimization", §3.2: an
+  // interior edge between two boundary vertices may not collapse), as OpenMesh's
+  // is_collapse_ok checks them; and no closed tetrahedron is flattened.
   bool keeps_topology(uint32_t u, const Sides& s, const Neighbour* ring_v, int n_v,
                       bool boundary_v) const {
     auto apex_ok = [&](uint32_t h) {
@@ -374,7 +379,7 @@ class FastSimplifier {
     return !(n_v == 3 && valence_u == 3 && !boundary_v && !boundary_u);
   }
 
-  // As collapse_keeps_geometry (collapse_legality.h): no surviving face of v's fan turns
+  // By face_keeps_geometry (collapse_legality.h): no surviving face of v's fan turns
   // by more than the flip limit or becomes degenerate.
   bool keeps_geometry(uint32_t v, uint32_t u, const Sides& s, const Neighbour* ring_v,
                       int n_v) const {
@@ -396,9 +401,8 @@ class FastSimplifier {
     return true;
   }
 
-  // As collapse_keeps_welds (collapse_legality.h), on the flat connectivity; as the default
-  // loop's keeps_carried_edges_apart: a carried face's vertex pair may not become an edge
-  // of the surface (fast_loop_build.cpp: only a repaired mesh has either).
+  // Welds (collapse_legality.h: keeps_weld_groups), and a carried face's vertex pair may not
+  // become an edge of the surface (fast_loop_build.cpp: only a repaired mesh has either).
   bool keeps_welds(uint32_t u, const Neighbour* ring_v, int n_v) const {
     return welds_.empty() || keeps_weld_groups(u, ring_v, n_v);
   }
@@ -417,7 +421,7 @@ class FastSimplifier {
            keeps_attributes(u, edge, star);
   }
 
-  // As the default loop: seams and material borders slide, never open or close, and no
+  // As the former default loop: seams and material borders slide, never open or close, and no
   // texture triangle turns over (CornerAttributes::collapse_keeps_attributes).
   bool keeps_attributes(uint32_t u, uint32_t edge, Star* star) const {
     if (!attributes_) return true;
@@ -428,7 +432,7 @@ class FastSimplifier {
   // The cost of v's collapse onto its neighbour u (through `edge`, a half-edge on v-u) as
   // find_best() ranks it: v's planes at u as a mean over their area (u stays where it is;
   // Garland and Heckbert 1997, §4), plus, with attributes, their error in the same units
-  // (Hoppe 1999, §4), as the default loop: `star` is v's, `wedges` its star_wedges().
+  // (Hoppe 1999, §4), as the former default loop: `star` is v's, `wedges` its star_wedges().
   double cost_of(uint32_t v, uint32_t u, uint32_t edge, Star& star,
                  const CornerAttributes::StarWedges& wedges) const {
     const double cost = geometric_cost(v, u);
@@ -451,7 +455,7 @@ class FastSimplifier {
   float queued_key(double cost) const { return static_cast<float>(cost); }
   // A candidate's key from its cost and a measured distance: the quadric's plus the
   // distance's square, weighted; Schroeder's the larger of the two, the distance weighted,
-  // as the default loop's combined() (unweighted there).
+  // as the former default loop's combined() (unweighted there).
   float combined(double cost, double worst) const {
     return static_cast<float>(schroeder_ ? std::max(cost, kSchroederWorstWeight * worst)
                                          : cost + kWorstCaseWeight * worst * worst);
@@ -551,7 +555,7 @@ class FastSimplifier {
     const int n_fan = make_fan(v, u, s, ring_v, n, fan, old_faces, &n_old, &moved);
     // The quadric orders the candidates; the kept points' distance is measured only for
     // the one at the top, which goes back with its new key when that puts it behind the
-    // next (lazy evaluation, as the default loop's remeasure(); Klein, Liebich and Straßer
+    // next (lazy evaluation, as the former default loop's remeasure(); Klein, Liebich and Straßer
     // 1996 measure the distance of the removed points, kept_points.h). In two steps, each
     // a lower bound of the whole: the kept points' distance to the new fan (and a texture
     // seam's drift), then the new fan's distance to the old one, only for a candidate still
@@ -562,7 +566,7 @@ class FastSimplifier {
       if (measured_[v] == kNotMeasured) {
         measured_[v] = kMeasuredPoints;
         double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
-        // A texture seam that slides within the surface, as the default loop's remeasure().
+        // A texture seam that slides within the surface, as the former default loop's remeasure().
         if (seam_drift_)
           worst = std::max(worst, (schroeder_ ? SeamDrift::kDriftScale : kDriftScale) *
                                       seam_drift_->collapse_drift(star.c));
@@ -704,12 +708,12 @@ class FastSimplifier {
     vertex_[u].quadric.add(vertex_[v].quadric, point(u) - point(v));
     worker.drop(v);
 
-    // Re-evaluated, as in the default loop: u, and v's other neighbours, whose one-rings
+    // Re-evaluated, as in the former default loop: u, and v's other neighbours, whose one-rings
     // changed; u's other neighbours keep their best collapse unless it became illegal,
     // which apply() finds when it is popped.
     evaluate(worker, u);
     // Points moved onto u's faces: a neighbour's key that holds a measure of them is
-    // measured again when it comes to the top (as the default loop's keyed_by_measure_).
+    // measured again when it comes to the top (as the former default loop's keyed_by_measure_).
     {
       Neighbour ring_u[kMaxValence];
       bool boundary_u_now;
@@ -739,7 +743,7 @@ class FastSimplifier {
       report_progress(out_.collapses.size() + worker.collapses.size());
   }
 
-  // Queues v with its quadric cost plus the squared measure `worst` (as the default loop's
+  // Queues v with its quadric cost plus the squared measure `worst` (as the former default loop's
   // combined() for the quadric metric); whether v is still the cheapest.
   bool top_with_measure(Worker& worker, uint32_t v, double worst) {
     const float key = combined(best_[v].key, worst);
@@ -802,7 +806,7 @@ class FastSimplifier {
     vertex_[x].outgoing = h;
   }
 
-  // Per-vertex quadrics of the input, as the default loop's (simplifier.cpp): each face's
+  // Per-vertex quadrics of the input, as the former default loop's (commit 3cb92db): each face's
   // plane weighted by its area (§6.1), and along each boundary and feature edge a plane
   // through the edge perpendicular to its face (§6.2).
   void initialize_quadrics();
@@ -860,22 +864,22 @@ class FastSimplifier {
   std::vector<Best> best_;
   // The measured error: points kept per face, and per vertex whether its queued key holds
   // their distance, or the first part of it (apply()). A measured distance counts as its
-  // square, as in the default loop's combined() for the quadric metric, but twice: the fast
-  // loop measures less than the default loop (kKept points per face, the new surface
+  // square, as in the former default loop's combined() for the quadric metric, but twice: the fast
+  // loop measures less than the former default loop (kKept points per face, the new surface
   // against the old one rather than the input), and on the shared meshes at 50/10/2% the
-  // weight 2 brings its Hausdorff distance from 1.05x the default loop's to 0.97x
+  // weight 2 brings its Hausdorff distance from 1.05x the former default loop's to 0.97x
   // (geometric means; RMS 1.01x -> 0.99x), 3 and 4 about as well, 1.5 less
   // (tests/bench/fast.md; the fastquality helper's notes). A candidate is queued at its
   // cost alone (queued_key()). With the measure against the input (kept_points.h's
   // input_distance()), 2 stays best: 1.5, 2.5 and 3 left more points above 1.05x.
   static constexpr double kWorstCaseWeight = 2.0;
   // With Schroeder's metric the measured distance joins the key as the larger of the two,
-  // as in the default loop, but weighs three times for the same reason (on 6 shared meshes
+  // as in the former default loop, but weighs three times for the same reason (on 6 shared meshes
   // at 50/10/2%, fast/default Hausdorff geometric mean 1.15 at weight 1, 1.08 at 2, 1.04 at
   // 3; RMS 1.04, 0.97, 0.95: tests/bench/fast_schroeder.md). Measured against the input
   // too (kept_points.h), 3 stays best: 2 left 2 of 72 points above 1.05x, 3 none.
   static constexpr double kSchroederWorstWeight = 3.0;
-  // Quadric metric, texture: its error (Hoppe 1999, §4) weighs 0.03 of the default loop's,
+  // Quadric metric, texture: its error (Hoppe 1999, §4) weighs 0.03 of the former default loop's,
   // a seam's drift as there (3.5 / sqrt kWorstCaseWeight): surface and texture at most
   // meshopt's (tests/bench/attr_quality.md, uv_fast.md; tests/bench/README.md says more).
   static constexpr double kUvCostWeight = 0.03;

@@ -188,8 +188,9 @@ bool FastSimplifier::build(const uint32_t* tri, std::size_t n_faces, const float
   return true;
 }
 
-// As collapse_keeps_welds (collapse_legality.h), on the flat connectivity. Weld groups
-// hold the given (repaired) ids.
+// The collapse v -> u is refused if a new edge u-w would join two copies of one vertex,
+// or would merge at output with an existing edge between copies of u's and w's vertices
+// (WeldGroups, collapse_legality.h). Weld groups hold the given (repaired) ids.
 bool FastSimplifier::keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int n_v) const {
   auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
     const int g = welds_.group[x];
@@ -220,7 +221,7 @@ bool FastSimplifier::keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int 
   return true;
 }
 
-// As the default loop's keeps_carried_edges_apart: a carried face's vertex pair may not
+// A carried face's vertex pair may not
 // become an edge of the surface.
 bool FastSimplifier::keeps_carried_pairs(uint32_t u, const Neighbour* ring_v, int n_v) const {
   for (int i = 0; i < n_v; ++i) {

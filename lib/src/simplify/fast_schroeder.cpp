@@ -1,12 +1,12 @@
 // Schroeder's metric in the fast loop (EncodeOptions::fast with Metric::kSchroeder): the
-// default loop's rules (simplifier.cpp, SchroederSimplifier::evaluate) on the fast loop's
+// default loop's rules (commit 3cb92db; deleted in issue 25) on the fast loop's
 // flat arrays. Schroeder, Zarge and Lorensen 1992, "Decimation of triangle meshes": §3.1
 // the vertex's kind (fast_options.cpp, find_best(): simple, boundary, interior edge, corner),
 // §3.2 its error (distance to the average plane, or to the boundary or feature line);
 // Schroeder 1997, "A topology modifying progressive decimation algorithm": §3 the corner
 // rule, §3.2 the shortest legal edge first. The formulas are schroeder_error.h's, the
 // default loop's. In place of Schroeder 1997 §3.3's error accumulation, the fast loop's
-// measure (kept_points.h) joins the key as the larger of the two (combined()).
+// measure (kept_points.h) joins the key as the larger of the two.
 //
 // The measure (fast_loop.h's apply()) is the quadric metric's, the moved faces against the
 // input (KeptPoints::input_distance()), and one more grid: the old fan against the new one
@@ -28,7 +28,7 @@ void FastSimplifier::schroeder_costs(uint32_t v, VertexKind kind, const Neighbou
   const Vec3 pv = point(v);
   const double weight = vertex_[v].sharp_corner ? kSharpCornerWeight : 1.0;
   // The attributes' error in model units joins the distance as the larger of the two, as
-  // in the default loop (Hoppe 1999, §4's attribute quadrics, a squared distance).
+  // in the former default loop (Hoppe 1999, §4's attribute quadrics, a squared distance).
   auto attribute_distance = [&](const Option& o) {
     if (!attributes_) return 0.0;
     const Neighbour& to = ring_v[o.index];
@@ -99,7 +99,7 @@ void FastSimplifier::schroeder_costs(uint32_t v, VertexKind kind, const Neighbou
 }
 
 void FastSimplifier::mark_sharp_corners() {
-  // As the default loop: an edge of the input corner sharper than kSharpCornerDeg, by its
+  // As the former default loop: an edge of the input corner sharper than kSharpCornerDeg, by its
   // faces' normals, or a seam or material border (is_feature_edge's rule at that angle).
   const double cos_sharp = std::cos(kSharpCornerDeg * M_PI / 180.0);
   run_in_slices(vertex_.size(), threads_, [&](std::size_t lo, std::size_t hi) {

@@ -57,7 +57,7 @@ void FastSimplifier::run() {
     }
   }
   if (partitioned_) run_rounds();
-  // One heap for the rest (or all) of the sequence. As the default loop: a final sweep
+  // One heap for the rest (or all) of the sequence. As the former default loop: a final sweep
   // re-evaluates every vertex, so the loop ends only when no legal collapse remains.
   std::vector<Worker> one(1);
   Worker& w = one[0];

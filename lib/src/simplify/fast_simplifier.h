@@ -1,11 +1,11 @@
-// The fast collapse loop (pmenc --fast, EncodeOptions::fast): Garland and Heckbert's quadric
+// The collapse loop (the one left since issue 25; once pmenc --fast): Garland and Heckbert's quadric
 // metric (or Schroeder's, fast_schroeder.cpp) on a flat, array-based connectivity (Campagna, Kobbelt and Seidel 1998, "Directed
-// edges"), with a measured error bounded per collapse (kept_points.h) where the default
-// loop charges removed_points.h's. It
+// edges"), with a measured error bounded per collapse (kept_points.h) where the former default
+// loop (deleted in issue 25; commit 3cb92db) charged every removed point. It
 // keeps every rule that makes the result a valid progressive mesh of the same topology:
 // the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
-// carried faces, boundaries and feature edges; and the attributes as the default loop keeps
-// them (corner_attributes.h, seam_drift.h: the same code): seams and material borders kept,
+// carried faces, boundaries and feature edges; and the attributes
+// (corner_attributes.h, seam_drift.h): seams and material borders kept,
 // attribute quadrics in the cost, texture-seam drift in the measured key.
 #pragma once
 

@@ -1,12 +1,12 @@
 // The fast loop's measured error (fast_loop.h): removed input vertices carried on the faces
-// of the simplified surface, as RemovedPoints carries them for the default loop (after Klein,
+// of the simplified surface, as RemovedPoints carried them for the former default loop (deleted in issue 25) (after Klein,
 // Liebich and Straßer 1996, "Mesh reduction with error control", who keep the
 // correspondence between the input and the reduced mesh to bound their distance), but a
 // face keeps only its kKept farthest points. The Hausdorff distance of a level to the input
 // is a maximum, made of the farthest points; the nearer ones seldom become the farthest, so
 // dropping them costs the measure little, and bounds its cost: a collapse measures at most
 // 1 + kKept points per face of v's fan against that fan, however many points its faces have
-// absorbed (where RemovedPoints samples up to 512 per collapse). And the other way round,
+// absorbed (where RemovedPoints sampled up to 512 per collapse). And the other way round,
 // for both metrics: the moved faces against the faces they replace (surface_distance()) and
 // against the input around them (input_distance()), a bounded grid per face. Flat arrays;
 // safe on several threads for collapses whose faces are apart (the fast loop's regions):
@@ -115,7 +115,7 @@ class KeptPoints {
   // midpoints, and then, for a point still farther than `worst`, a walk on the input
   // (walk_input()): where a face has grown larger than the region (at 2% of the faces a
   // face stands for 50 input faces), the nearest region face is only the nearest edge of
-  // it, and without the walk the levels at 2% were up to 5.8x the default loop's.
+  // it, and without the walk the levels at 2% were up to 5.8x the former default loop's.
   //
   // The largest of `worst` and the distances from the grid points of the first `moved`
   // faces of `fan` (u at pu) to the input: each face's points inside and on its two edges

@@ -6,7 +6,6 @@
 #include <limits>
 
 #include "simplify/geometry.h"
-#include "simplify/half_edge_mesh.h"
 #include "simplify/vertex_classification.h"
 
 namespace pm {
@@ -18,7 +17,7 @@ namespace pm {
 inline constexpr double kSharpCornerDeg = 60.0;
 inline constexpr double kSharpCornerWeight = 10.0;
 
-// The formulas, over a description of v's fan that either loop gives (the default loop's
+// The formulas, over a description of v's fan that either loop gives (the former default loop's
 // half-edge mesh, the fast loop's flat arrays: fast_schroeder.cpp).
 //
 // Schroeder 1992, §3.2: the distance from p to the average plane of its triangles.
@@ -57,25 +56,5 @@ double collapse_distance_over(const Vec3& p, const Vec3& pu, ForEachFace&& for_e
   }
   return nearest == std::numeric_limits<double>::infinity() ? (p - pu).norm() : nearest;
 }
-
-// Simple vertex: distance from v to the average plane of its triangles, whose normal is
-// the area-weighted mean of the face normals and which passes through the area-weighted
-// mean of the face centres (Schroeder 1992, §3.2).
-double distance_to_average_plane(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
-                                 HalfEdgeMesh::VertexHandle v);
-
-// Boundary and interior-edge vertex: distance from v to the line through its two
-// boundary or feature neighbours (Schroeder 1992, §3.2).
-double distance_to_feature_line(const HalfEdgeMesh& mesh, HalfEdgeMesh::VertexHandle v,
-                                const VertexClass& vertex_class);
-
-// The true error of the half-edge collapse h = (v -> u), used for corners: the distance
-// from v to the triangles that replace v's fan (v's faces with v moved onto u, less the
-// two that vanish), or to the edges u-vl / u-vr when no face remains.
-double collapse_distance(const HalfEdgeMesh& mesh, HalfEdgeMesh::HalfedgeHandle h);
-
-// The error Schroeder's criteria assign to removing v along h, by its kind.
-double vertex_removal_error(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
-                            const VertexClass& vertex_class, HalfEdgeMesh::HalfedgeHandle h);
 
 }  // namespace pm

@@ -56,7 +56,7 @@ double SeamDrift::collapse_drift(const CollapseStar& c) const {
     const std::vector<uint32_t>* attached = find(c.v, end);
     if (!attached) continue;
     // Near the base mesh a seam edge stands for a long stretch of the input's seam; an
-    // evenly spread subset bounds the cost, as RemovedPoints does for faces.
+    // evenly spread subset bounds the cost, as the former default loop's RemovedPoints did for faces.
     const std::vector<uint32_t>& points = *attached;
     const std::size_t stride = points.size() / kMeasuredPoints + 1;
     for (std::size_t i = 0; i < points.size(); i += stride)

@@ -3,7 +3,7 @@
 // metric for simplifying meshes with appearance attributes", §5; Garland and Heckbert 1998,
 // §4: collapse along a discontinuity, never across it), so the seam polyline u-v-w
 // becomes the chord u-w. The constraint planes of the quadric hold that chord in place on
-// average; this measures the worst case, as RemovedPoints does for the surface (Klein,
+// average; this measures the worst case, as kept_points.h does for the surface (Klein,
 // Liebich and Straßer 1996): every input vertex of a seam that has been removed is
 // attached to the current seam edge that replaced it, and a collapse is charged the largest
 // distance from the points it would attach to the new edge.
@@ -29,8 +29,9 @@ class SeamDrift {
   // surface in a collapse loop's measured key. Tuned on tests/bench/uv.md (spot, and the
   // vase sample with three charts at 10%, 2% and 1%): at 2.8 (x^2 = 8) spot's seams still
   // slid at 10%; at 4 (x^2 = 16) the vase's interior at 2% paid for the seams it kept. 3.5
-  // holds both. The default loop's; the fast loop, whose key weighs the measure twice, has
-  // its own (fast_loop.h, kDriftScale).
+  // holds both (tuned on the former default loop, commit 3cb92db). The quadric metric's key
+  // weighs the measure twice and scales this by 1/sqrt(2) (fast_loop.h, kDriftScale);
+  // Schroeder's takes it as it is.
   static constexpr double kDriftScale = 3.5;
 
   // The seams are the texture-coordinate seams of `attributes` (in its face and vertex

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "simplify/geometry.h"
-#include "simplify/half_edge_mesh.h"
 
 namespace pm {
 
@@ -42,37 +41,5 @@ inline VertexKind kind_from_edges(int boundary_edges, int feature_edges) {
   if (boundary_edges == 0 && feature_edges == 2) return VertexKind::kInteriorEdge;
   return VertexKind::kCorner;
 }
-
-struct VertexClass {
-  VertexKind kind = VertexKind::kComplex;
-  // The two neighbours across the special edges, for boundary and interior-edge vertices.
-  HalfEdgeMesh::VertexHandle line_ends[2];
-};
-
-class CornerAttributes;
-
-// Per-face unit normals and areas of the current mesh, kept up to date by the simplifier.
-struct FaceGeometry {
-  std::vector<Vec3> normal;  // unit, or zero for a degenerate face
-  std::vector<double> area;
-  // Attribute seams and material borders count as feature edges (Garland and Heckbert
-  // 1998, §4: discontinuities are kept like boundaries). Null when there are none.
-  const CornerAttributes* attributes = nullptr;
-  void update(const HalfEdgeMesh& mesh, HalfEdgeMesh::FaceHandle f);
-};
-
-// An edge is special if it is a boundary edge or a feature edge: the normals of its two
-// faces differ by more than the feature angle (cos_feature_angle = its cosine), or it is
-// an attribute seam or a material border.
-bool is_boundary_edge(const HalfEdgeMesh& mesh, HalfEdgeMesh::EdgeHandle e);
-bool is_feature_edge(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
-                     HalfEdgeMesh::EdgeHandle e, double cos_feature_angle);
-inline bool is_special_edge(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
-                            HalfEdgeMesh::EdgeHandle e, double cos_feature_angle) {
-  return is_boundary_edge(mesh, e) || is_feature_edge(mesh, faces, e, cos_feature_angle);
-}
-
-VertexClass classify_vertex(const HalfEdgeMesh& mesh, const FaceGeometry& faces,
-                            HalfEdgeMesh::VertexHandle v, double cos_feature_angle, bool pinned);
 
 }  // namespace pm
