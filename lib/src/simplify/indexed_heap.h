@@ -1,7 +1,7 @@
 // A min-heap holding at most one key per id, each key changeable in place (an addressable
 // priority queue), with four children per node: Johnson 1975, "Priority queues with update
 // and finding minimum spanning trees" (d-heaps). A d-heap is shallower than a binary one,
-// and with 8-byte entries a node's four children lie in one or two cache lines, which is
+// and with 12-byte entries a node's four children lie in one or two cache lines, which is
 // what a heap of a million entries pays for. Updating in place, instead of pushing a new
 // entry and skipping the stale ones when they surface, keeps the heap at one entry per id.
 #pragma once
@@ -19,7 +19,7 @@ class IndexedHeap {
   bool empty() const { return entries_.empty(); }
   std::size_t size() const { return entries_.size(); }
   bool contains(uint32_t id) const { return position_[id] != kAbsent; }
-  // The id of least key, ties to the smaller id. Not empty.
+  // The id of least key, ties to the smaller tie (set()'s; by default the id). Not empty.
   uint32_t top() const { return entries_.front().id; }
   // id's key. contains(id).
   float key(uint32_t id) const { return entries_[position_[id]].key; }
@@ -35,10 +35,11 @@ class IndexedHeap {
     return entries_[least].id;
   }
 
-  // Inserts id with `key`, or changes its key.
-  void set(uint32_t id, float key) {
+  // Inserts id with `key`, or changes its key; among equal keys the smaller `tie` comes first.
+  void set(uint32_t id, float key) { set(id, key, id); }
+  void set(uint32_t id, float key, uint32_t tie) {
     if (position_[id] == kAbsent) {
-      entries_.push_back({key, id});
+      entries_.push_back({key, id, tie});
       position_[id] = static_cast<uint32_t>(entries_.size() - 1);
       sift_up(entries_.size() - 1);
       return;
@@ -46,6 +47,7 @@ class IndexedHeap {
     const std::size_t i = position_[id];
     const Entry old = entries_[i];
     entries_[i].key = key;
+    entries_[i].tie = tie;
     if (less(entries_[i], old)) {
       sift_up(i);
     } else {
@@ -84,9 +86,10 @@ class IndexedHeap {
   struct Entry {
     float key;
     uint32_t id;
+    uint32_t tie;
   };
   static bool less(const Entry& a, const Entry& b) {
-    return a.key != b.key ? a.key < b.key : a.id < b.id;
+    return a.key != b.key ? a.key < b.key : a.tie != b.tie ? a.tie < b.tie : a.id < b.id;
   }
   void place(std::size_t i, const Entry& e) {
     entries_[i] = e;
