@@ -1,5 +1,6 @@
 // The fast loop's addressable heap (lib/src/simplify/indexed_heap.h): least key first, ties to the
-// smaller id, keys changed and ids removed in place, against a sorted reference.
+// smaller tie given or else the smaller id, keys changed and ids removed in place, against a
+// sorted reference.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,6 +50,21 @@ TEST(IndexedHeap, SetChangesAKeyInPlaceAndEraseRemovesAnyId) {
   EXPECT_TRUE(heap.contains(4));
   EXPECT_EQ(heap.size(), 5u);
   EXPECT_EQ(drain(heap), (std::vector<uint32_t>{4, 1, 2, 5, 0}));
+}
+
+// With a tie given, equal keys go by it (the fast loop gives a counter: oldest first), and
+// only equal ties by the id.
+TEST(IndexedHeap, EqualKeysGoByTheTieGivenThenByTheId) {
+  IndexedHeap heap(6);
+  heap.set(0, 1.0f, 30);
+  heap.set(1, 1.0f, 10);
+  heap.set(2, 1.0f, 20);
+  heap.set(3, 0.5f, 99);
+  heap.set(4, 1.0f, 10);
+  heap.set(5, 1.0f, 40);
+  heap.set(5, 1.0f, 5);  // the same key, a new tie: moves up
+  EXPECT_EQ(heap.runner_up(), 5u);
+  EXPECT_EQ(drain(heap), (std::vector<uint32_t>{3, 5, 1, 4, 2, 0}));
 }
 
 // Thousands of random sets and erases, checked after each against a std::map of
