@@ -73,7 +73,7 @@ void FastSimplifier::run() {
     w.heap.clear();
     for (uint32_t v = 0; v < n_vertices; ++v) evaluate(w, v);
     bool more = false;
-    // The least key first, ties to the smaller (local) id.
+    // The least key first, equal keys oldest first (Worker::queue()).
     while (!w.heap.empty() && !w.full) {
       fetch(w.next_cheapest());
       apply(w, w.cheapest());
