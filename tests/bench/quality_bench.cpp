@@ -3,10 +3,10 @@
 //
 // For each mesh and each target fraction of its faces, each method produces a mesh of about
 // that many faces:
-//   pmenc schroeder, pmenc quadric  pm::encode once per metric, geometry only like the peers
-//                                   (drop_attributes); the LOD is the finest level with at
-//                                   most the target's faces (pm::extract_level)
-//   the same with --fast            EncodeOptions::fast, both metrics
+//   pmenc schroeder, pmenc quadric  pm::encode once per metric (the one collapse loop, since
+//                                   issue 25), geometry only like the peers (drop_attributes);
+//                                   the LOD is the finest level with at most the target's
+//                                   faces (pm::extract_level)
 //   pmenc REFERENCE (3cb92db)       the pmenc of an older commit (--reference-pmenc), run as
 //                                   a process with the same options; its .pm is read back
 //                                   with today's decoder and its levels taken the same way
@@ -66,21 +66,18 @@ constexpr double kStallTolerance = 0.02;
 // The rows of each target, in this order.
 enum class Method {
   kPmencSchroeder,
-  kPmencSchroederFast,       // EncodeOptions::fast
   kPmencSchroederReference,  // the reference commit's pmenc (--reference-pmenc)
   kPmencQuadric,
-  kPmencQuadricFast,
   kPmencQuadricReference,
   kMeshopt,
   kOpenMesh,
   kOpenMeshNormalFlipping,  // a variant: with pmenc's own 90-degree normal-flip rule
   kVtk,
 };
-constexpr std::array<Method, 10> kMethods = {
-    Method::kPmencSchroeder,         Method::kPmencSchroederFast, Method::kPmencSchroederReference,
-    Method::kPmencQuadric,           Method::kPmencQuadricFast,   Method::kPmencQuadricReference,
-    Method::kMeshopt,                Method::kOpenMesh,           Method::kOpenMeshNormalFlipping,
-    Method::kVtk};
+constexpr std::array<Method, 8> kMethods = {
+    Method::kPmencSchroeder, Method::kPmencSchroederReference, Method::kPmencQuadric,
+    Method::kPmencQuadricReference, Method::kMeshopt, Method::kOpenMesh,
+    Method::kOpenMeshNormalFlipping, Method::kVtk};
 constexpr std::size_t index_of(Method method) {
   return static_cast<std::size_t>(method);
 }
@@ -94,14 +91,10 @@ std::string method_name(Method method, const std::string& reference_label) {
   switch (method) {
     case Method::kPmencSchroeder:
       return "pmenc schroeder";
-    case Method::kPmencSchroederFast:
-      return "pmenc schroeder --fast";
     case Method::kPmencSchroederReference:
       return "pmenc " + reference_label + " schroeder";
     case Method::kPmencQuadric:
       return "pmenc quadric";
-    case Method::kPmencQuadricFast:
-      return "pmenc quadric --fast";
     case Method::kPmencQuadricReference:
       return "pmenc " + reference_label + " quadric";
     case Method::kMeshopt:
@@ -124,8 +117,9 @@ struct Settings {
   bool use_vtk = true;
   std::string vtk_script = PM_BENCH_VTK_SCRIPT;
   std::string python = "/usr/bin/python3";
-  // --reference-pmenc: the pmenc built from an older commit (run_quality.sh builds 3cb92db's,
-  // the default loop that issue 25's one loop must stay within 5% of); empty: its rows are n/a.
+  // --reference-pmenc: the pmenc built from an older commit (run_quality.sh builds 3cb92db's:
+  // the former default loop, which issue 25's one loop must stay within 5% of); empty: its
+  // rows are n/a.
   std::string reference_pmenc;
   std::string reference_label = "reference";  // --reference-label, the rows' name
 };
@@ -385,11 +379,10 @@ std::string repair_summary(const pm::RepairReport& repair) {
   return text;
 }
 
-bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, bool fast,
-                  pm::ProgressiveMesh& progressive, double& milliseconds, pm::EncodeStats& stats) {
+bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, pm::ProgressiveMesh& progressive,
+                  double& milliseconds, pm::EncodeStats& stats) {
   pm::EncodeOptions options;
   options.metric = metric;
-  options.fast = fast;
   // Geometry only, like the peers, which are given positions and triangles alone: kept
   // attributes would hold UV seams and add texture error to the cost (issue 4), a handicap
   // the peers do not carry here. uv.md (pm_bench_uv) compares with attributes on both sides.
@@ -402,8 +395,8 @@ bool encode_timed(const pm::Mesh& mesh, pm::Metric metric, bool fast,
 }
 
 // The reference commit's pmenc on the mesh file, as a process: geometry only like
-// encode_timed's (--drop-attributes), the metric given, the default loop (--fast-from 0:
-// 3cb92db took the fast loop from 1,000,000 faces on), the rest at that commit's defaults,
+// encode_timed's (--drop-attributes), the metric given, its default loop (--fast-from 0:
+// 3cb92db took its fast loop from 1,000,000 faces on), the rest at that commit's defaults,
 // which EncodeOptions{} had then too. Its .pm is read with today's decoder (the format has
 // not changed: tests/data/golden still decodes). The time is the whole process: reading the
 // mesh, encoding and writing the .pm. False, with the reason in `note`, when it fails.
@@ -464,16 +457,9 @@ std::optional<MeshReport> run_mesh(const fs::path& path, const Settings& setting
                             reference_note))
         continue;
     } else {
-      const bool fast =
-          method == Method::kPmencSchroederFast || method == Method::kPmencQuadricFast;
       pm::EncodeStats stats;
-      if (!encode_timed(original, metric, fast, progressive, milliseconds, stats))
+      if (!encode_timed(original, metric, progressive, milliseconds, stats))
         return std::nullopt;
-      if (fast && !stats.fast) {
-        std::cerr << "quality_bench: " << report.name << ": EncodeOptions::fast did not take "
-                  << "the fast loop\n";
-        return std::nullopt;
-      }
       if (method == Method::kPmencQuadric) report.repairs = repair_summary(stats.repair);
     }
     std::cerr << "[bench]   " << method_name(method, settings.reference_label) << " encode: "
@@ -638,11 +624,8 @@ struct Candidate {
   Method ours;
   Method reference;
 };
-// The fast loop first: it is to become the only one. Today's default loop against the
-// reference shows how far main has moved from it (1.000 where nothing changed).
+// Today's one collapse loop, per metric, against the reference's row of the same metric.
 constexpr Candidate kCandidates[] = {
-    {Method::kPmencQuadricFast, Method::kPmencQuadricReference},
-    {Method::kPmencSchroederFast, Method::kPmencSchroederReference},
     {Method::kPmencQuadric, Method::kPmencQuadricReference},
     {Method::kPmencSchroeder, Method::kPmencSchroederReference}};
 
@@ -719,14 +702,15 @@ std::string render_one_loop_acceptance(const std::vector<MeshReport>& reports,
                                        const Settings& settings) {
   const std::string& label = settings.reference_label;
   std::ostringstream md, details;
-  md << "## Issue 25: against the default loop of " << label << " and meshopt_simplify\n\n"
-     << "Issue 25's quality line: at every mesh and target, the one loop's Hausdorff and RMS "
-        "each at most "
-     << kReferenceTolerance << " times the default loop's as of commit " << label
+  md << "## Issue 25: against the former default loop of " << label
+     << " and meshopt_simplify\n\n"
+     << "Issue 25's quality line: at every mesh and target, the one collapse loop's Hausdorff "
+        "and RMS each at most "
+     << kReferenceTolerance << " times the former default loop's as of commit " << label
      << " (the rows \"pmenc " << label
      << " ...\": that commit's pmenc, built by run_quality.sh, its .pm decoded by today's "
-        "library and measured as every other row) and at most meshopt_simplify's. Each pmenc "
-        "row of today is set against the reference row of its own metric. Cells are ratios "
+        "library and measured as every other row) and at most meshopt_simplify's. Each metric's "
+        "row of today is set against the reference row of the same metric. Cells are ratios "
         "(today / reference, today / meshopt), bold where over the limit ("
      << kReferenceTolerance << " and 1). A point passes when all four hold.\n\n";
   if (settings.reference_pmenc.empty())
@@ -774,9 +758,11 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
         "mesh, and is the same for every target; each peer's time produces one LOD. "
         "OpenMesh's time is the decimater's setup and decimation (not building its mesh); "
         "vtkDecimatePro's is its `Update()` alone.\n\n"
-     << "pmenc's rows, per metric: the default loop (`pm::encode`), the fast loop "
-        "(`EncodeOptions::fast`, `pmenc --fast`), and **pmenc "
-     << settings.reference_label << "**: the default loop as of commit "
+     << "pmenc's rows, per metric: the one collapse loop (since issue 25; `pm::encode`, "
+        "which every input takes: `EncodeOptions::fast`, `pmenc --fast` are accepted no-ops), "
+        "and **pmenc "
+     << settings.reference_label << "**: the former default loop (OpenMesh half-edge mesh, "
+        "deleted by issue 25) as of commit "
      << settings.reference_label
      << ", issue 25's reference, whose pmenc run_quality.sh builds from that commit's sources "
         "and runs as a process (`--drop-attributes --fast-from 0 --metric M`, the rest at its "
@@ -829,20 +815,18 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
         "\"H pm / peer, RMS pm / peer\" in percent of the diagonal. The first three columns are "
         "issue 3's acceptance comparisons: pmenc quadric against meshopt_simplify and OpenMesh "
         "ModQuadric, pmenc schroeder against vtkDecimatePro where vtk reaches the target. The "
-        "other three are extra, counted apart: pmenc quadric against the OpenMesh variant with "
-        "the normal-flip guard; where vtk stalls, pmenc schroeder measured at vtk's face "
-        "count; and pmenc's fast loop (`--fast`) against meshopt_simplify.\n\n"
+        "other two are extra, counted apart: pmenc quadric against the OpenMesh variant with "
+        "the normal-flip guard; and, where vtk stalls, pmenc schroeder measured at vtk's face "
+        "count.\n\n"
      << "| mesh | target faces | quadric <= meshopt | quadric <= OpenMesh | schroeder <= vtk | "
-        "extra: quadric <= OpenMesh+NormalFlipping | extra: schroeder <= vtk at vtk's count | "
-        "extra: --fast <= meshopt |\n"
-     << "|---|---:|---|---|---|---|---|---|\n";
-  constexpr std::size_t kColumns = 6, kAcceptanceColumns = 3;
+        "extra: quadric <= OpenMesh+NormalFlipping | extra: schroeder <= vtk at vtk's count |\n"
+     << "|---|---:|---|---|---|---|---|\n";
+  constexpr std::size_t kColumns = 5, kAcceptanceColumns = 3;
   const char* const column_names[kColumns] = {"quadric <= meshopt",
                                               "quadric <= OpenMesh",
                                               "schroeder <= vtk",
                                               "quadric <= OpenMesh+NormalFlipping",
-                                              "schroeder <= vtk at vtk's stalled count",
-                                              "quadric --fast <= meshopt"};
+                                              "schroeder <= vtk at vtk's stalled count"};
   std::array<int, kColumns> held{}, counted{};
   for (const MeshReport& report : reports) {
     for (const TargetRow& row : report.rows) {
@@ -855,9 +839,7 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
           compare(quadric, o[index_of(Method::kOpenMesh)], "OpenMesh"),
           compare(schroeder, vtk, "vtk"),
           compare(quadric, o[index_of(Method::kOpenMeshNormalFlipping)], "OpenMesh"),
-          {},
-          compare(o[index_of(Method::kPmencQuadricFast)], o[index_of(Method::kMeshopt)],
-                  "meshopt")};
+          {}};
       if (row.schroeder_at_vtk_faces) {
         Outcome vtk_at_own_count = vtk;
         vtk_at_own_count.stalled = false;  // compared at the face count it reached
@@ -899,8 +881,8 @@ const char kUsage[] =
     "                        [--no-vtk] [--vtk-script PATH] [--dump DIRECTORY]\n"
     "                        [--reference-pmenc PATH] [--reference-label NAME]\n"
     "Simplifies each mesh (default: ../shared/meshes next to the repository) to each target\n"
-    "fraction of its faces with pmenc schroeder and quadric (each also with --fast, and with\n"
-    "the pmenc of --reference-pmenc, rows named after --reference-label), meshopt_simplify,\n"
+    "fraction of its faces with pmenc schroeder and quadric (each also with the pmenc of\n"
+    "--reference-pmenc, rows named after --reference-label), meshopt_simplify,\n"
     "OpenMesh's Decimater (ModQuadric) and vtkDecimatePro, measures every LOD with the same\n"
     "code, and prints a markdown report (also written to FILE with --out). Progress goes to\n"
     "stderr. --dump writes every LOD to DIRECTORY as OBJ.\n";

@@ -4,9 +4,10 @@
 # tests/bench/quality.md, then prints it. Extra arguments go to pm_bench_quality
 # (e.g. --targets 0.5,0.1 or --no-vtk). Then its texture-coordinate part (issue 4):
 # run_uv.sh, which writes tests/bench/uv.md. See tests/bench/README.md.
-# Issue 25's reference, the default loop as of commit 3cb92db, stays measurable after that
-# loop has left the library: this script builds that commit's pmenc (and nothing else) from
-# its sources in $build/reference-3cb92db/, once, and the benchmark runs it beside today's.
+# Issue 25's reference, the former default loop as of commit 3cb92db, stays measurable now
+# that the library has one collapse loop: this script builds that commit's pmenc (and nothing
+# else) from its sources in $build/reference-3cb92db/, once, and the benchmark runs it beside
+# today's rows (one per metric, the one loop).
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
