@@ -6,8 +6,9 @@
 //   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] [--threads N]
 //                   [--runs N] [--out FILE.pm]
 //
-// --one-heap: the fast loop without regions (EncodeOptions::fast_partition_vertices = 0);
-// --threads: EncodeOptions::threads.
+// --one-heap: the collapse loop without regions (EncodeOptions::fast_partition_vertices = 0);
+// --threads: EncodeOptions::threads. --fast is accepted and ignored, as pmenc's: one collapse
+// loop since issue 25 (EncodeOptions::fast is a no-op).
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -49,7 +50,7 @@ int main(int argc, char** argv) {
       else if (m == "schroeder") options.metric = pm::Metric::kSchroeder;
       else die("unknown metric " + m);
     } else if (arg == "--fast") {
-      options.fast = true;
+      // Accepted for older scripts; every input takes the one collapse loop.
     } else if (arg == "--one-heap") {
       options.fast_partition_vertices = 0;
     } else if (arg == "--threads" && i + 1 < argc) {

@@ -9,18 +9,17 @@
 # (pm_make_big_mesh --keep-attributes; big_mesh.h): 950,272 faces. Rows:
 #
 #   pmenc textured-loop4.obj -o textured-loop4.pm          ours, default options (attributes
-#                                                           kept; under --fast-from's million
-#                                                           faces: the default loop)
-#   pmenc --fast textured-loop4.obj -o ...                  ours, the fast loop
+#                                                           kept; the one collapse loop,
+#                                                           since issue 25)
 #   pm_bench_scale_peers meshopt-seams textured-loop4.obj   a minimal reader into the
 #                                                           seam-split vertex buffer,
 #                                                           meshopt_simplify to 1%
 #
-# In-process: pm_bench_encode --fast --threads 1 --one-heap (pm::encode after the mesh is
-# read: the collapse loop and the progressive mesh, not writing) beside meshopt-seams'
+# In-process: pm_bench_encode --threads 1 --one-heap (pm::encode after the mesh is read: the
+# collapse loop without regions and the progressive mesh, not writing) beside meshopt-seams'
 # own timing of meshopt_simplify.
 #
-#   run_textured.sh [--runs N]     (N >= 5, default 5; about 3 minutes per run here)
+#   run_textured.sh [--runs N]     (N >= 5, default 5; about 70 s per run here)
 #
 # Installs what is missing with apt, builds in build-bench/ (or $PM_BENCH_BUILD).
 set -euo pipefail
@@ -91,11 +90,10 @@ rm -f "$work"/*.runs "$work"/*.inproc
 for ((i = 1; i <= runs; ++i)); do
   echo "run_textured.sh: run $i of $runs" >&2
   measure pmenc "$bin/pmenc" "$obj" -o "$work/$name.pm"
-  measure pmenc_fast "$bin/pmenc" --fast "$obj" -o "$work/$name.fast.pm"
   measure meshopt "$bench/pm_bench_scale_peers" meshopt-seams "$obj"
   field meshopt simplify_s >>"$work/meshopt.inproc"
-  "$bench/pm_bench_encode" "$obj" --fast --threads 1 --one-heap >"$work/encode_fast.stdout"
-  field encode_fast wall >>"$work/encode_fast.inproc"
+  "$bench/pm_bench_encode" "$obj" --threads 1 --one-heap >"$work/encode.stdout"
+  field encode wall >>"$work/encode.inproc"
 done
 
 faces=$(grep -c '^f ' "$obj")
@@ -119,10 +117,9 @@ cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
   echo
   echo "| process | wall (s) | peak RSS (MiB) | wall / meshopt's | peak / meshopt's |"
   echo "|---|---:|---:|---:|---:|"
-  for label in pmenc pmenc_fast meshopt; do
+  for label in pmenc meshopt; do
     case "$label" in
-      pmenc) title="**\`pmenc $name.obj -o $name.pm\`** (ours, default options: attributes kept; the default loop under a million faces)" ;;
-      pmenc_fast) title="**\`pmenc --fast $name.obj -o $name.fast.pm\`** (ours, the fast loop)" ;;
+      pmenc) title="**\`pmenc $name.obj -o $name.pm\`** (ours, default options: attributes kept; the one collapse loop)" ;;
       meshopt) title="meshopt: a minimal OBJ reader into the seam-split buffer (position, uv, normal per vertex), \`meshopt_simplify\` to 1%" ;;
     esac
     wall=$(median "$work/$label.runs" 1)
@@ -132,15 +129,15 @@ cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
   echo
   echo "The goal: at most 3× meshopt's wall time and 1.5× its peak memory."
   echo
-  echo "**In-process**, one thread, after the mesh is read: \`pm::encode\` with the fast loop (\`pm_bench_encode --fast --threads 1 --one-heap\`: the whole collapse sequence to the base mesh and the progressive mesh, attributes kept, not writing the .pm) against meshopt's own timing of \`meshopt_simplify\` to 1% on the seam-split buffer."
+  echo "**In-process**, one thread, after the mesh is read: \`pm::encode\` (\`pm_bench_encode --threads 1 --one-heap\`: the one collapse loop without regions, the whole collapse sequence to the base mesh and the progressive mesh, attributes kept, not writing the .pm) against meshopt's own timing of \`meshopt_simplify\` to 1% on the seam-split buffer."
   echo
   echo "| in-process | seconds | this / meshopt_simplify |"
   echo "|---|---:|---:|"
-  fast_s=$(median "$work/encode_fast.inproc" 1)
-  echo "| pm::encode, fast loop, one thread | $(seconds "$fast_s") | $(ratio "$fast_s" "$meshopt_s") |"
+  encode_s=$(median "$work/encode.inproc" 1)
+  echo "| pm::encode, one thread, one heap | $(seconds "$encode_s") | $(ratio "$encode_s" "$meshopt_s") |"
   echo "| meshopt_simplify to 1% | $(seconds "$meshopt_s") | 1.00× |"
   echo
-  echo "Outputs (the last run): \`$name.pm\` $(thousands "$(stat -c %s "$work/$name.pm")") bytes, \`$name.fast.pm\` $(thousands "$(stat -c %s "$work/$name.fast.pm")") bytes; meshopt kept $(thousands "$(field meshopt faces_out)") faces after $(field meshopt load_s) s of reading."
+  echo "Outputs (the last run): \`$name.pm\` $(thousands "$(stat -c %s "$work/$name.pm")") bytes; meshopt kept $(thousands "$(field meshopt faces_out)") faces after $(field meshopt load_s) s of reading."
 } >"$report.tmp"
 mv "$report.tmp" "$report"
 cat "$report"
