@@ -21,9 +21,6 @@
 namespace pm {
 namespace {
 
-// Numbers vertices and faces as the decoder will create them (base first, then one
-// vertex and one or two faces per split, coarse to fine) and turns the collapses,
-// last first, into vertex splits.
 // Carried faces' corners straight from the input.
 void copy_corners(const std::vector<uint32_t>& ids, uint32_t face, std::vector<uint32_t>& to) {
   to.insert(to.end(), ids.begin() + 3 * std::size_t{face}, ids.begin() + 3 * std::size_t{face} + 3);
@@ -77,6 +74,9 @@ struct Simplified {
   std::size_t n_vertices, n_faces;
 };
 
+// Numbers vertices and faces as the decoder will create them (base first, then one
+// vertex and one or two faces per split, coarse to fine) and turns the collapses,
+// last first, into vertex splits.
 void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified& run,
               bool keep_attributes, bool keep_order, ProgressiveMesh& out) {
   const std::size_t n_vertices = run.n_vertices, n_faces = run.n_faces;
