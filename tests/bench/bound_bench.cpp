@@ -1,10 +1,10 @@
 // How tight the recorded errors are (issue 25): for each mesh, the levels of at most 50%, 10%
-// and 2% of the faces, by the default loop and by the fast loop (EncodeOptions::fast, whose
-// record carries the slack of the points its faces drop: dropped_points_bound.h), the
-// recorded error against the exact largest distance of an input vertex to the level's
-// faces (what the record bounds: pm::measure_surface_distance from the input's vertices
-// alone). A ratio below 1 would be a record that is not a bound. Then the fast encode's
-// time on one thread, median of --runs runs.
+// and 2% of the faces, by the one collapse loop (since issue 25; its record carries the
+// slack of the points its faces drop: dropped_points_bound.h), the recorded error against
+// the exact largest distance of an input vertex to the level's faces (what the record
+// bounds: pm::measure_surface_distance from the input's vertices alone). A ratio below 1
+// would be a record that is not a bound. Then the encode's time on one thread, median of
+// --runs runs.
 //
 //   pm_bench_bound MESH_DIR [--out bound.md] [--runs 5]
 #include <algorithm>
@@ -38,9 +38,8 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-bool encode(const pm::Mesh& mesh, bool fast, pm::ProgressiveMesh& out, double* ms) {
+bool encode(const pm::Mesh& mesh, pm::ProgressiveMesh& out, double* ms) {
   pm::EncodeOptions options;
-  options.fast = fast;
   options.drop_attributes = true;
   options.threads = 1;
   const auto start = Clock::now();
@@ -94,31 +93,28 @@ int main(int argc, char** argv) {
   const std::vector<fs::path> paths = pm::bench::mesh_files({dir});
 
   std::ostringstream table, speed;
-  table << "| mesh | target | default recorded | default exact | default recorded/exact | "
-           "fast recorded | fast exact | fast recorded/exact |\n"
-           "|---|---:|---:|---:|---:|---:|---:|---:|\n";
-  speed << "| mesh | faces | fast encode ms |\n|---|---:|---:|\n";
+  table << "| mesh | target | recorded | exact | recorded/exact |\n"
+           "|---|---:|---:|---:|---:|\n";
+  speed << "| mesh | faces | encode ms |\n|---|---:|---:|\n";
   for (const fs::path& path : paths) {
     pm::Mesh original;
     if (!pm::bench::read_listed_mesh(path, "bound_bench", original)) continue;
     const std::string name = path.filename().string();
-    pm::ProgressiveMesh slow, fast;
-    if (!encode(original, false, slow, nullptr)) continue;
+    pm::ProgressiveMesh progressive;
     std::vector<double> times;
     for (int r = 0; r < runs; ++r) {
       double ms = 0;
-      if (!encode(original, true, fast, &ms)) return 1;
+      if (!encode(original, progressive, &ms)) return 1;
       times.push_back(ms);
     }
     const pm::Mesh points = vertices_of(original);
     const double diagonal = pm::bounding_box_diagonal(original.positions) / 100;  // percent
     for (const double target : kTargets) {
       const auto faces = static_cast<std::size_t>(target * original.face_count());
-      const Tightness d = tightness(slow, points, faces), f = tightness(fast, points, faces);
+      const Tightness t = tightness(progressive, points, faces);
       table << "| " << name << " | " << significant(100 * target) << "% | "
-            << significant(d.recorded / diagonal) << " | " << significant(d.exact / diagonal)
-            << " | " << ratio(d) << " | " << significant(f.recorded / diagonal) << " | "
-            << significant(f.exact / diagonal) << " | " << ratio(f) << " |\n";
+            << significant(t.recorded / diagonal) << " | " << significant(t.exact / diagonal)
+            << " | " << ratio(t) << " |\n";
     }
     speed << "| " << name << " | " << with_thousands(original.face_count()) << " | "
           << significant(median(times)) << " |\n";
@@ -135,13 +131,12 @@ int main(int argc, char** argv) {
         "what `pmdec --error --estimate` selects by) and the exact largest distance of an input "
         "vertex to its faces (`pm::measure_surface_distance` from the input's vertices), both in "
         "percent of the bounding-box diagonal. The record must be at least the distance "
-        "(recorded/exact >= 1); the nearer 1, the tighter. default: `pm::encode`'s default loop "
-        "(every removed point tracked); fast: `EncodeOptions::fast` (four points kept per face, "
-        "the slack of the others carried: lib/src/simplify/dropped_points_bound.h). Geometry "
-        "only.\n\n"
+        "(recorded/exact >= 1); the nearer 1, the tighter. `pm::encode`, the one collapse loop "
+        "(since issue 25: four points kept per face, the slack of the others carried: "
+        "lib/src/simplify/dropped_points_bound.h). Geometry only.\n\n"
      << "## Tightness\n\n"
      << table.str() << "\n## Time\n\n"
-     << "The fast loop's whole `pm::encode` on one thread, median of " << runs << " runs.\n\n"
+     << "The whole `pm::encode` on one thread, median of " << runs << " runs.\n\n"
      << speed.str();
   std::cerr << "wrote " << out_path << "\n";
   return 0;

@@ -1,10 +1,11 @@
-// The fast collapse loop against the default loop and meshopt_simplify (issue 25), in one
-// process: for each mesh, the surface distance of the levels at 50%, 10% and 2% of the faces
-// (the measure of quality_bench: pm::measure_surface_distance, both ways), and the time of
-// pm::encode with the fast loop on one thread (the whole .pm, every level) against
-// meshopt_simplify's time to 1% of the faces, medians of --runs runs each. With --metric
-// schroeder, both loops run Schroeder's metric (fast_schroeder.md, run_fast.sh --metric
-// schroeder), and the default loop's encode is timed as often as the fast loop's.
+// The one collapse loop (issue 25; the former fast loop, which every input takes) against
+// meshopt_simplify, in one process: for each mesh, the surface distance of the levels at 50%,
+// 10% and 2% of the faces (the measure of quality_bench: pm::measure_surface_distance, both
+// ways), and the time of pm::encode on one thread (the whole .pm, every level) and of the
+// collapse sequence alone against meshopt_simplify's time to 1% of the faces, medians of
+// --runs runs each. With --metric schroeder, Schroeder's metric (fast_schroeder.md,
+// run_fast.sh --metric schroeder). The former default loop's levels are quality.md's 3cb92db
+// rows.
 //
 //   pm_bench_fast MESH_DIR [--out fast.md] [--runs 5] [--metric quadric|schroeder]
 #include <meshoptimizer.h>
@@ -64,11 +65,9 @@ Distance measure(const pm::Mesh& original, const pm::Mesh& lod) {
   return {100.0 * distance.hausdorff / distance.diagonal, 100.0 * distance.rms / distance.diagonal};
 }
 
-bool encode(const pm::Mesh& mesh, pm::Metric metric, bool fast, pm::ProgressiveMesh& out,
-            double& ms) {
+bool encode(const pm::Mesh& mesh, pm::Metric metric, pm::ProgressiveMesh& out, double& ms) {
   pm::EncodeOptions options;
   options.metric = metric;
-  options.fast = fast;
   options.drop_attributes = true;  // geometry only, as meshopt is given
   options.threads = 1;
   const auto start = Clock::now();
@@ -136,13 +135,11 @@ int main(int argc, char** argv) {
   const std::vector<fs::path> paths = pm::bench::mesh_files({dir});
 
   std::ostringstream quality, speed;
-  quality << "| mesh | target | faces | default H % | fast H % | meshopt H % | default RMS % | "
-             "fast RMS % | meshopt RMS % | fast/default H | fast/default RMS | fast/meshopt H | "
-             "fast/meshopt RMS |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  speed << "| mesh | faces | default encode ms" << (schroeder ? "" : " (1 run)")
-        << " | fast encode ms | fast loop ms | meshopt to 1% ms | fast loop / meshopt |"
-        << (schroeder ? " fast/default encode |\n" : "\n")
-        << "|---|---:|---:|---:|---:|---:|---:|" << (schroeder ? "---:|\n" : "\n");
+  quality << "| mesh | target | faces | pmenc H % | meshopt H % | pmenc RMS % | meshopt RMS % | "
+             "pmenc/meshopt H | pmenc/meshopt RMS |\n"
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  speed << "| mesh | faces | encode ms | loop ms | meshopt to 1% ms | loop / meshopt |\n"
+        << "|---|---:|---:|---:|---:|---:|\n";
   // Over the meshes and targets: the ratios' geometric means and largest values.
   double log_h = 0, log_rms = 0, worst_h = 0, worst_rms = 0;
   int points = 0;
@@ -150,18 +147,12 @@ int main(int argc, char** argv) {
     pm::Mesh original;
     if (!pm::bench::read_listed_mesh(path, "fast_bench", original)) continue;
     const std::string name = path.filename().string();
-    pm::ProgressiveMesh slow, fast;
-    double slow_ms = 0, fast_ms = 0;
-    if (!encode(original, metric, false, slow, slow_ms)) continue;
-    std::vector<double> slow_times{slow_ms}, fast_times, meshopt_times;
-    std::vector<double> loop_times;
+    pm::ProgressiveMesh progressive;
+    std::vector<double> encode_times, loop_times, meshopt_times;
     for (int r = 0; r < runs; ++r) {
-      if (!encode(original, metric, true, fast, fast_ms)) return 1;
-      fast_times.push_back(fast_ms);
-      if (schroeder && r > 0) {
-        if (!encode(original, metric, false, slow, slow_ms)) return 1;
-        slow_times.push_back(slow_ms);
-      }
+      double encode_ms = 0;
+      if (!encode(original, metric, progressive, encode_ms)) return 1;
+      encode_times.push_back(encode_ms);
       // The collapse sequence alone, on a manifold input that needs no repair.
       pm::EncodeOptions options;
       options.metric = metric;
@@ -177,37 +168,32 @@ int main(int argc, char** argv) {
     for (const double target : kTargets) {
       const auto faces = static_cast<std::size_t>(target * original.face_count());
       double ms;
-      const Distance d = measure(original, level_at_most(slow, faces));
-      const Distance f = measure(original, level_at_most(fast, faces));
+      const Distance p = measure(original, level_at_most(progressive, faces));
       const Distance m = measure(original, meshopt_level(original, faces, ms));
       quality << "| " << name << " | " << significant(100 * target) << "% | "
-              << with_thousands(faces) << " | " << significant(d.hausdorff) << " | "
-              << significant(f.hausdorff) << " | " << significant(m.hausdorff) << " | "
-              << significant(d.rms) << " | " << significant(f.rms) << " | " << significant(m.rms)
-              << " | " << ratio(f.hausdorff, d.hausdorff) << " | " << ratio(f.rms, d.rms) << " | "
-              << ratio(f.hausdorff, m.hausdorff) << " | " << ratio(f.rms, m.rms) << " |\n";
-      if (d.hausdorff > 0 && d.rms > 0 && f.hausdorff > 0 && f.rms > 0) {
-        log_h += std::log(f.hausdorff / d.hausdorff);
-        log_rms += std::log(f.rms / d.rms);
-        worst_h = std::max(worst_h, f.hausdorff / d.hausdorff);
-        worst_rms = std::max(worst_rms, f.rms / d.rms);
+              << with_thousands(faces) << " | " << significant(p.hausdorff) << " | "
+              << significant(m.hausdorff) << " | " << significant(p.rms) << " | "
+              << significant(m.rms) << " | " << ratio(p.hausdorff, m.hausdorff) << " | "
+              << ratio(p.rms, m.rms) << " |\n";
+      if (p.hausdorff > 0 && p.rms > 0 && m.hausdorff > 0 && m.rms > 0) {
+        log_h += std::log(p.hausdorff / m.hausdorff);
+        log_rms += std::log(p.rms / m.rms);
+        worst_h = std::max(worst_h, p.hausdorff / m.hausdorff);
+        worst_rms = std::max(worst_rms, p.rms / m.rms);
         ++points;
       }
     }
-    const double fast_median = median(fast_times), meshopt_median = median(meshopt_times);
+    const double meshopt_median = median(meshopt_times);
     const double loop_median = loop_times.empty() ? 0 : median(loop_times);
-    const double slow_median = median(slow_times);
     speed << "| " << name << " | " << with_thousands(original.face_count()) << " | "
-          << significant(slow_median) << " | " << significant(fast_median) << " | "
+          << significant(median(encode_times)) << " | "
           << (loop_times.empty() ? "n/a (repaired first)" : significant(loop_median)) << " | "
           << significant(meshopt_median) << " | "
-          << (loop_times.empty() ? "n/a" : ratio(loop_median, meshopt_median)) << " |";
-    if (schroeder) speed << " " << ratio(fast_median, slow_median) << " |";
-    speed << "\n";
+          << (loop_times.empty() ? "n/a" : ratio(loop_median, meshopt_median)) << " |\n";
   }
 
   std::ofstream md(out_path);
-  md << "# The fast loop against the default loop and meshoptimizer"
+  md << "# The one collapse loop against meshoptimizer"
      << (schroeder ? ", Schroeder's metric" : "") << "\n\n"
      << "Generated by `tests/bench/run_fast.sh" << (schroeder ? " --metric schroeder" : "")
      << "` (issue 25; pm_bench_fast, tests/bench/fast_bench.cpp).\n\n"
@@ -216,25 +202,24 @@ int main(int argc, char** argv) {
      << "\n- peer: meshoptimizer " << MESHOPTIMIZER_VERSION / 1000 << "."
      << MESHOPTIMIZER_VERSION % 1000 / 10 << "\n\n"
      << "Errors: Hausdorff (H) and RMS distance between each level and the input, both ways, by "
-        "`pm::measure_surface_distance`, in percent of the bounding-box diagonal. default: "
-        "`pm::encode` with the default loop ("
-     << metric_name << " metric, measured error); fast: `pm::encode` with "
-        "`EncodeOptions::fast` ("
-     << metric_name << " metric); both geometry only, levels of at most the target's faces; "
-        "meshopt: `meshopt_simplify` to the target, no error limit.\n\n"
+        "`pm::measure_surface_distance`, in percent of the bounding-box diagonal. pmenc: "
+        "`pm::encode`, the one collapse loop (since issue 25), "
+     << metric_name
+     << " metric, geometry only, levels of at most the target's faces; meshopt: "
+        "`meshopt_simplify` to the target, no error limit. The former default loop's levels "
+        "(commit 3cb92db) against the same: quality.md's section \"Issue 25\".\n\n"
      << "## Quality\n\n"
-     << quality.str() << "\nfast/default over the " << points
+     << quality.str() << "\npmenc/meshopt over the " << points
      << " points: Hausdorff geometric mean "
      << significant(points ? std::exp(log_h / points) : 0) << ", largest "
      << significant(worst_h) << "; RMS geometric mean "
      << significant(points ? std::exp(log_rms / points) : 0) << ", largest "
      << significant(worst_rms) << ".\n\n## Speed\n\n"
-     << "One thread. fast encode: the whole `pm::encode` (repair, the collapse sequence down to "
-        "the base mesh, the .pm's streams), median of "
-     << runs << " runs; fast loop: the collapse sequence alone (`simplify_fast_direct`, on an "
-        "input that needs no repair), median of " << runs << " runs; meshopt: `meshopt_simplify` to 1% of the faces, median of " << runs
-     << " runs; the default loop's encode "
-     << (schroeder ? "a median of as many runs" : "once, for scale") << ".\n\n"
+     << "One thread. encode: the whole `pm::encode` (repair, the collapse sequence down to "
+        "the base mesh, the .pm's streams); loop: the collapse sequence alone "
+        "(`simplify_fast_direct`, on an input that needs no repair); meshopt: "
+        "`meshopt_simplify` to 1% of the faces; each a median of "
+     << runs << " runs.\n\n"
      << speed.str();
   std::cerr << "wrote " << out_path << "\n";
   return 0;

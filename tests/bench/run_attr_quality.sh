@@ -2,8 +2,8 @@
 # Issue 25's "Quality with attributes kept" table in one command: the geometric error of
 # spot, samples/textured.obj and the ~1M-face textured mesh (textured.obj after 4 Loop steps
 # keeping every attribute, as run_textured.sh makes it) at 50%, 10% and 2% of the faces, for
-# pmenc --fast with attributes kept and dropped, the default loop (not on the 1M-face mesh)
-# and meshopt_simplify on the seam-split buffer. Installs what is missing, builds in
+# pmenc (the one collapse loop) with attributes kept and dropped, and meshopt_simplify on the
+# seam-split buffer. Installs what is missing, builds in
 # build-bench/ (or $PM_BENCH_BUILD), writes tests/bench/attr_quality.md and prints it. Extra
 # arguments go to pm_bench_attr_quality (e.g. --targets 0.1). See tests/bench/README.md,
 # "Geometric error with attributes kept".

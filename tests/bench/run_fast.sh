@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# The fast loop's benchmark in one command (issue 25): builds pm_bench_fast in build-bench/,
-# runs it on ../shared/meshes (or $PM_BENCH_MESHES) and writes tests/bench/fast.md (quality of the fast loop's
-# levels against the default loop's and meshopt_simplify's at 50/10/2%, and its time on one
-# thread against meshopt_simplify's to 1%, medians of 5 runs), then prints it. Extra
-# arguments go to pm_bench_fast (e.g. --runs 9); with --metric schroeder first, both loops
-# run Schroeder's metric and the table goes to tests/bench/fast_schroeder.md instead. See
-# tests/bench/README.md.
+# The one collapse loop against meshopt in one command (issue 25): builds pm_bench_fast in
+# build-bench/, runs it on ../shared/meshes (or $PM_BENCH_MESHES) and writes
+# tests/bench/fast.md (the levels' quality against meshopt_simplify's at 50/10/2%, and the
+# loop's time on one thread against meshopt_simplify's to 1%, medians of 5 runs), then prints
+# it. Extra arguments go to pm_bench_fast (e.g. --runs 9); with --metric schroeder first, the
+# loop runs Schroeder's metric and the table goes to tests/bench/fast_schroeder.md instead.
+# The former default loop (3cb92db) is quality.md's reference. See tests/bench/README.md.
 set -euo pipefail
 
 # shellcheck source=bench_setup.sh
