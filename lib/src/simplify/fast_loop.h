@@ -889,7 +889,7 @@ class FastSimplifier {
   static constexpr double kSchroederWorstWeight = 3.0;
   // Quadric metric, texture: its error (Hoppe 1999, §4) weighs 0.03 of the former default loop's,
   // a seam's drift as there (3.5 / sqrt kWorstCaseWeight): surface and texture at most
-  // meshopt's (tests/bench/attr_quality.md, uv_fast.md; tests/bench/README.md says more).
+  // meshopt's (tests/bench/attr_quality.md, uv.md; tests/bench/README.md says more).
   static constexpr double kUvCostWeight = 0.03;
   static constexpr double kDriftScale = SeamDrift::kDriftScale * 0.70710678118654752;
   KeptPoints kept_;
