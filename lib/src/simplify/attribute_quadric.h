@@ -12,7 +12,9 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "simplify/geometry.h"
 
@@ -25,14 +27,25 @@ namespace pm {
 // block (-area * g_j summed), b, c and the weight are kept: 19 doubles for K = 2 and 23 for
 // K = 3 instead of 22 and 29, and error() does the arithmetic of the full form (the
 // dropped entries are exactly weight on the diagonal and zero off it).
-template <int K>
+//
+// A quadric is about an origin: its form is in x = (p - origin, s). Real = float halves
+// its memory (the collapse loop keeps one per wedge: 160 MB of doubles on a 950K-face
+// textured mesh) and is exact enough only about a nearby origin: the errors it measures
+// are squares of small distances, which about a far origin are the difference of terms
+// the size of the squared coordinates, and float's rounding of those is larger than they
+// are. So the loop keeps each wedge's quadric about its own vertex (which a half-edge
+// collapse never moves) and moves it to u's origin, in double, when v's wedge merges into
+// u's (moved_origin()).
+template <int K, typename Real = double>
 struct AttributeQuadric {
   static constexpr int kDim = 3 + K;
-  std::array<double, 6> geometric{};    // upper triangle of the 3x3 block: xx xy xz yy yz zz
-  std::array<double, 3 * K> cross{};    // row r < 3, column 3 + j at cross[K * r + j]
-  std::array<double, kDim> b{};
-  double c = 0;
-  double weight = 0;  // total area (the attribute block's diagonal); the error's mean
+  static constexpr double kRoundingFloor =
+      std::numeric_limits<Real>::epsilon() * 64;  // float: 7.6e-6; double: 1.4e-14
+  std::array<Real, 6> geometric{};    // upper triangle of the 3x3 block: xx xy xz yy yz zz
+  std::array<Real, 3 * K> cross{};    // row r < 3, column 3 + j at cross[K * r + j]
+  std::array<Real, kDim> b{};
+  Real c = 0;
+  Real weight = 0;  // total area (the attribute block's diagonal); the error's mean
 
   static constexpr int geometric_index(int i, int j) {  // i <= j < 3
     return i * 3 - i * (i - 1) / 2 + (j - i);
@@ -71,30 +84,58 @@ struct AttributeQuadric {
     return q;
   }
 
-  AttributeQuadric& operator+=(const AttributeQuadric& o) {
-    for (int i = 0; i < 6; ++i) geometric[i] += o.geometric[i];
-    for (int i = 0; i < 3 * K; ++i) cross[i] += o.cross[i];
-    for (int i = 0; i < kDim; ++i) b[i] += o.b[i];
-    c += o.c;
-    weight += o.weight;
+  template <typename From>
+  AttributeQuadric& operator+=(const AttributeQuadric<K, From>& o) {
+    for (int i = 0; i < 6; ++i) geometric[i] += static_cast<Real>(o.geometric[i]);
+    for (int i = 0; i < 3 * K; ++i) cross[i] += static_cast<Real>(o.cross[i]);
+    for (int i = 0; i < kDim; ++i) b[i] += static_cast<Real>(o.b[i]);
+    c += static_cast<Real>(o.c);
+    weight += static_cast<Real>(o.weight);
     return *this;
   }
 
-  // Area-weighted sum of squared attribute deviations of the point p carrying values s.
+  // The same form about origin + delta, in double: x = x' + (delta, 0) gives
+  // b' = b + A (delta, 0) and c' = c + 2 b . (delta, 0) + (delta, 0)^T A (delta, 0), the
+  // matrix A unchanged (the attribute block does not see a move in space).
+  AttributeQuadric<K, double> moved_origin(const Vec3& delta) const {
+    AttributeQuadric<K, double> q;
+    for (int i = 0; i < 6; ++i) q.geometric[i] = geometric[i];
+    for (int i = 0; i < 3 * K; ++i) q.cross[i] = cross[i];
+    for (int i = 0; i < kDim; ++i) q.b[i] = b[i];
+    q.c = c;
+    q.weight = weight;
+    double a_delta[kDim] = {};
+    for (int r = 0; r < 3; ++r) {
+      for (int t = 0; t < 3; ++t)
+        a_delta[r] += double(geometric[r <= t ? geometric_index(r, t) : geometric_index(t, r)]) * delta[t];
+      for (int k = 0; k < K; ++k) a_delta[3 + k] += double(cross[K * r + k]) * delta[r];
+    }
+    for (int r = 0; r < 3; ++r) q.c += (2 * q.b[r] + a_delta[r]) * delta[r];
+    for (int i = 0; i < kDim; ++i) q.b[i] += a_delta[i];
+    return q;
+  }
+
+  // Area-weighted sum of squared attribute deviations of the point p (about the origin)
+  // carrying values s.
   double error(const Vec3& p, const float* s) const {
     double x[kDim] = {p[0], p[1], p[2]};
     for (int k = 0; k < K; ++k) x[3 + k] = s[k];
-    double e = c;
+    double e = c, size = std::abs(e);  // size: the terms' magnitudes, for the floor below
     for (int r = 0; r < 3; ++r) {
-      double row = geometric[geometric_index(r, r)] * x[r];
-      for (int t = r + 1; t < 3; ++t) row += 2 * geometric[geometric_index(r, t)] * x[t];
-      for (int k = 0; k < K; ++k) row += 2 * cross[K * r + k] * x[3 + k];
-      e += x[r] * row + 2 * b[r] * x[r];
+      double row = double(geometric[geometric_index(r, r)]) * x[r];
+      for (int t = r + 1; t < 3; ++t) row += 2 * double(geometric[geometric_index(r, t)]) * x[t];
+      for (int k = 0; k < K; ++k) row += 2 * double(cross[K * r + k]) * x[3 + k];
+      e += x[r] * row + 2 * double(b[r]) * x[r];
+      size += std::abs(x[r] * row) + std::abs(2 * double(b[r]) * x[r]);
     }
     for (int k = 0; k < K; ++k) {
-      const double row = weight * x[3 + k];  // the attribute block's row: weight on its diagonal
-      e += x[3 + k] * row + 2 * b[3 + k] * x[3 + k];
+      const double row = double(weight) * x[3 + k];  // the attribute block's row: weight on its diagonal
+      e += x[3 + k] * row + 2 * double(b[3 + k]) * x[3 + k];
+      size += std::abs(x[3 + k] * row) + std::abs(2 * double(b[3 + k]) * x[3 + k]);
     }
+    // Below the stored numbers' resolution an error is their rounding, not the surface's:
+    // zero, as a double quadric would find it (an attribute linear over the faces).
+    if (e <= kRoundingFloor * size) return 0;
     return e > 0 ? e : 0;  // rounding can make a zero error slightly negative
   }
 };

@@ -170,12 +170,13 @@ void CornerAttributes::initialize_wedges(int kind, const float* points, std::siz
       values[c] = k.value(ids[c]);
     }
     const double area = 0.5 * area_vector(p[0], p[1], p[2]).norm();
+    // Each corner's wedge keeps the face's quadric about that corner's vertex.
     if (kind == kUv) {
       const auto face = AttributeQuadric<2>::from_face(p, values, area);
-      for (int c = 0; c < 3; ++c) uv_quadrics_[k.wedge[f][c]] += face;
+      for (int c = 0; c < 3; ++c) uv_quadrics_[k.wedge[f][c]] += face.moved_origin(p[c]);
     } else {
       const auto face = AttributeQuadric<3>::from_face(p, values, area);
-      for (int c = 0; c < 3; ++c) normal_quadrics_[k.wedge[f][c]] += face;
+      for (int c = 0; c < 3; ++c) normal_quadrics_[k.wedge[f][c]] += face.moved_origin(p[c]);
     }
   }
 }
@@ -285,16 +286,17 @@ double CornerAttributes::collapse_cost(const CollapseStar& c, const StarWedges& 
     const uint32_t left_target = has_l ? k.ids[c.fl][corner_of(c.fl, c.u)] : kNoAttribute;
     const uint32_t right_target = has_r ? k.ids[c.fr][corner_of(c.fr, c.u)] : kNoAttribute;
     double error = 0, weight = 0;
+    const Vec3 pu_about_v = c.pu - c.pv;  // v's wedges' quadrics are about v
     for (int i = 0; i < wedges.count[kind]; ++i) {
       const StarWedges::Wedge& w = wedges.wedges[kind][i];
       const bool left = has_l && (!has_r || left_class == w.v_class);
       const uint32_t target = left ? left_target : right_target;
       if (target == kNoAttribute) continue;
       if (kind == kUv) {
-        error += uv_quadrics_[w.slot].error(c.pu, k.value(target));
+        error += uv_quadrics_[w.slot].error(pu_about_v, k.value(target));
         weight += uv_quadrics_[w.slot].weight;
       } else {
-        error += normal_quadrics_[w.slot].error(c.pu, k.value(target));
+        error += normal_quadrics_[w.slot].error(pu_about_v, k.value(target));
         weight += normal_quadrics_[w.slot].weight;
       }
     }
@@ -331,8 +333,9 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
       const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
       const uint32_t target = k.wedge[tf][tc];
       if (target == kNoWedge || target == w) continue;
-      if (kind == kUv) uv_quadrics_[target] += uv_quadrics_[w];
-      else normal_quadrics_[target] += normal_quadrics_[w];
+      // u's wedges' quadrics are about u: v's moves there first, in double.
+      if (kind == kUv) uv_quadrics_[target] += uv_quadrics_[w].moved_origin(c.pu - c.pv);
+      else normal_quadrics_[target] += normal_quadrics_[w].moved_origin(c.pu - c.pv);
     }
   }
   for (int i = 0; i < c.n_faces; ++i) {

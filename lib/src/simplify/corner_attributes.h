@@ -42,6 +42,7 @@ struct CollapseStar {
   uint32_t fl, fr;  // the faces (v, u, vl) and (u, v, vr), kNoFace where there is none
   uint32_t vl, vr;  // their third vertices (anything where the face is absent)
   Vec3 pu;          // u's position
+  Vec3 pv;          // v's position (the origin of v's wedges' quadrics)
   // v's faces, fl and fr among them, in the order the loop lists the faces that move.
   const uint32_t* faces;
   int n_faces;
@@ -160,8 +161,9 @@ class CornerAttributes {
   Kind kinds_[kKinds];
   std::vector<uint32_t> material_;  // per face, or empty
   bool has_materials_ = false;
-  std::vector<AttributeQuadric<2>> uv_quadrics_;
-  std::vector<AttributeQuadric<3>> normal_quadrics_;
+  // Per wedge, about its vertex's position (attribute_quadric.h: float is exact enough there).
+  std::vector<AttributeQuadric<2, float>> uv_quadrics_;
+  std::vector<AttributeQuadric<3, float>> normal_quadrics_;
 };
 
 }  // namespace pm

@@ -271,6 +271,7 @@ class FastSimplifier {
     star.c.vl = s.h == kNone ? 0 : half_[prev_of(s.h)].vertex;
     star.c.vr = s.t == kNone ? 0 : half_[prev_of(s.t)].vertex;
     star.c.pu = point(u);
+    star.c.pv = point(star.c.v);
   }
   bool is_special(uint32_t h) const { return half_[h].twin == kNone || is_feature(h); }
 
