@@ -24,18 +24,18 @@ namespace pm {
 // its matrix, is area * I (each component's row (g_j, -e_j) contributes 1 on its own
 // diagonal and 0 elsewhere), so a sum of faces has weight * I there, with weight the sum
 // of their areas, added in the same order. Only the geometric 3x3 block, the 3 x K cross
-// block (-area * g_j summed), b, c and the weight are kept: 19 doubles for K = 2 and 23 for
+// block (-area * g_j summed), b, c and the weight are kept: 19 numbers for K = 2 and 23 for
 // K = 3 instead of 22 and 29, and error() does the arithmetic of the full form (the
 // dropped entries are exactly weight on the diagonal and zero off it).
 //
-// A quadric is about an origin: its form is in x = (p - origin, s). Real = float halves
-// its memory (the collapse loop keeps one per wedge: 160 MB of doubles on a 950K-face
-// textured mesh) and is exact enough only about a nearby origin: the errors it measures
-// are squares of small distances, which about a far origin are the difference of terms
-// the size of the squared coordinates, and float's rounding of those is larger than they
-// are. So the loop keeps each wedge's quadric about its own vertex (which a half-edge
-// collapse never moves) and moves it to u's origin, in double, when v's wedge merges into
-// u's (moved_origin()).
+// A quadric is about an origin: its form is in x = (p - origin, s), as local_quadric.h's
+// geometric quadric is. Real = float halves its memory (the collapse loop keeps one per
+// wedge: 160 MB of doubles on a 950K-face textured mesh) but is exact enough only about a
+// nearby origin: the errors it measures are squares of small distances, which about a far
+// origin are the difference of terms the size of the squared coordinates, and float's
+// rounding of those is larger than they are. So the loop keeps each wedge's quadric about
+// its own vertex (which a half-edge collapse never moves) and moves it to u's origin, in
+// double, when v's wedge merges into u's (moved_origin()).
 template <int K, typename Real = double>
 struct AttributeQuadric {
   static constexpr int kDim = 3 + K;
