@@ -84,13 +84,21 @@ struct AttributeQuadric {
     return q;
   }
 
+  // Real's nearest value to x: float saturates at its largest finite value instead of
+  // overflowing (a mesh 10^20 units across has face areas beyond float's range; the
+  // encoder takes meshes up to 10^38 across); NaN stays NaN.
+  static Real saturated(double x) {
+    constexpr double top = std::numeric_limits<Real>::max();
+    return static_cast<Real>(x > top ? top : x < -top ? -top : x);
+  }
+
   template <typename From>
   AttributeQuadric& operator+=(const AttributeQuadric<K, From>& o) {
-    for (int i = 0; i < 6; ++i) geometric[i] += static_cast<Real>(o.geometric[i]);
-    for (int i = 0; i < 3 * K; ++i) cross[i] += static_cast<Real>(o.cross[i]);
-    for (int i = 0; i < kDim; ++i) b[i] += static_cast<Real>(o.b[i]);
-    c += static_cast<Real>(o.c);
-    weight += static_cast<Real>(o.weight);
+    for (int i = 0; i < 6; ++i) geometric[i] = saturated(geometric[i] + saturated(o.geometric[i]));
+    for (int i = 0; i < 3 * K; ++i) cross[i] = saturated(cross[i] + saturated(o.cross[i]));
+    for (int i = 0; i < kDim; ++i) b[i] = saturated(b[i] + saturated(o.b[i]));
+    c = saturated(c + saturated(o.c));
+    weight = saturated(weight + saturated(o.weight));
     return *this;
   }
 
