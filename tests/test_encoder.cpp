@@ -587,6 +587,26 @@ TEST(Robustness, MeshesTooWideForFloatErrorsAreRefused) {
   }
 }
 
+// The wedge attribute quadrics are float (attribute_quadric.h): on a textured mesh 10^30
+// units across their face areas, 10^58, are beyond float's range, and they saturate
+// instead of overflowing (which UBSan's float-cast-overflow reports).
+TEST(Robustness, TexturedMeshesNearTheWidthLimitEncode) {
+  Mesh wide = test::seamed_grid(8);
+  for (float& x : wide.positions) x *= 1e30f;
+  for (Metric metric : {Metric::kSchroeder, Metric::kQuadric}) {
+    SCOPED_TRACE(metric == Metric::kQuadric ? "quadric" : "schroeder");
+    EncodeOptions options;
+    options.metric = metric;
+    ProgressiveMesh pm;
+    const Status status = encode(wide, options, pm);
+    ASSERT_TRUE(status.is_ok()) << status.message();
+    ASSERT_FALSE(pm.splits.empty());
+    for (const VertexSplit& split : pm.splits) ASSERT_TRUE(std::isfinite(split.error));
+    EXPECT_EQ(extract_level(pm, pm.split_count()).face_count(), wide.face_count());
+    EXPECT_FALSE(pm.uvs.empty());
+  }
+}
+
 // The readers refuse them; a caller's mesh may still hold them.
 TEST(Robustness, NonFiniteCoordinatesAreAnInvalidArgument) {
   for (float bad : {NAN, INFINITY, -INFINITY}) {
