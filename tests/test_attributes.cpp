@@ -300,7 +300,7 @@ TEST(Attributes, CornersWithoutAttributesAndFacesWithoutMaterialStayThatWay) {
 
 // A strip of 4 x 2 squares, its texture cut at x = 2: the corners left of the cut take
 // chart 0 (u = x), those right of it chart 1 (u = x + 10), so the vertices at x = 2 carry
-// two texture coordinates. The fast loop slides the cut's vertices along it only, as the
+// two texture coordinates. The collapse loop slides the cut's vertices along it only, as the
 // default loop does: at every level the seam runs along x = 2, whole (from y = 0 to y = 2)
 // while faces of both charts are left, and every face keeps its chart.
 TEST(Attributes, TheFastLoopKeepsAUvSeamWholeAtEveryLevel) {
@@ -353,7 +353,7 @@ TEST(Attributes, TheFastLoopKeepsAUvSeamWholeAtEveryLevel) {
   }
 }
 
-// In regions, the fast loop's attribute state is each region's own: the same stream for
+// In regions, the collapse loop's attribute state is each region's own: the same stream for
 // any number of threads.
 TEST(Attributes, TheFastLoopInRegionsGivesTheSameStreamForAnyThreadCount) {
   // 80,000 faces: rounds run (on small meshes the cuts between regions hold more than the

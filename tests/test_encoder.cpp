@@ -219,7 +219,7 @@ TEST(BaseMesh, UnderTwoPercentOfVerticesOnTheBunny) {
 // The positions of the vertices Schroeder's classification calls corners, on the input;
 // with sharp_deg > 0, only those with a feature edge sharper than that. Classified here on
 // the repaired half-edge mesh, apart from the collapse loop's own classification
-// (fast_loop.h): a corner has one or three or more special edges, or is on a boundary with
+// (collapse_loop.h): a corner has one or three or more special edges, or is on a boundary with
 // a feature edge (Schroeder, Zarge and Lorensen 1992, §3.1; Schroeder 1997, §3).
 std::set<std::array<float, 3>> corner_positions(const Mesh& input, double feature_angle_deg,
                                                 double sharp_deg = 0) {
@@ -377,7 +377,7 @@ TEST(Robustness, AssimpModelsThatParseRoundTripExactly) {
   EXPECT_GT(parsed, 20u);
 }
 
-// The fast loop takes a manifold input as it is and sends every other through the repair
+// The collapse loop takes a manifold input as it is and sends every other through the repair
 // first: small meshes of each kind come back exactly, every level with the input's topology.
 TEST(FastLoop, SmallMeshesOfEveryKindRoundTripExactly) {
   auto mesh = [](std::vector<float> positions, std::vector<uint32_t> triangles) {
@@ -480,7 +480,7 @@ TEST(FastLoop, RegionsKeepTheLevelsAsCloseAsOneHeap) {
   }
 }
 
-// A bumpy height field of side x side vertices: large enough for the fast loop's regions
+// A bumpy height field of side x side vertices: large enough for the collapse loop's regions
 // to run rounds (on the few-thousand-vertex samples the cuts hold too many vertices, and
 // one heap runs from the start).
 Mesh bumpy_grid(uint32_t side) {
@@ -500,7 +500,7 @@ Mesh bumpy_grid(uint32_t side) {
   return m;
 }
 
-// In regions (EncodeOptions::fast_partition_vertices), the fast loop makes its own
+// In regions (EncodeOptions::fast_partition_vertices), the collapse loop makes its own
 // sequence, the same every time and for any number of threads (their timing must not
 // show), and every level of it a valid mesh.
 TEST(FastLoop, RegionsMakeTheSameSequenceEveryTime) {

@@ -1,4 +1,4 @@
-// Issue 25: the fast loop's recorded error bounds the distance of every input vertex to the
+// Issue 25: the collapse loop's recorded error bounds the distance of every input vertex to the
 // level's surface, as the default loop's does (test_measured_level.cpp, RecordedError),
 // although each face keeps only its few farthest removed points (kept_points.h): the slack
 // of the others moves with the faces (dropped_points_bound.h). Checked by brute force, the
@@ -115,7 +115,7 @@ EncodeOptions fast_geometry() {
   return options;
 }
 
-// Encodes `input` with the fast loop and checks, at each of `levels` (every level when
+// Encodes `input` with the collapse loop and checks, at each of `levels` (every level when
 // empty), that the farthest input vertex from the level's faces is within the recorded
 // error (up to the float records' rounding, as RecordedError allows).
 void expect_records_bound_vertices(const Mesh& input, std::vector<std::size_t> levels,
@@ -210,7 +210,7 @@ TEST(FastLoopRecordedError, BoundsEveryInputVertexOnSharedMeshes) {
   }
 }
 
-// Schroeder's metric orders the collapses differently (fast_schroeder.cpp); the record is
+// Schroeder's metric orders the collapses differently (schroeder_costs.cpp); the record is
 // the same measure's and must bound every level as well, with sharp features (the grid
 // cube's edges and corners at the 30-degree feature angle) and in regions.
 TEST(FastLoopRecordedError, BoundsEveryInputVertexWithSchroedersMetric) {

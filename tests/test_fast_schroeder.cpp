@@ -1,5 +1,5 @@
 // Issue 25: the collapse loop (the former fast loop; one since issue 25) with Schroeder's
-// metric (EncodeOptions{Metric::kSchroeder}, fast_schroeder.cpp), with the former default
+// metric (EncodeOptions{Metric::kSchroeder}, schroeder_costs.cpp), with the former default
 // loop's rules: a boundary vertex goes only along its boundary edges (Schroeder, Zarge and
 // Lorensen 1992, §3.1), --keep-corners keeps corners, full detail is the input exactly, and
 // regions make the same .pm for any number of threads. The loops' shared properties

@@ -1,5 +1,5 @@
-// The fast loop's addressable heap (lib/src/simplify/indexed_heap.h): least key first, ties to the
-// smaller tie given or else the smaller id, keys changed and ids removed in place, against a
+// The collapse loop's addressable heap (lib/src/simplify/indexed_heap.h): least key first, ties to
+// the smaller tie given or else the smaller id, keys changed and ids removed in place, against a
 // sorted reference.
 #include <gtest/gtest.h>
 
@@ -52,7 +52,7 @@ TEST(IndexedHeap, SetChangesAKeyInPlaceAndEraseRemovesAnyId) {
   EXPECT_EQ(drain(heap), (std::vector<uint32_t>{4, 1, 2, 5, 0}));
 }
 
-// With a tie given, equal keys go by it (the fast loop gives a counter: oldest first), and
+// With a tie given, equal keys go by it (the collapse loop gives a counter: oldest first), and
 // only equal ties by the id.
 TEST(IndexedHeap, EqualKeysGoByTheTieGivenThenByTheId) {
   IndexedHeap heap(6);

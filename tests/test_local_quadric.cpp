@@ -1,5 +1,6 @@
-// The fast loop's float32 quadric relative to its vertex (lib/src/simplify/local_quadric.h) measures
-// what the double quadric (quadric.h) measures, and keeps small errors far from the origin.
+// The collapse loop's float32 quadric relative to its vertex (lib/src/simplify/local_quadric.h)
+// measures what the double quadric (quadric.h) measures, and keeps small errors far from the
+// origin.
 #include <gtest/gtest.h>
 
 #include <cmath>

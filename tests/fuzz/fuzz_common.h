@@ -253,7 +253,7 @@ inline int fuzz_mesh_reader(const uint8_t* data, std::size_t size, MeshFormat fo
   if (mesh.face_count() > kMaxEncodedFaces || mesh.vertex_count() > kMaxEncodedVertices) return 0;
   EncodeOptions options;
   // The last byte picks the loop, so each sees the same inputs: the default loop with either
-  // metric, or the fast loop (geometry only, so attributes are dropped for it).
+  // metric, or the collapse loop (geometry only, so attributes are dropped for it).
   const uint8_t last = size > 0 ? data[size - 1] : 0;
   options.metric = last & 1 ? Metric::kQuadric : Metric::kSchroeder;
   if (last & 2) {

@@ -147,14 +147,14 @@ TEST(OutOfMemory, EncodeReturnsResourceLimitWhereverAnAllocationFails) {
 }
 
 // On threads: an allocation that fails on one of encode()'s worker threads comes back as
-// kResourceLimit too, not as std::terminate. The failures land in the fast loop's regions
+// kResourceLimit too, not as std::terminate. The failures land in the collapse loop's regions
 // (132 allocations on the second thread here); the splits' two-stage layers, which also run
 // on two threads here, made none of the last 40 on theirs (checked against the code before
 // their rethrow), so their rethrow is not what this test proves.
 TEST(OutOfMemory, EncodeReturnsResourceLimitWhenAWorkerThreadsAllocationFails) {
   const Mesh grid = test::seamed_grid(260);  // 68,121 vertices: over 2^16 splits to layer
   EncodeOptions options;
-  options.drop_attributes = true;  // geometry only, so that the fast loop runs
+  options.drop_attributes = true;  // geometry only, so that the collapse loop runs
   options.fast = true;
   options.fast_partition_vertices = 4096;  // in regions
   options.threads = 2;

@@ -7,7 +7,7 @@
 // "madvise", Debian's default (Linux admin guide, "Transparent Hugepage Support").
 //
 // Only a hint: elsewhere, on small arrays, or when the kernel declines, nothing changes.
-// It never changes a result. (The fast collapse loop's arrays do not ask: it measured no
+// It never changes a result. (The collapse loop's arrays do not ask: it measured no
 // faster with huge pages.) Internal to the library.
 #pragma once
 

@@ -1,6 +1,6 @@
 // Independent tasks on several threads: each thread takes the next task left (a shared
-// counter), so that tasks of uneven size still end together. For the fast loop's regions
-// (fast_simplifier.cpp) and other work that splits into parts sharing nothing that changes.
+// counter), so that tasks of uneven size still end together. For the collapse loop's regions
+// (simplifier.cpp) and other work that splits into parts sharing nothing that changes.
 #pragma once
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // What the collapse loop's legality tests share: one face's geometry test, the repair's
-// weld groups and carried edges (fast_loop.h tests topology on its own connectivity).
+// weld groups and carried edges (collapse_loop.h tests topology on its own connectivity).
 #pragma once
 
 #include <cstdint>
@@ -15,12 +15,12 @@ namespace pm {
 // Geometry: no face of v's fan that survives the collapse v -> u turns its normal by more
 // than the angle whose cosine is cos_max_flip, and none becomes degenerate (its area vector
 // shrinks to a negligible fraction of its squared longest edge). The test for one face,
-// given its corners before and after the collapse (FastSimplifier::keeps_geometry).
+// given its corners before and after the collapse (CollapseLoop::keeps_geometry).
 bool face_keeps_geometry(const Vec3 before[3], const Vec3 after[3], double cos_max_flip);
 
 // Welds: copies of one input vertex (see manifold_repair.h) are merged at output, so the
 // output keeps the input's topology only while that merge stays one-to-one on edges
-// (FastSimplifier::keeps_weld_groups refuses the collapses that would break it).
+// (CollapseLoop::keeps_weld_groups refuses the collapses that would break it).
 // group[x] is the canonical vertex of x's group, or -1 when x is not welded;
 // members[c] lists the members of group c.
 struct WeldGroups {

@@ -30,7 +30,7 @@ struct CollapseAttributes {
 
 // A half-edge collapse v -> u as a collapse loop describes it, in the face and vertex ids
 // the CornerAttributes were built with: what the attribute rules read, so that any loop
-// (OpenMesh's half-edge mesh, the fast loop's directed edges) shares them.
+// (OpenMesh's half-edge mesh, the collapse loop's directed edges) shares them.
 struct CollapseStar {
   static constexpr uint32_t kNoFace = 0xFFFFFFFFu;
   // An edge v-w and its faces: f holds the half-edge v -> w or w -> v, g the other (kNoFace
@@ -90,7 +90,7 @@ class CornerAttributes {
   // area, times the kind's scale squared and its weight (weigh_costs()).
   double collapse_cost(const CollapseStar& c) const;
   // How much each kind's error counts in collapse_cost(): 1 and 1 unless set (the former default
-  // loop's); the fast loop weighs the texture error less (fast_loop.h, kUvCostWeight).
+  // loop's); the collapse loop weighs the texture error less (collapse_loop.h, kUvCostWeight).
   void weigh_costs(double uv, double normal) {
     kinds_[kUv].cost_weight = uv;
     kinds_[kNormal].cost_weight = normal;
@@ -100,7 +100,8 @@ class CornerAttributes {
   // the part of the cost that is the same for every target, so that a loop pricing all of
   // v's options finds them once (star_wedges(), then collapse_cost(c, wedges) per target).
   struct StarWedges {
-    static constexpr int kMost = 256;  // the most faces a star has (fast_loop.h: kMaxValence is less)
+    static constexpr int kMost =
+        256;  // the most faces a star has (collapse_loop.h: kMaxValence is less)
     struct Wedge {
       uint32_t slot;     // its quadric
       uint32_t v_class;  // v's value class there

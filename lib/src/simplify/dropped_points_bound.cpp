@@ -1,4 +1,4 @@
-// The slack of the fast loop's dropped points: see dropped_points_bound.h (after Cohen,
+// The slack of the collapse loop's dropped points: see dropped_points_bound.h (after Cohen,
 // Manocha and Olano 1997's successive mappings).
 #include "simplify/dropped_points_bound.h"
 
@@ -6,7 +6,7 @@
 #include <cfloat>
 #include <cmath>
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 namespace {
 
 struct Point2 {
@@ -138,7 +138,7 @@ bool DroppedPointsBound::coarse(const Vec3& a, const Vec3& b, const Vec3& c, dou
   constexpr int N = kCoarseSplits;
   constexpr int kPoints = (N + 1) * (N + 2) / 2;
   auto index = [](int i, int j) { return j * (N + 1) - j * (j - 1) / 2 + i; };
-  constexpr int kMaxFan = 128;  // two rings of the fast loop's largest valence
+  constexpr int kMaxFan = 128;  // two rings of the collapse loop's largest valence
   if (n_fan > kMaxFan) return false;
   double distance[kPoints * kMaxFan];  // kPoints per fan face
   for (int j = 0; j <= N; ++j)
@@ -171,10 +171,10 @@ bool DroppedPointsBound::coarse(const Vec3& a, const Vec3& b, const Vec3& c, dou
 }
 
 double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace* fan, int n_fan) {
-  constexpr int kMaxRing = 64;  // as the fast loop's valence
+  constexpr int kMaxRing = 64;  // as the collapse loop's valence
   const int n = star.n, n_faces = star.closed ? n : n - 1;
   if (n_faces <= 0) return 0;
-  if (n > kMaxRing) return HUGE_VAL;  // beyond the fast loop's valence: never
+  if (n > kMaxRing) return HUGE_VAL;  // beyond the collapse loop's valence: never
   bool any = false;
   for (int i = 0; i < n_faces; ++i) any = any || slack_[star.faces[i]] >= 0;
   if (!any) return 0;  // the usual case early on: nothing dropped around v
@@ -290,4 +290,4 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
   return lost ? HUGE_VAL : largest;
 }
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

@@ -1,4 +1,4 @@
-// The fast loop's recorded error as a true bound (issue 25): a face keeps only its kKept
+// The collapse loop's recorded error as a true bound (issue 25): a face keeps only its kKept
 // farthest removed input vertices (kept_points.h), so the others, dropped, are no longer
 // measured; here each face f carries instead a slack r_f, at least the distance to f of
 // every point dropped onto it. Internal to simplify/.
@@ -30,7 +30,7 @@
 // it measured (kept_points.cpp), and the sequence records the running maximum: every
 // alive face's slack and kept distance was recorded by some collapse so far, so the
 // record bounds the distance of every input vertex to the level's surface. Regions on
-// several threads (fast_simplifier.cpp) touch disjoint faces, and a merged order keeps
+// several threads (simplifier.cpp) touch disjoint faces, and a merged order keeps
 // each region's own order, so the argument holds for their merge too.
 //
 // Guéziec 1996 ("Surface simplification with variable tolerance") bounds the same
@@ -51,7 +51,7 @@
 #include "simplify/geometry.h"
 #include "simplify/kept_points.h"
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
 class DroppedPointsBound {
  public:
@@ -104,4 +104,4 @@ class DroppedPointsBound {
   bool lost_ = false;
 };
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

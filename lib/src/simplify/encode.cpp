@@ -1,5 +1,5 @@
 // The encoder's entry point: checks the options and the attributes, runs the collapse
-// loop (fast_simplifier.cpp; through the manifold repair by cutting, manifold_repair.cpp,
+// loop (simplifier.cpp; through the manifold repair by cutting, manifold_repair.cpp,
 // when the input is not a manifold already), and assembles its collapses, last first, into
 // the vertex splits of a progressive mesh (Hoppe 1996, "Progressive meshes", §3).
 #include <algorithm>
@@ -10,13 +10,13 @@
 #include <string>
 
 #include "io/openmesh_logs.h"
-#include "simplify/collapse_sequence.h"
-#include "simplify/corner_attributes.h"
-#include "simplify/fast_simplifier.h"
-#include "simplify/manifold_repair.h"
 #include "pm/advanced/stream_order.h"
 #include "pm/encoder.h"
 #include "pm/pm_codec.h"
+#include "simplify/collapse_sequence.h"
+#include "simplify/corner_attributes.h"
+#include "simplify/manifold_repair.h"
+#include "simplify/simplifier.h"
 
 namespace pm {
 namespace {
@@ -63,7 +63,7 @@ void record_face_rotations(const Mesh& input, ProgressiveMesh& out) {
 }
 
 // What the collapse loop left: its collapses, the base mesh, and its points and counts
-// (the repair's half-edge mesh may be gone: simplify_fast clears it).
+// (the repair's half-edge mesh may be gone: simplify clears it).
 struct Simplified {
   const std::vector<Collapse>& collapses;
   const std::vector<uint32_t>& moved_faces;
@@ -269,9 +269,9 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
   {
     // The loop's state (with attributes, their quadrics: 160 MB of a 950K-face textured
     // mesh) ends here, before layer_splits() and validate() take their own memory.
-    FastSimplification run;
+    Simplification run;
     const std::size_t n_vertices = input.vertex_count(), n_faces = input.face_count();
-    if (simplify_fast_direct(input, options, run)) {
+    if (simplify_direct(input, options, run)) {
       repaired.input_vertex.resize(n_vertices);
       std::iota(repaired.input_vertex.begin(), repaired.input_vertex.end(), uint32_t{0});
       repaired.canonical = repaired.input_vertex;
@@ -280,7 +280,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
       std::iota(repaired.input_face.begin(), repaired.input_face.end(), uint32_t{0});
     } else {
       if (Status s = build_manifold_mesh(input, repaired); !s) return s;
-      if (Status s = simplify_fast(input, repaired, options, run); !s) return s;
+      if (Status s = simplify(input, repaired, options, run); !s) return s;
     }
     assemble(input, repaired,
              Simplified{run.collapses, run.moved_faces, run.attribute_record,

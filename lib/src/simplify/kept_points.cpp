@@ -1,4 +1,4 @@
-// The fast loop's kept points: see kept_points.h (after Klein, Liebich and Straßer 1996).
+// The collapse loop's kept points: see kept_points.h (after Klein, Liebich and Straßer 1996).
 #include "simplify/kept_points.h"
 
 #include <cfloat>
@@ -9,7 +9,7 @@
 #include <utility>
 #include <cmath>
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
 void KeptPoints::reset(std::size_t n_faces, const float* xyz) {
   if (n_faces == 0) {  // the loop is over: the memory goes back
@@ -301,4 +301,4 @@ double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, co
   return farthest;
 }
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

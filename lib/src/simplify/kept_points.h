@@ -1,17 +1,16 @@
-// The fast loop's measured error (fast_loop.h): removed input vertices carried on the faces
-// of the simplified surface, as RemovedPoints carried them for the former default loop (deleted in issue 25) (after Klein,
-// Liebich and Straßer 1996, "Mesh reduction with error control", who keep the
-// correspondence between the input and the reduced mesh to bound their distance), but a
-// face keeps only its kKept farthest points. The Hausdorff distance of a level to the input
-// is a maximum, made of the farthest points; the nearer ones seldom become the farthest, so
-// dropping them costs the measure little, and bounds its cost: a collapse measures at most
-// 1 + kKept points per face of v's fan against that fan, however many points its faces have
-// absorbed (where RemovedPoints sampled up to 512 per collapse). And the other way round,
-// for both metrics: the moved faces against the faces they replace (surface_distance()) and
-// against the input around them (input_distance()), a bounded grid per face. Flat arrays;
-// safe on several threads for collapses whose faces are apart (the fast loop's regions):
-// all scratch is on the stack. Internal to simplify/. Measurements:
-// tests/bench/fast.md, fast_schroeder.md and tests/bench/README.md.
+// The collapse loop's measured error (collapse_loop.h): removed input vertices carried on the faces
+// of the simplified surface, as RemovedPoints carried them for the former default loop (deleted in
+// issue 25) (after Klein, Liebich and Straßer 1996, "Mesh reduction with error control", who keep
+// the correspondence between the input and the reduced mesh to bound their distance), but a face
+// keeps only its kKept farthest points. The Hausdorff distance of a level to the input is a
+// maximum, made of the farthest points; the nearer ones seldom become the farthest, so dropping
+// them costs the measure little, and bounds its cost: a collapse measures at most 1 + kKept points
+// per face of v's fan against that fan, however many points its faces have absorbed (where
+// RemovedPoints sampled up to 512 per collapse). And the other way round, for both metrics: the
+// moved faces against the faces they replace (surface_distance()) and against the input around them
+// (input_distance()), a bounded grid per face. Flat arrays; safe on several threads for collapses
+// whose faces are apart (the collapse loop's regions): all scratch is on the stack. Internal to
+// simplify/. Measurements: tests/bench/fast.md, fast_schroeder.md and tests/bench/README.md.
 //
 // What it measures is a lower bound of the distance of the removed input vertices to the
 // surface (the dropped points are not counted): it orders the collapses. The record of a
@@ -25,7 +24,7 @@
 
 #include "simplify/geometry.h"
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
 class DroppedPointsBound;
 
@@ -55,13 +54,13 @@ class KeptPoints {
   // stays the caller's and must not change. n_faces 0: frees the memory.
   void reset(std::size_t n_faces, const float* xyz);
 
-  // The most moved faces a measure looks at (the loop's largest valence, fast_loop.h's
+  // The most moved faces a measure looks at (the loop's largest valence, collapse_loop.h's
   // kMaxValence, asserts it): the scratch of surface_distance() and input_distance() is
   // sized by it, on the stack.
   static constexpr int kMaxMoved = 64;
 
   // The measured distance of the collapse v -> u is the larger of points_distance() and
-  // surface_distance() (fast_loop.h's apply() asks for the second only when the first
+  // surface_distance() (collapse_loop.h's apply() asks for the second only when the first
   // leaves the collapse the cheapest); 0 when the fan is empty.
   //
   // The largest distance from `v`'s input position and the points kept on `old_faces`
@@ -127,7 +126,7 @@ class KeptPoints {
   //
   // With 3 steps per edge (2 and 4 measured worse), the walk and the kept points' faces,
   // no point of 24 is above 1.05x the default loop's Hausdorff distance, for either metric
-  // (tests/bench/README.md, "The fast loop's measure").
+  // (tests/bench/README.md, "The collapse loop's measure").
   static constexpr int kInputSteps = 3;
   static constexpr int kMaxInputFaces = 256;
   static constexpr int kWalkSteps = 16;  // none took more on the shared meshes
@@ -177,4 +176,4 @@ class KeptPoints {
   const float* xyz_ = nullptr;
 };
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

@@ -4,7 +4,7 @@
 // of the size of the local error, not of the coordinates: float32 then keeps the order of
 // small errors far from the origin, where a global float32 quadric would round them away
 // (its terms grow with the squared distance to the origin and cancel). Half the memory of
-// the double quadric, which is what the fast loop's cache misses are made of.
+// the double quadric, which is what the collapse loop's cache misses are made of.
 #pragma once
 
 #include "simplify/geometry.h"

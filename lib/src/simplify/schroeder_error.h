@@ -18,7 +18,7 @@ inline constexpr double kSharpCornerDeg = 60.0;
 inline constexpr double kSharpCornerWeight = 10.0;
 
 // The formulas, over a description of v's fan that either loop gives (the former default loop's
-// half-edge mesh, the fast loop's flat arrays: fast_schroeder.cpp).
+// half-edge mesh, the collapse loop's flat arrays: schroeder_costs.cpp).
 //
 // Schroeder 1992, §3.2: the distance from p to the average plane of its triangles.
 // for_each_face(visit) calls visit(a, b, c, unit normal, area) for each face of the fan

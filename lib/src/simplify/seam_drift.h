@@ -30,7 +30,7 @@ class SeamDrift {
   // vase sample with three charts at 10%, 2% and 1%): at 2.8 (x^2 = 8) spot's seams still
   // slid at 10%; at 4 (x^2 = 16) the vase's interior at 2% paid for the seams it kept. 3.5
   // holds both (tuned on the former default loop, commit 3cb92db). The quadric metric's key
-  // weighs the measure twice and scales this by 1/sqrt(2) (fast_loop.h, kDriftScale);
+  // weighs the measure twice and scales this by 1/sqrt(2) (collapse_loop.h, kDriftScale);
   // Schroeder's takes it as it is.
   static constexpr double kDriftScale = 3.5;
 
@@ -46,7 +46,7 @@ class SeamDrift {
 
   // Attaches v and those points to u-w. Call just before the loop makes the collapse.
   // Collapses whose stars share no vertex may call this and collapse_drift() on several
-  // threads at once (the fast loop's regions): each touches only its own vertices' lists.
+  // threads at once (the collapse loop's regions): each touches only its own vertices' lists.
   void collapse(const CollapseStar& c);
 
  private:
@@ -72,7 +72,7 @@ class SeamDrift {
   const float* points_xyz_;
   const CornerAttributes& attributes_;
   // Per vertex, its current seam edges to larger vertices that carry removed points. A
-  // collapse reads and writes only the lists of v, u and w, so regions of the fast loop on
+  // collapse reads and writes only the lists of v, u and w, so regions of the collapse loop on
   // other threads, whose collapses share no vertex with it, need no lock.
   std::vector<std::vector<Attached>> points_;
 };

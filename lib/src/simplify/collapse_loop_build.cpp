@@ -1,14 +1,14 @@
-// The fast loop's connectivity (fast_loop.h): the directed edges of Campagna, Kobbelt and
+// The collapse loop's connectivity (collapse_loop.h): the directed edges of Campagna, Kobbelt and
 // Seidel 1998 built from flat triangles, renumbered along a Morton curve (Morton 1966); and
 // the legality rules only a repaired mesh needs (welds, carried faces).
-#include "simplify/fast_loop.h"
+#include "simplify/collapse_loop.h"
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
-void FastSimplifier::morton_order(const float* points, std::size_t n, const float* low,
-                                  const float* high, double shift, const uint32_t* id,
-                                  std::vector<uint64_t>& keys, std::vector<uint32_t>& order,
-                                  std::vector<uint32_t>& rank) {
+void CollapseLoop::morton_order(const float* points, std::size_t n, const float* low,
+                                const float* high, double shift, const uint32_t* id,
+                                std::vector<uint64_t>& keys, std::vector<uint32_t>& order,
+                                std::vector<uint32_t>& rank) {
   for (std::size_t v = 0; v < n; ++v) {
     uint64_t code = 0;
     for (int c = 0; c < 3; ++c) {
@@ -27,9 +27,9 @@ void FastSimplifier::morton_order(const float* points, std::size_t n, const floa
   }
 }
 
-bool FastSimplifier::build(const uint32_t* tri, std::size_t n_faces, const float* points,
-                           std::size_t n_vertices, const std::vector<uint8_t>* pinned,
-                           bool faceless_allowed) {
+bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* points,
+                         std::size_t n_vertices, const std::vector<uint8_t>* pinned,
+                         bool faceless_allowed) {
   // Morton order of the vertices.
   float low[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, high[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
   for (std::size_t i = 0; i < 3 * n_vertices; ++i) {
@@ -191,7 +191,7 @@ bool FastSimplifier::build(const uint32_t* tri, std::size_t n_faces, const float
 // The collapse v -> u is refused if a new edge u-w would join two copies of one vertex,
 // or would merge at output with an existing edge between copies of u's and w's vertices
 // (WeldGroups, collapse_legality.h). Weld groups hold the given (repaired) ids.
-bool FastSimplifier::keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int n_v) const {
+bool CollapseLoop::keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int n_v) const {
   auto members_of = [&](uint32_t x, uint32_t& single) -> std::pair<const uint32_t*, std::size_t> {
     const int g = welds_.group[x];
     if (g < 0) {
@@ -223,7 +223,7 @@ bool FastSimplifier::keeps_weld_groups(uint32_t u, const Neighbour* ring_v, int 
 
 // A carried face's vertex pair may not
 // become an edge of the surface.
-bool FastSimplifier::keeps_carried_pairs(uint32_t u, const Neighbour* ring_v, int n_v) const {
+bool CollapseLoop::keeps_carried_pairs(uint32_t u, const Neighbour* ring_v, int n_v) const {
   for (int i = 0; i < n_v; ++i) {
     const uint32_t w = ring_v[i].vertex;
     if (w == u) continue;
@@ -233,4 +233,4 @@ bool FastSimplifier::keeps_carried_pairs(uint32_t u, const Neighbour* ring_v, in
   return true;
 }
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

@@ -1,8 +1,8 @@
-// Which collapse the fast loop queues for a vertex v (fast_loop.h, evaluate()): v's kind
+// Which collapse the collapse loop queues for a vertex v (collapse_loop.h, evaluate()): v's kind
 // decides which of its edges it may collapse along (Schroeder, Zarge and Lorensen 1992,
 // §3.1, with Schroeder 1997's corner rule), each is an option with a cost, and the options
 // are ranked: special edges first (a corner's), then by cost (Schroeder's metric: by length,
-// fast_schroeder.cpp), ties to the shortest edge. Garland and Heckbert 1997, §4: the
+// schroeder_costs.cpp), ties to the shortest edge. Garland and Heckbert 1997, §4: the
 // cheapest pair, here among v's half-edge collapses.
 //
 // With attributes, the quadric metric's cost is v's planes at the target plus the
@@ -15,9 +15,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "simplify/fast_loop.h"
+#include "simplify/collapse_loop.h"
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
 namespace {
 
@@ -38,7 +38,9 @@ template <typename Option, typename Price, typename RanksBefore>
 class InOrderOfWholeCost {
  public:
   InOrderOfWholeCost(Option* options, int count, Price price, RanksBefore ranks_before)
-      : options_(options), count_(finite_only(options, count)), price_(price),
+      : options_(options),
+        count_(finite_only(options, count)),
+        price_(price),
         ranks_before_(ranks_before) {
     std::sort(options_, options_ + count_, ranks_before_);
   }
@@ -73,13 +75,13 @@ class InOrderOfWholeCost {
 
 }  // namespace
 
-bool FastSimplifier::ranks_before(const Option& a, const Option& b) {
+bool CollapseLoop::ranks_before(const Option& a, const Option& b) {
   if (a.special != b.special) return a.special;
   if (a.rank != b.rank) return a.rank < b.rank;
   return a.length != b.length ? a.length < b.length : a.index < b.index;
 }
 
-bool FastSimplifier::find_best(Worker& worker, uint32_t v, bool check_legal) {
+bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
   if (!owns(worker, v) || vertex_[v].dead || vertex_[v].pinned) return false;
   Neighbour ring_v[kMaxValence];
   bool boundary_v;
@@ -157,4 +159,4 @@ bool FastSimplifier::find_best(Worker& worker, uint32_t v, bool check_legal) {
   return false;
 }
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

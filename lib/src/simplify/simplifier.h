@@ -1,29 +1,28 @@
-// The collapse loop (the one left since issue 25; once pmenc --fast): Garland and Heckbert's quadric
-// metric (or Schroeder's, fast_schroeder.cpp) on a flat, array-based connectivity (Campagna, Kobbelt and Seidel 1998, "Directed
-// edges"), with a measured error bounded per collapse (kept_points.h) where the former default
-// loop (deleted in issue 25; commit 3cb92db) charged every removed point. It
-// keeps every rule that makes the result a valid progressive mesh of the same topology:
-// the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
+// The collapse loop (the one left since issue 25; once pmenc --fast): Garland and Heckbert's
+// quadric metric (or Schroeder's, schroeder_costs.cpp) on a flat, array-based connectivity
+// (Campagna, Kobbelt and Seidel 1998, "Directed edges"), with a measured error bounded per collapse
+// (kept_points.h) where the former default loop (deleted in issue 25; commit 3cb92db) charged every
+// removed point. It keeps every rule that makes the result a valid progressive mesh of the same
+// topology: the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
 // carried faces, boundaries and feature edges; and the attributes
 // (corner_attributes.h, seam_drift.h): seams and material borders kept,
 // attribute quadrics in the cost, texture-seam drift in the measured key.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
-#include <memory>
-
-#include "simplify/collapse_sequence.h"
-#include "simplify/corner_attributes.h"
-#include "simplify/manifold_repair.h"
 #include "pm/encoder.h"
 #include "pm/mesh.h"
 #include "pm/status.h"
+#include "simplify/collapse_sequence.h"
+#include "simplify/corner_attributes.h"
+#include "simplify/manifold_repair.h"
 
 namespace pm {
 
-struct FastSimplification {
+struct Simplification {
   std::vector<Collapse> collapses;
   std::vector<uint32_t> moved_faces;  // half-edge-mesh face ids, Collapse::moved_begin
   BaseMesh base;
@@ -38,17 +37,17 @@ struct FastSimplification {
 // Runs the whole collapse sequence on repaired.mesh, in its ids. Its triangles and points
 // are copied into flat arrays first, then the OpenMesh mesh is cleared to give its memory
 // back: afterwards only repaired's per-vertex and per-face tables remain, and out.points
-// replaces its points. Either metric (Schroeder's: fast_schroeder.cpp). kInternal if the mesh
+// replaces its points. Either metric (Schroeder's: schroeder_costs.cpp). kInternal if the mesh
 // is not the manifold build_manifold_mesh makes.
 // `input` is the mesh repaired was built from (its attributes).
-Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
-                     FastSimplification& out);
+Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
+                Simplification& out);
 
 // The same on the input as it is, in its ids, when it is a manifold that needs no repair (see
 // build_manifold_mesh: no face with a repeated vertex, no vertex without faces, every edge
 // in one face or two of opposite orientation, every vertex's faces one fan): the OpenMesh
 // mesh is never built. False, with nothing done, otherwise. The input must have passed
 // check_encodable.
-bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options, FastSimplification& out);
+bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out);
 
 }  // namespace pm

@@ -1,14 +1,14 @@
-// Schroeder's metric in the fast loop (EncodeOptions::fast with Metric::kSchroeder): the
-// default loop's rules (commit 3cb92db; deleted in issue 25) on the fast loop's
+// Schroeder's metric in the collapse loop (Metric::kSchroeder): the
+// default loop's rules (commit 3cb92db; deleted in issue 25) on the collapse loop's
 // flat arrays. Schroeder, Zarge and Lorensen 1992, "Decimation of triangle meshes": §3.1
-// the vertex's kind (fast_options.cpp, find_best(): simple, boundary, interior edge, corner),
+// the vertex's kind (collapse_options.cpp, find_best(): simple, boundary, interior edge, corner),
 // §3.2 its error (distance to the average plane, or to the boundary or feature line);
 // Schroeder 1997, "A topology modifying progressive decimation algorithm": §3 the corner
 // rule, §3.2 the shortest legal edge first. The formulas are schroeder_error.h's, the
-// default loop's. In place of Schroeder 1997 §3.3's error accumulation, the fast loop's
+// default loop's. In place of Schroeder 1997 §3.3's error accumulation, the collapse loop's
 // measure (kept_points.h) joins the key as the larger of the two.
 //
-// The measure (fast_loop.h's apply()) is the quadric metric's, the moved faces against the
+// The measure (collapse_loop.h's apply()) is the quadric metric's, the moved faces against the
 // input (KeptPoints::input_distance()), and one more grid: the old fan against the new one
 // (KeptPoints::kSchroederOldFanSteps), which sees the input points a collapse leaves behind
 // where it pulls a boundary or a crease in. The queued key holds no guess of the measure:
@@ -17,14 +17,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "simplify/fast_loop.h"
+#include "simplify/collapse_loop.h"
 #include "simplify/schroeder_error.h"
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
-void FastSimplifier::schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,
-                                     Option* options, int count, Star& star,
-                                     const CornerAttributes::StarWedges& wedges) const {
+void CollapseLoop::schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,
+                                   Option* options, int count, Star& star,
+                                   const CornerAttributes::StarWedges& wedges) const {
   const Vec3 pv = point(v);
   const double weight = vertex_[v].sharp_corner ? kSharpCornerWeight : 1.0;
   // The attributes' error in model units joins the distance as the larger of the two, as
@@ -98,7 +98,7 @@ void FastSimplifier::schroeder_costs(uint32_t v, VertexKind kind, const Neighbou
   }
 }
 
-void FastSimplifier::mark_sharp_corners() {
+void CollapseLoop::mark_sharp_corners() {
   // As the former default loop: an edge of the input corner sharper than kSharpCornerDeg, by its
   // faces' normals, or a seam or material border (is_feature_edge's rule at that angle).
   const double cos_sharp = std::cos(kSharpCornerDeg * M_PI / 180.0);
@@ -111,11 +111,11 @@ void FastSimplifier::mark_sharp_corners() {
       for (int i = 0; i < n && !vertex_[v].sharp_corner; ++i) {
         const uint32_t e = ring_v[i].edge, t = half_[e].twin;
         if (t == kNone) continue;
-        vertex_[v].sharp_corner = (attributes_ && seam_[e]) ||
-                                  (face_normal(e / 3) | face_normal(t / 3)) < cos_sharp;
+        vertex_[v].sharp_corner =
+            (attributes_ && seam_[e]) || (face_normal(e / 3) | face_normal(t / 3)) < cos_sharp;
       }
     }
   });
 }
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

@@ -1,5 +1,5 @@
-// The fast collapse loop's state and its collapse step (fast_simplifier.h says what it is
-// for; fast_simplifier.cpp runs it, fast_loop_build.cpp builds its connectivity). Garland
+// The collapse loop's state and its collapse step (simplifier.h says what it is
+// for; simplifier.cpp runs it, collapse_loop_build.cpp builds its connectivity). Garland
 // and Heckbert 1997's quadrics on Campagna, Kobbelt and Seidel 1998's directed edges:
 // half-edge h = 3f + k of triangle f leaves the triangle's k-th corner, next and previous
 // are implicit, and one array holds each half-edge's twin. Internal to simplify/.
@@ -18,15 +18,15 @@
 #include "simplify/collapse_legality.h"
 #include "simplify/corner_attributes.h"
 #include "simplify/dropped_points_bound.h"
-#include "simplify/fast_simplifier.h"
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
 #include "simplify/kept_points.h"
 #include "simplify/local_quadric.h"
 #include "simplify/seam_drift.h"
+#include "simplify/simplifier.h"
 #include "simplify/vertex_classification.h"
 
-namespace pm::fast_loop {
+namespace pm::collapse_loop {
 
 constexpr uint32_t kNone = 0xffffffffu;
 constexpr int kMaxValence = 64;  // as the former default loop: a vertex of larger valence stays
@@ -46,7 +46,7 @@ struct Neighbour {
   uint32_t edge;
 };
 
-class FastSimplifier {
+class CollapseLoop {
   // A heap and the collapses it made since the last merge(): one per region in a round
   // (run_rounds()), one for the whole mesh otherwise.
   struct Worker {
@@ -89,8 +89,7 @@ class FastSimplifier {
 
  public:
   // `repaired`: its welds and carried faces, or null for an input without either.
-  FastSimplifier(const ManifoldMesh* repaired, const EncodeOptions& options,
-                 FastSimplification& out)
+  CollapseLoop(const ManifoldMesh* repaired, const EncodeOptions& options, Simplification& out)
       : options_(options),
         out_(out),
         welds_(repaired ? weld_groups(*repaired) : WeldGroups{}),
@@ -411,7 +410,7 @@ class FastSimplifier {
   }
 
   // Welds (collapse_legality.h: keeps_weld_groups), and a carried face's vertex pair may not
-  // become an edge of the surface (fast_loop_build.cpp: only a repaired mesh has either).
+  // become an edge of the surface (collapse_loop_build.cpp: only a repaired mesh has either).
   bool keeps_welds(uint32_t u, const Neighbour* ring_v, int n_v) const {
     return welds_.empty() || keeps_weld_groups(u, ring_v, n_v);
   }
@@ -505,12 +504,11 @@ class FastSimplifier {
     int index;
   };
   static bool ranks_before(const Option& a, const Option& b);
-  // Schroeder's metric (fast_schroeder.cpp): each of the `count` options' cost and rank
+  // Schroeder's metric (schroeder_costs.cpp): each of the `count` options' cost and rank
   // for v of this kind (ring_v its n neighbours; star and wedges v's, with attributes).
-  void schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,
-                       Option* options, int count, Star& star,
-                       const CornerAttributes::StarWedges& wedges) const;
-  // Marks the input corners with an edge sharper than kSharpCornerDeg (fast_schroeder.cpp).
+  void schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n, Option* options,
+                       int count, Star& star, const CornerAttributes::StarWedges& wedges) const;
+  // Marks the input corners with an edge sharper than kSharpCornerDeg (schroeder_costs.cpp).
   void mark_sharp_corners();
 
   // Queues v's cheapest collapse in best_[v] and heap_, or takes v out of the heap when it
@@ -523,7 +521,7 @@ class FastSimplifier {
     worker.drop(v);
     if (worker.holds(v)) best_[v].target = kNone;
   }
-  // evaluate()'s choice (fast_options.cpp). In a round, v waits (false) when the cut is
+  // evaluate()'s choice (collapse_options.cpp). In a round, v waits (false) when the cut is
   // next to it or to its cheapest target.
   bool find_best(Worker& worker, uint32_t v, bool check_legal);
 
@@ -595,8 +593,8 @@ class FastSimplifier {
       int n_region = 0;
       region[n_region++] = v;
       for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
-      worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old,
-                                   input_, worst);
+      worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old, input_,
+                                   worst);
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
@@ -651,8 +649,9 @@ class FastSimplifier {
     // Its own, at least the kept points' distance; merge() makes it the running maximum.
     // At most the largest float: no distance on a mesh encode() accepts (its diagonal is
     // at most kMaxEncodeDiagonal, below that) is larger, where the key's square overflows.
-    c.bound = static_cast<float>(std::min<double>(
-        std::max<double>(key_distance(worker.key(v)), farthest), std::numeric_limits<float>::max()));
+    c.bound =
+        static_cast<float>(std::min<double>(std::max<double>(key_distance(worker.key(v)), farthest),
+                                            std::numeric_limits<float>::max()));
     worker.collapses.push_back(c);
     // What the record claims: the same, and the slack this collapse set, rounded up to a
     // float (at most the largest, as above). Infinite where a point found no face: then no
@@ -738,8 +737,9 @@ class FastSimplifier {
       // option w -> v for w -> u; the others cost what they did, attributes too (its wedges
       // and the corners its options read did not change). Unless it was queued towards v,
       // or w -> u is no dearer, its queued candidate is still its best.
-      if (!schroeder_ && !angle_features_ && vertex_[w].simple && (!attributes_ || vertex_[w].cheapest) &&
-          worker.queued(w) && best_[w].target != v && w != vl && w != vr) {
+      if (!schroeder_ && !angle_features_ && vertex_[w].simple &&
+          (!attributes_ || vertex_[w].cheapest) && worker.queued(w) && best_[w].target != v &&
+          w != vl && w != vr) {
         if (keeps_best(worker, w, u)) {
           measured_[w] = kNotMeasured;  // points may have moved onto its faces at u
           continue;
@@ -775,7 +775,8 @@ class FastSimplifier {
       return w == v ? pu : point(w);
     };
     auto add = [&](uint32_t f) {
-      fan[n_fan++] = KeptPoints::FanFace::make(f, corner(3 * f), corner(3 * f + 1), corner(3 * f + 2));
+      fan[n_fan++] =
+          KeptPoints::FanFace::make(f, corner(3 * f), corner(3 * f + 1), corner(3 * f + 2));
     };
     for (int i = 0; i < n_v; ++i) {
       const uint32_t e = ring_v[i].edge;
@@ -828,14 +829,14 @@ class FastSimplifier {
   void write_base();
 
   const EncodeOptions& options_;
-  FastSimplification& out_;
+  Simplification& out_;
   const WeldGroups welds_;
   const std::set<std::pair<uint32_t, uint32_t>> carried_edges_;
   const double cos_feature_angle_, cos_max_flip_;
-  bool features_;             // some edge can be a feature (by angle, or a seam)
+  bool features_;              // some edge can be a feature (by angle, or a seam)
   const bool angle_features_;  // the angle is below 180 degrees
-  const bool schroeder_;       // Schroeder's metric (fast_schroeder.cpp), else quadrics
-  const unsigned threads_;  // run_in_turn's (EncodeOptions::threads)
+  const bool schroeder_;       // Schroeder's metric (schroeder_costs.cpp), else quadrics
+  const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
   // Positions, three per local vertex, apart from the rest: a collapse reads the positions
@@ -907,9 +908,9 @@ class FastSimplifier {
   // does at every evaluation, reads one byte per edge instead of comparing corners.
   std::vector<uint8_t> seam_;
   DroppedPointsBound dropped_;  // the slack of the points kept_ leaves off (the record)
-  bool partitioned_ = false;   // rounds first (run_rounds())
-  bool in_rounds_ = false;     // regions at once (run_rounds()), else one heap
-  std::vector<uint8_t> band_;  // per vertex: next to its region's edge (run_rounds())
+  bool partitioned_ = false;    // rounds first (run_rounds())
+  bool in_rounds_ = false;      // regions at once (run_rounds()), else one heap
+  std::vector<uint8_t> band_;   // per vertex: next to its region's edge (run_rounds())
   // run_rounds()'s second order: the vertex at each rank, and each vertex's rank.
   std::vector<uint32_t> order_b_, rank_b_;
   uint32_t new_faces_recorded_ = 0;
@@ -917,4 +918,4 @@ class FastSimplifier {
   float bound_ = 0;
 };
 
-}  // namespace pm::fast_loop
+}  // namespace pm::collapse_loop

@@ -1,22 +1,22 @@
-// The fast collapse loop: see fast_simplifier.h. Garland and Heckbert 1997, "Surface
+// The collapse loop: see simplifier.h. Garland and Heckbert 1997, "Surface
 // simplification using quadric error metrics" (§5 quadrics, §6.1 area weights, §6.2
 // boundary constraint planes), as half-edge collapses recorded for Hoppe 1996's vertex
 // splits, on Campagna, Kobbelt and Seidel 1998's directed edges: half-edge h = 3f + k of
 // triangle f leaves the triangle's k-th corner, next and previous are implicit, and one
 // array holds each half-edge's twin, so a collapse rewrites a few integers in place.
-#include "simplify/fast_simplifier.h"
+#include "simplify/simplifier.h"
 
 #include <algorithm>
 #include <utility>
 #include <vector>
 
 #include "core/in_turn.h"
-#include "simplify/fast_loop.h"
+#include "simplify/collapse_loop.h"
 
 namespace pm {
-namespace fast_loop {
+namespace collapse_loop {
 
-void FastSimplifier::run() {
+void CollapseLoop::run() {
   const std::size_t n_vertices = vertex_.size();
   if (!schroeder_) initialize_quadrics();  // Schroeder's metric has none: all zero
   run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
@@ -112,9 +112,10 @@ void FastSimplifier::run() {
   }
 }
 
-void FastSimplifier::attach_attributes(const Mesh& input, const uint32_t* input_face,
-                                       const uint32_t* input_vertex) {
-  if (options_.drop_attributes || !(input.has_uvs() || input.has_normals() || input.has_materials()))
+void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_face,
+                                     const uint32_t* input_vertex) {
+  if (options_.drop_attributes ||
+      !(input.has_uvs() || input.has_normals() || input.has_materials()))
     return;
   // In local ids: each local face's and vertex's input one.
   const std::size_t n_faces = half_.size() / 3, n_vertices = vertex_of_.size();
@@ -139,7 +140,7 @@ void FastSimplifier::attach_attributes(const Mesh& input, const uint32_t* input_
     if (half_[h].twin != kNone && h < half_[h].twin) seam_[h] = seam_[half_[h].twin] = seam_now(h);
 }
 
-void FastSimplifier::run_rounds() {
+void CollapseLoop::run_rounds() {
   constexpr std::size_t kRegions = 8;      // enough for two threads to end a round together
   constexpr std::size_t kMostWaiting = 8;  // the rounds end when 1/8 of the vertices wait
   const std::size_t n = vertex_.size();
@@ -191,8 +192,7 @@ void FastSimplifier::run_rounds() {
         if (best.target != kNone && owns(w, v) && owns(w, best.target)) {
           w.queue(v, best.key);
           measured_[v] = kNotMeasured;
-        }
-        else
+        } else
           evaluate(w, v);
       }
     });
@@ -223,7 +223,7 @@ void FastSimplifier::run_rounds() {
   std::vector<uint32_t>().swap(rank_b_);
 }
 
-void FastSimplifier::merge(std::vector<Worker>& workers) {
+void CollapseLoop::merge(std::vector<Worker>& workers) {
   std::vector<std::size_t> next(workers.size(), 0);
   for (;;) {
     Worker* from = nullptr;
@@ -280,7 +280,7 @@ void FastSimplifier::merge(std::vector<Worker>& workers) {
   }
 }
 
-void FastSimplifier::initialize_quadrics() {
+void CollapseLoop::initialize_quadrics() {
   constexpr double kConstraintWeight = 4.0;
   const std::size_t n_faces = half_.size() / 3;
   for (uint32_t f = 0; f < n_faces; ++f) {
@@ -307,7 +307,7 @@ void FastSimplifier::initialize_quadrics() {
   }
 }
 
-void FastSimplifier::to_given_ids() {
+void CollapseLoop::to_given_ids() {
   constexpr std::size_t kFetchAhead = 16;  // records: their lookups' misses overlap
   auto& collapses = out_.collapses;
   for (std::size_t k = 0; k < collapses.size(); ++k) {
@@ -336,7 +336,7 @@ void FastSimplifier::to_given_ids() {
   }
 }
 
-void FastSimplifier::write_base() {
+void CollapseLoop::write_base() {
   BaseMesh& base = out_.base;
   for (uint32_t v = 0; v < vertex_of_.size(); ++v)
     if (!dead_vertex_[v]) base.vertices.push_back(vertex_of_[v]);
@@ -352,12 +352,12 @@ void FastSimplifier::write_base() {
   }
 }
 
-}  // namespace fast_loop
+}  // namespace collapse_loop
 
-using fast_loop::FastSimplifier;
+using collapse_loop::CollapseLoop;
 
-Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
-                     FastSimplification& out) {
+Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
+                Simplification& out) {
   // The triangles and points of the repaired mesh, then its memory goes back.
   HalfEdgeMesh& mesh = repaired.mesh;
   const std::size_t n_faces = mesh.n_faces(), n_vertices = mesh.n_vertices();
@@ -372,7 +372,7 @@ Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOpti
   for (std::size_t v = 0; v < n_vertices; ++v)
     for (int c = 0; c < 3; ++c) points[3 * v + c] = mesh.point(mesh.vertex_handle(int(v)))[c];
   mesh.clean();
-  FastSimplifier simplifier(&repaired, options, out);
+  CollapseLoop simplifier(&repaired, options, out);
   if (!simplifier.build(triangles.data(), n_faces, points.data(), n_vertices, &repaired.pinned,
                         /*faceless_allowed=*/true))
     return Status(ErrorCode::kInternal, "the repaired mesh is not a manifold");
@@ -383,9 +383,8 @@ Status simplify_fast(const Mesh& input, ManifoldMesh& repaired, const EncodeOpti
   return Status::ok();
 }
 
-bool simplify_fast_direct(const Mesh& input, const EncodeOptions& options,
-                          FastSimplification& out) {
-  FastSimplifier simplifier(nullptr, options, out);
+bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out) {
+  CollapseLoop simplifier(nullptr, options, out);
   if (!simplifier.build(input.triangles.data(), input.face_count(), input.positions.data(),
                         input.vertex_count(), nullptr, /*faceless_allowed=*/false))
     return false;
