@@ -538,10 +538,10 @@ TEST(Cli, MetricOptionSelectsTheCost) {
   EXPECT_FALSE(test::file_exists(dir.file("x.pm")));
 }
 
-// --fast is accepted and changes nothing (one collapse loop since issue 25): the same stream
-// byte for byte, with either metric, with attributes or without, and no note; full detail
-// is the input exactly.
-TEST(Cli, FastIsAnAcceptedNoOp) {
+// --fast leaves out the loop's measured distance: another sequence, with either metric,
+// with attributes or without, and "loop":"fast" in --json ("default" without it); full
+// detail is still the input exactly, texture coordinates and materials too.
+TEST(Cli, FastLeavesOutTheMeasuredDistance) {
   TempDir dir;
   const std::string block = test::sample_mesh_path("block_features.obj");
   const std::string textured = test::sample_mesh_path("textured.obj");
@@ -558,16 +558,18 @@ TEST(Cli, FastIsAnAcceptedNoOp) {
     const std::string plain = dir.file("plain" + std::to_string(n) + ".pm");
     const std::string fast = dir.file("fast" + std::to_string(n) + ".pm");
     ++n;
-    std::vector<std::string> args = {run.input, "-o", plain, "-q"};
+    std::vector<std::string> args = {run.input, "-o", plain, "--json"};
     args.insert(args.end(), run.options.begin(), run.options.end());
-    ASSERT_EQ(pmenc(args).exit_code, 0) << run.input;
+    const CommandResult measured = pmenc(args);
+    ASSERT_EQ(measured.exit_code, 0) << measured.err;
+    EXPECT_NE(measured.out.find("\"loop\":\"default\""), std::string::npos) << measured.out;
     args = {run.input, "--fast", "-o", fast, "--json"};
     args.insert(args.end(), run.options.begin(), run.options.end());
     const CommandResult with_fast = pmenc(args);
     ASSERT_EQ(with_fast.exit_code, 0) << with_fast.err;
     EXPECT_NE(with_fast.out.find("\"loop\":\"fast\""), std::string::npos) << with_fast.out;
-    EXPECT_EQ(with_fast.err.find("--fast"), std::string::npos) << with_fast.err;
-    EXPECT_EQ(test::read_file(fast), test::read_file(plain)) << run.input;
+    EXPECT_EQ(with_fast.err.find("--fast"), std::string::npos) << with_fast.err;  // asked for
+    EXPECT_NE(test::read_file(fast), test::read_file(plain)) << run.input;
     ASSERT_EQ(pmdec({fast, "-o", dir.file("full.obj"), "-q"}).exit_code, 0);
     const Mesh in = read_or_fail(run.input), out = read_or_fail(dir.file("full.obj"));
     EXPECT_TRUE(test::same_faces(in, out)) << run.input;
@@ -734,23 +736,44 @@ TEST(Cli, ManPagesDescribeEveryOptionAndExitCode) {
   }
 }
 
-// --fast-from is accepted and changes nothing (one collapse loop since issue 25): at, above
-// and below the mesh's face count, and 0, the same stream byte for byte and no note. It is
-// still checked: a whole number.
-TEST(Cli, FastFromIsAnAcceptedNoOp) {
+// Meshes of at least --fast-from faces take --fast without being asked, and say so: the
+// stream is then --fast's, byte for byte, with or without attributes. Below it, or with 0,
+// the measured distance stays, silently. It is checked: a whole number.
+TEST(Cli, LargeMeshesTakeFastFromAFaceCount) {
   TempDir dir;
   const std::string block = test::sample_mesh_path("block_features.obj");
   const std::size_t faces = read_or_fail(block).face_count();
   ASSERT_GT(faces, 2u);
   ASSERT_EQ(pmenc({block, "-o", dir.file("default.pm"), "-q"}).exit_code, 0);
-  for (const std::string& from : {std::to_string(faces), std::to_string(faces + 1),
-                                  std::string("1"), std::string("0")}) {
-    const CommandResult run = pmenc({block, "--fast-from", from, "-o", dir.file("at.pm"), "--json"});
-    ASSERT_EQ(run.exit_code, 0) << run.err;
-    EXPECT_NE(run.out.find("\"loop\":\"fast\""), std::string::npos) << from << run.out;
-    EXPECT_EQ(run.err.find("fast"), std::string::npos) << from << run.err;
-    EXPECT_EQ(test::read_file(dir.file("at.pm")), test::read_file(dir.file("default.pm"))) << from;
+  ASSERT_EQ(pmenc({block, "--fast", "-o", dir.file("fast.pm"), "-q"}).exit_code, 0);
+  ASSERT_NE(test::read_file(dir.file("fast.pm")), test::read_file(dir.file("default.pm")));
+  for (const std::string& from : {std::to_string(faces), std::string("1")}) {
+    const CommandResult large = pmenc({block, "--fast-from", from, "-o", dir.file("at.pm"), "--json"});
+    ASSERT_EQ(large.exit_code, 0) << large.err;
+    EXPECT_NE(large.out.find("\"loop\":\"fast\""), std::string::npos) << from << large.out;
+    EXPECT_NE(large.err.find(block + ": " + std::to_string(faces) + " faces, at least --fast-from " +
+                             from + ": --fast"),
+              std::string::npos)
+        << large.err;
+    EXPECT_EQ(test::read_file(dir.file("at.pm")), test::read_file(dir.file("fast.pm"))) << from;
   }
+  for (const std::string& from : {std::to_string(faces + 1), std::string("0")}) {
+    const CommandResult small = pmenc({block, "--fast-from", from, "-o", dir.file("s.pm"), "--json"});
+    ASSERT_EQ(small.exit_code, 0) << small.err;
+    EXPECT_NE(small.out.find("\"loop\":\"default\""), std::string::npos) << from << small.out;
+    EXPECT_EQ(small.err.find("fast"), std::string::npos) << from << small.err;
+    EXPECT_EQ(test::read_file(dir.file("s.pm")), test::read_file(dir.file("default.pm"))) << from;
+  }
+  // With attributes: --fast's stream too, and full detail restores the texture coordinates.
+  const std::string textured = test::sample_mesh_path("textured.obj");
+  ASSERT_EQ(pmenc({textured, "--fast", "-o", dir.file("t_fast.pm"), "-q"}).exit_code, 0);
+  const CommandResult kept = pmenc({textured, "--fast-from", "1", "-o", dir.file("t.pm"), "--json"});
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  EXPECT_NE(kept.out.find("\"loop\":\"fast\""), std::string::npos) << kept.out;
+  EXPECT_EQ(test::read_file(dir.file("t.pm")), test::read_file(dir.file("t_fast.pm")));
+  ASSERT_EQ(pmdec({dir.file("t.pm"), "-o", dir.file("t.obj"), "-q"}).exit_code, 0);
+  EXPECT_EQ(read_or_fail(dir.file("t.obj")).uvs.size(), read_or_fail(textured).uvs.size());
+  ASSERT_EQ(pmenc({block, "--fast-from", "1", "-o", dir.file("at.pm"), "-q"}).exit_code, 0);
   ASSERT_EQ(pmdec({dir.file("at.pm"), "-o", dir.file("at.obj"), "-q"}).exit_code, 0);
   EXPECT_TRUE(test::same_faces(read_or_fail(block), read_or_fail(dir.file("at.obj"))));
   // A negative count is a usage error, not 2^64 - 3 (no limit), in every count option.

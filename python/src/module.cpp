@@ -374,7 +374,7 @@ struct EncodeArguments {
 };
 
 // Checks the arguments (raises on one out of range) and completes the options as pmenc does.
-void complete_options(EncodeArguments& a) {
+void complete_options(EncodeArguments& a, std::size_t faces) {
   pm::EncodeOptions& encode = a.encode;
   pm::WriteOptions& write = a.write;
   if (a.metric == "quadric") encode.metric = pm::Metric::kQuadric;
@@ -394,8 +394,8 @@ void complete_options(EncodeArguments& a) {
   if (!a.progress.is_none() && !PyCallable_Check(a.progress.ptr()))
     invalid_argument("progress must be callable");
   encode.feature_angle_deg = a.feature_angle.value_or(-1);  // negative: the metric's default
-  // fast and fast_from, as pmenc's --fast and --fast-from, are accepted and ignored: one
-  // collapse loop since issue 25.
+  // pmenc's --fast-from: large meshes leave out the measured distance unless asked otherwise.
+  encode.fast = encode.fast || (a.fast_from != 0 && faces >= a.fast_from);
   if (a.layered) encode.layer_window = std::numeric_limits<double>::infinity();
   write.error_bits = a.error_bits.value_or(write.position_bits > 0 ? pm::kQuantizedErrorBits : 0);
   write.threads = encode.threads;
@@ -407,7 +407,7 @@ Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
   // meanwhile gives an error or the new values, never a crash.
   LibraryInput input;
   library_input(mesh, "input", input);
-  complete_options(arguments);
+  complete_options(arguments, input.faces);
   pm::EncodeOptions& options = arguments.encode;
   Progressive p;
   p.write = arguments.write;
@@ -635,7 +635,7 @@ exactly). Immutable: levels may be taken from several threads at once.)")
             d["base_faces"] = s.base_faces;
             d["base_vertices"] = s.base_vertices;
             d["splits"] = s.collapses;
-            d["loop"] = "fast";  // always: one collapse loop since issue 25 (pmenc's --json)
+            d["loop"] = s.fast ? "fast" : "default";  // as pmenc's --json
             d["repair"] = repair;
             d["input_copies"] = p.input_copies;
             return std::move(d);
@@ -824,8 +824,8 @@ or positions (n, 3) float32 and faces (m, 3) uint32 with the Mesh's optional att
 
 metric 'quadric' (Garland and Heckbert 1997) or 'schroeder'; quantize, quantize_uv,
 quantize_normal: 0 (lossless) or 4..24 bits; error_bits (default 5 with quantize, else 0);
-fast and fast_from (accepted and ignored, as pmenc's --fast and --fast-from: one collapse
-loop since issue 25); feature_angle (degrees; None: the metric's default), max_normal_flip,
+fast (the collapse loop without its measured distance: faster, levels about meshoptimizer's),
+fast_from (meshes of at least this many faces take it: 0 only with fast); feature_angle (degrees; None: the metric's default), max_normal_flip,
 keep_corners, keep_order, drop_attributes, min_faces, min_vertices, layer_window, layered,
 chunk_splits, zstd_level, threads (0: every core); progress: a callable given the fraction
 done now and then. With a lossy option, the result holds what its stream decodes to, the

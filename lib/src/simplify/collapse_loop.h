@@ -100,6 +100,7 @@ class CollapseLoop {
         features_(cos_feature_angle_ > -1.0),
         angle_features_(features_),
         schroeder_(options.metric == Metric::kSchroeder),
+        measure_(!options.fast),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -569,6 +570,20 @@ class CollapseLoop {
     // at the top after the first (most go back after it: 2.3 of the 2.8 measures per
     // collapse on armadillo did). Either way the candidate is collapsed at the top with its
     // whole measured key, which replaces the cost find_best() queued it with.
+    // EncodeOptions::fast: no measured distance, the key stays the cost, but for a texture
+    // seam's drift (cheap, and what keeps the seams from sliding off their texture).
+    // 3.7 times faster on nefertiti (100K faces: 0.35 s against 1.28 s), the levels'
+    // Hausdorff distance twice as far from the input and the RMS 1.2 times (geometric means
+    // on the shared meshes at 50, 10 and 2%). The records are the same bound either way (kept_.collapse()
+    // and dropped_, below).
+    if (!measure_ && measured_[v] != kMeasuredWhole) {
+      measured_[v] = kMeasuredWhole;
+      if (seam_drift_) {
+        const double drift = (schroeder_ ? SeamDrift::kDriftScale : kDriftScale) *
+                             seam_drift_->collapse_drift(star.c);
+        if (drift > 0 && !top_with_measure(worker, v, drift)) return;
+      }
+    }
     if (measured_[v] != kMeasuredWhole) {
       if (measured_[v] == kNotMeasured) {
         measured_[v] = kMeasuredPoints;
@@ -836,6 +851,7 @@ class CollapseLoop {
   bool features_;              // some edge can be a feature (by angle, or a seam)
   const bool angle_features_;  // the angle is below 180 degrees
   const bool schroeder_;       // Schroeder's metric (schroeder_costs.cpp), else quadrics
+  const bool measure_;         // the measured distance joins the key (EncodeOptions::fast: no)
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
