@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
       else if (m == "schroeder") options.metric = pm::Metric::kSchroeder;
       else die("unknown metric " + m);
     } else if (arg == "--fast") {
-      // Accepted for older scripts; every input takes the one collapse loop.
+      options.fast = true;  // the collapse loop without its measured distance (pmenc --fast)
     } else if (arg == "--one-heap") {
       options.fast_partition_vertices = 0;
     } else if (arg == "--threads" && i + 1 < argc) {

@@ -4,7 +4,9 @@
 # of whole processes on large meshes made by Loop subdivision (pm_make_big_mesh, big_mesh.h):
 #
 #   pmenc big.obj -o big.pm, pmdec big.pm -o full.obj          ours (the one collapse loop,
-#                                                               since issue 25)
+#                                                               without its measured distance
+#                                                               from 1M faces; --fast-from 0
+#                                                               with it)
 #   OpenMesh-mkbalancedpm big.obj -o big.om.pm                  OpenMesh's progressive mesh
 #   pm_bench_scale_peers meshopt big.obj                        load, meshopt_simplify to 1%
 #   pm_bench_scale_peers openmesh big.obj                       load, DecimaterT to 1%
@@ -18,9 +20,9 @@
 #
 #   run_scale.sh [--big] [--runs N] [--fast-runs N]
 #
-# --runs: runs of the slow tools (mkbalancedpm, the OpenMesh decimater), 1 by default since
-# they take minutes here; --fast-runs: runs of pmdec, pmenc, pm::encode with either metric
-# and meshopt (5). Each row reports the median of its runs. See tests/bench/README.md, "Scale and memory".
+# --runs: runs of the slow tools (mkbalancedpm, the OpenMesh decimater, pmenc --fast-from 0
+# and pm::encode with the measured distance), 1 by default since they take minutes here;
+# --fast-runs: runs of pmdec, pmenc, pm::encode --fast with either metric and meshopt (5). Each row reports the median of its runs. See tests/bench/README.md, "Scale and memory".
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -142,6 +144,12 @@ run_mesh() {
     echo "run_scale.sh: $name: OpenMesh DecimaterT to 1%, run $i of $runs" >&2
     measure "$name.openmesh" "$bench/pm_bench_scale_peers" openmesh "$obj"
     inprocess_seconds "$name.openmesh" simplify_s
+    # The collapse loop with its measured distance, which pmenc leaves out from 1,000,000
+    # faces (--fast-from): minutes here.
+    echo "run_scale.sh: $name: pmenc --fast-from 0 and pm::encode measured, run $i of $runs" >&2
+    measure "$name.pmenc_measured" "$bin/pmenc" --fast-from 0 "$obj" -o "$work/$name.measured.pm"
+    inprocess "$name.encode_measured" wall "$bench/pm_bench_encode" "$obj" --metric quadric
+    sed -n "s/.*user \([0-9.]*\).*/\1/p" "$work/$name.encode_measured.stdout" | head -1 >>"$work/$name.encode_measured.user"
   done
   for ((i = 1; i <= fast_runs; ++i)); do
     echo "run_scale.sh: $name: pmenc, pmdec, meshopt and pm::encode, run $i of $fast_runs" >&2
@@ -149,9 +157,9 @@ run_mesh() {
     measure "$name.pmdec" "$bin/pmdec" "$work/$name.pm" -o "$work/$name.full.obj"
     measure "$name.meshopt" "$bench/pm_bench_scale_peers" meshopt "$obj"
     inprocess_seconds "$name.meshopt" simplify_s
-    inprocess "$name.encode_quadric" wall "$bench/pm_bench_encode" "$obj" --metric quadric
+    inprocess "$name.encode_quadric" wall "$bench/pm_bench_encode" "$obj" --metric quadric --fast
     sed -n "s/.*user \([0-9.]*\).*/\1/p" "$work/$name.encode_quadric.stdout" | head -1 >>"$work/$name.encode_quadric.user"
-    inprocess "$name.encode_schroeder" wall "$bench/pm_bench_encode" "$obj" --metric schroeder
+    inprocess "$name.encode_schroeder" wall "$bench/pm_bench_encode" "$obj" --metric schroeder --fast
   done
   # The full-detail output is the input again: checked by its face count, then dropped.
   local full_faces
@@ -172,9 +180,10 @@ run_mesh() {
     echo "| process | runs | wall (s) | peak RSS (MiB) | bytes per input face | pmenc / this | pmdec / this |"
     echo "|---|---:|---:|---:|---:|---:|---:|"
     local label title n wall kib
-    for label in pmenc pmdec mkbalancedpm meshopt openmesh; do
+    for label in pmenc pmenc_measured pmdec mkbalancedpm meshopt openmesh; do
       case "$label" in
-        pmenc) title="**\`pmenc $name.obj -o $name.pm\`** (ours, the default: the whole sequence to the base mesh, the one collapse loop)" ;;
+        pmenc) title="**\`pmenc $name.obj -o $name.pm\`** (ours, the default: the whole sequence to the base mesh; on a million faces or more without the measured distance, as \`--fast\`)" ;;
+        pmenc_measured) title="**\`pmenc --fast-from 0 $name.obj -o $name.measured.pm\`** (ours, the collapse loop with its measured distance, pmenc's default below a million faces)" ;;
         pmdec) title="**\`pmdec $name.pm -o full.obj\`** (ours: full detail)" ;;
         mkbalancedpm) title="\`OpenMesh-mkbalancedpm -o $name.om.pm $name.obj\` (OpenMesh's whole sequence)" ;;
         meshopt) title="meshopt: load (minimal reader), \`meshopt_simplify\` to 1%" ;;
@@ -188,7 +197,7 @@ run_mesh() {
     local mkbalancedpm_wall
     mkbalancedpm_wall=$(median "$work/$name.mkbalancedpm.runs" 1)
     echo
-    echo "Whole process, issue 10: \`OpenMesh-mkbalancedpm\` takes $(ratio "$mkbalancedpm_wall" "$(median "$work/$name.pmenc.runs" 1)") the time of \`pmenc\` (the goal: 10×)."
+    echo "Whole process, issue 10: \`OpenMesh-mkbalancedpm\` takes $(ratio "$mkbalancedpm_wall" "$(median "$work/$name.pmenc.runs" 1)") the time of \`pmenc\` (the goal: 10×), $(ratio "$mkbalancedpm_wall" "$(median "$work/$name.pmenc_measured.runs" 1)") that of \`pmenc --fast-from 0\`."
     echo
     echo "**Encode in-process** (issue 10): the simplification alone, timed inside the process after the mesh is read: \`pm::encode\` (\`pm_bench_encode\`: repair, the whole collapse sequence, the progressive mesh; not writing the .pm), and the peers' own timing of their simplification (\`pm_bench_scale_peers\`: \`meshopt_simplify\` to 1%, OpenMesh's DecimaterT to 1%, the last 1% being the few collapses left to its full sequence). Medians of the runs."
     echo
@@ -197,10 +206,11 @@ run_mesh() {
     local meshopt_s openmesh_s this_s
     meshopt_s=$(median "$work/$name.meshopt.inproc" 1)
     openmesh_s=$(median "$work/$name.openmesh.inproc" 1)
-    for label in encode_quadric encode_schroeder meshopt openmesh; do
+    for label in encode_quadric encode_schroeder encode_measured meshopt openmesh; do
       case "$label" in
-        encode_quadric) title="**pm::encode**, quadric (\`pmenc\`'s default; in regions on two threads from 131,072 vertices, $(seconds "$(median "$work/$name.encode_quadric.user" 1)") s of CPU)" ;;
-        encode_schroeder) title="**pm::encode**, schroeder (likewise)" ;;
+        encode_quadric) title="**pm::encode**, quadric, \`fast\` (\`pmenc\`'s default on a million faces or more: no measured distance; in regions on two threads from 131,072 vertices, $(seconds "$(median "$work/$name.encode_quadric.user" 1)") s of CPU)" ;;
+        encode_schroeder) title="**pm::encode**, schroeder, \`fast\` (likewise)" ;;
+        encode_measured) title="**pm::encode**, quadric, with the measured distance (\`pmenc --fast-from 0\`; in regions, $(seconds "$(median "$work/$name.encode_measured.user" 1)") s of CPU)" ;;
         meshopt) title="meshopt_simplify to 1%" ;;
         openmesh) title="OpenMesh DecimaterT (ModQuadricT + ModNormalFlippingT) to 1%" ;;
       esac
@@ -238,7 +248,7 @@ mo_version="$(dpkg-query -W -f='${Version}' libmeshoptimizer-dev 2>/dev/null || 
   echo "- commit: $commit"
   echo "- load average at the start (1, 5, 15 min): $(cut -d' ' -f1-3 /proc/loadavg) (a shared machine: the neighbours' work is in every wall-clock time)"
   echo "- peers: OpenMesh $om_version (libopenmesh-apps), meshoptimizer $mo_version"
-  echo "- runs: $runs of OpenMesh-mkbalancedpm and the OpenMesh decimater; $fast_runs of pmenc, pmdec, pm::encode (either metric) and meshopt; each row is the median of its runs$( ((runs == 1)) && echo " (so the slow tools' rows are single runs)")"
+  echo "- runs: $runs of OpenMesh-mkbalancedpm, the OpenMesh decimater and the measured rows (\`pmenc --fast-from 0\`, pm::encode with the measured distance); $fast_runs of pmenc, pmdec, pm::encode \`fast\` (either metric) and meshopt; each row is the median of its runs$( ((runs == 1)) && echo " (so the slow tools' rows are single runs)")"
   echo "- bytes per input face: peak resident set / input faces, the program's own footprint included (pmenc alone, \`--version\`: $(mib "$(median "$work/baseline.pmenc.runs" 2)") MiB; pmdec: $(mib "$(median "$work/baseline.pmdec.runs" 2)") MiB)"
 } >"$report.tmp"
 
