@@ -4,7 +4,8 @@
 # tests/bench/fast.md (the levels' quality against meshopt_simplify's at 50/10/2%, and the
 # loop's time on one thread against meshopt_simplify's to 1%, medians of 5 runs), then prints
 # it. Extra arguments go to pm_bench_fast (e.g. --runs 9); with --metric schroeder first, the
-# loop runs Schroeder's metric and the table goes to tests/bench/fast_schroeder.md instead.
+# loop runs Schroeder's metric and the table goes to tests/bench/fast_schroeder.md instead;
+# with --fast, the loop without its measured distance, to tests/bench/fast_unmeasured.md.
 # The former default loop (3cb92db) is quality.md's reference. See tests/bench/README.md.
 set -euo pipefail
 
@@ -15,6 +16,7 @@ bench_install run_fast.sh
 meshes="${PM_BENCH_MESHES:-$root/../shared/meshes}"  # beside the checkout, or as given
 report=fast
 if [[ "${1:-}" == --metric && "${2:-}" == schroeder ]]; then report=fast_schroeder; fi
+if [[ " $* " == *" --fast "* ]]; then report=fast_unmeasured; fi
 bench_need_meshes "$meshes" "$root/tests/bench/$report.md"
 build="${PM_BENCH_BUILD:-$root/build-bench}"
 bench_configure "$root" "$build"
