@@ -574,24 +574,18 @@ class CollapseLoop {
     // seam's drift (cheap, and what keeps the seams from sliding off their texture).
     // 3.7 times faster on nefertiti (100K faces: 0.35 s against 1.28 s), the levels'
     // Hausdorff distance twice as far from the input and the RMS 1.2 times (geometric means
-    // on the shared meshes at 50, 10 and 2%). The records are the same bound either way (kept_.collapse()
-    // and dropped_, below).
+    // on the shared meshes at 50, 10 and 2%). The records are the same bound either way
+    // (kept_.collapse() and dropped_, below).
     if (!measure_ && measured_[v] != kMeasuredWhole) {
       measured_[v] = kMeasuredWhole;
-      if (seam_drift_) {
-        const double drift = (schroeder_ ? SeamDrift::kDriftScale : kDriftScale) *
-                             seam_drift_->collapse_drift(star.c);
-        if (drift > 0 && !top_with_measure(worker, v, drift)) return;
-      }
+      const double drift = seam_drift(star);
+      if (drift > 0 && !top_with_measure(worker, v, drift)) return;
     }
     if (measured_[v] != kMeasuredWhole) {
       if (measured_[v] == kNotMeasured) {
         measured_[v] = kMeasuredPoints;
         double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
-        // A texture seam that slides within the surface, as the former default loop's remeasure().
-        if (seam_drift_)
-          worst = std::max(worst, (schroeder_ ? SeamDrift::kDriftScale : kDriftScale) *
-                                      seam_drift_->collapse_drift(star.c));
+        worst = std::max(worst, seam_drift(star));
         points_worst_[v] = worst;
         if (!top_with_measure(worker, v, points_worst_[v])) return;
       }
@@ -765,6 +759,14 @@ class CollapseLoop {
     // With one heap; rounds report after each merge, on the caller's thread.
     if (options_.progress && !in_rounds_ && worker.collapses.size() % 4096 == 0)
       report_progress(out_.collapses.size() + worker.collapses.size());
+  }
+
+  // How far the collapse in `star` moves a texture seam within the surface, scaled as the
+  // measured distance it joins (as the former default loop's remeasure()); 0 without
+  // texture coordinates.
+  double seam_drift(const Star& star) const {
+    if (!seam_drift_) return 0;
+    return (schroeder_ ? SeamDrift::kDriftScale : kDriftScale) * seam_drift_->collapse_drift(star.c);
   }
 
   // Queues v with its quadric cost plus the squared measure `worst` (as the former default loop's
