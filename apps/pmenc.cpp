@@ -20,17 +20,18 @@ namespace {
 constexpr const char* kTool = "pmenc";
 
 struct Settings {
-  pm::EncodeOptions encode;
+  // --fast-from: meshes of a million faces or more leave out the measured distance.
+  pm::EncodeOptions encode = [] {
+    pm::EncodeOptions options;
+    options.fast_from = pm::kDefaultFastFrom;
+    return options;
+  }();
   pm::WriteOptions write;
   std::string input_format;  // --format, or empty
   bool skip_existing = false;
   bool create_directories = false;  // --out-dir: the mirrored tree is made as needed
   bool layered = false;             // --layered
   int error_bits = -1;              // --error-bits; -1: kQuantizedErrorBits with --quantize, else 0
-  // --fast-from: --fast on meshes of at least this many faces (0: only with --fast). The
-  // loop's measured distance costs 9 times the time on 1.6 million faces: 35 s against
-  // 3.8 s (tests/bench/scale.md).
-  std::size_t fast_from = 1000000;
 };
 
 std::string repairs_note(const std::string& input, const pm::RepairReport& r) {
@@ -118,10 +119,6 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     progress.note(input + ": not kept: " + dropped);
 
   pm::EncodeOptions options = settings.encode;
-  // Large meshes leave out the measured distance unless asked otherwise (--fast-from).
-  const bool fast_by_size =
-      !options.fast && settings.fast_from != 0 && mesh.face_count() >= settings.fast_from;
-  if (fast_by_size) options.fast = true;
   // --layered: whole chunks. The windows of layered splits stay inside the stream's chunks
   // (--chunk-splits), those of the options the stream is written with.
   if (settings.layered) options.layer_window = std::numeric_limits<double>::infinity();
@@ -132,9 +129,9 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     return failed(s);
   mesh = pm::Mesh();
   if (stats.repair.any()) progress.note(repairs_note(input, stats.repair));
-  if (fast_by_size)
+  if (stats.fast && !settings.encode.fast)  // large meshes leave out the measure (--fast-from)
     progress.note(input + ": " + std::to_string(stats.input_faces) + " faces, at least --fast-from " +
-                  std::to_string(settings.fast_from) +
+                  std::to_string(settings.encode.fast_from) +
                   ": --fast, without the measured distance (--fast-from 0 to measure)");
 
   std::string encoded;
@@ -199,7 +196,7 @@ int main(int argc, char** argv) {
                "Leave out the measured distance: 4 to 9 times faster, levels about as close to "
                "the input as meshoptimizer's (Hausdorff twice the default's); attributes, "
                "seams and the recorded errors' bound as without");
-  app.add_option("--fast-from", settings.fast_from,
+  app.add_option("--fast-from", settings.encode.fast_from,
                  "--fast on meshes of at least this many faces, where the measured distance "
                  "takes minutes; 0: only with --fast")
       ->capture_default_str()

@@ -251,5 +251,36 @@ TEST(FastLoopRecordedError, BoundsEveryInputVertexWithoutTheMeasuredDistance) {
   }
 }
 
+// EncodeOptions::fast_from (pmenc --fast-from, pmesh's fast_from): a mesh of at least that
+// many faces takes the fast loop without `fast` (the same splits as with it, and
+// EncodeStats::fast says so); one face fewer, or 0, leaves the measured loop.
+TEST(FastLoopRecordedError, FastFromTakesTheFastLoopFromAFaceCount) {
+  const Mesh grid = bumpy_grid(24);
+  const std::size_t faces = grid.face_count();
+  auto encoded = [&](bool fast, std::size_t fast_from, EncodeStats& stats) {
+    EncodeOptions options = fast_geometry();
+    options.fast = fast;
+    options.fast_from = fast_from;
+    ProgressiveMesh pm;
+    EXPECT_TRUE(encode(grid, options, pm, &stats).is_ok());
+    return pm;
+  };
+  EncodeStats stats;
+  const ProgressiveMesh measured = encoded(false, 0, stats);
+  EXPECT_FALSE(stats.fast);
+  const ProgressiveMesh fast = encoded(true, 0, stats);
+  EXPECT_TRUE(stats.fast);
+  ASSERT_NE(measured.moved_faces, fast.moved_faces);
+  for (std::size_t from : {std::size_t{1}, faces}) {
+    const ProgressiveMesh by_size = encoded(false, from, stats);
+    EXPECT_TRUE(stats.fast) << "fast_from " << from;
+    EXPECT_EQ(by_size.moved_faces, fast.moved_faces) << "fast_from " << from;
+    EXPECT_EQ(by_size.splits.size(), fast.splits.size()) << "fast_from " << from;
+  }
+  const ProgressiveMesh below = encoded(false, faces + 1, stats);
+  EXPECT_FALSE(stats.fast);
+  EXPECT_EQ(below.moved_faces, measured.moved_faces);
+}
+
 }  // namespace
 }  // namespace pm

@@ -367,14 +367,14 @@ struct EncodeArguments {
   pm::WriteOptions write;
   std::string metric = "quadric";
   std::optional<int> error_bits;  // default: kQuantizedErrorBits with quantized positions
-  std::size_t fast_from = 1000000;
+  std::size_t fast_from = pm::kDefaultFastFrom;
   std::optional<double> feature_angle;
   bool layered = false;
   py::object progress = py::none();
 };
 
 // Checks the arguments (raises on one out of range) and completes the options as pmenc does.
-void complete_options(EncodeArguments& a, std::size_t faces) {
+void complete_options(EncodeArguments& a) {
   pm::EncodeOptions& encode = a.encode;
   pm::WriteOptions& write = a.write;
   if (a.metric == "quadric") encode.metric = pm::Metric::kQuadric;
@@ -394,8 +394,7 @@ void complete_options(EncodeArguments& a, std::size_t faces) {
   if (!a.progress.is_none() && !PyCallable_Check(a.progress.ptr()))
     invalid_argument("progress must be callable");
   encode.feature_angle_deg = a.feature_angle.value_or(-1);  // negative: the metric's default
-  // pmenc's --fast-from: large meshes leave out the measured distance unless asked otherwise.
-  encode.fast = encode.fast || (a.fast_from != 0 && faces >= a.fast_from);
+  encode.fast_from = a.fast_from;  // pmenc's --fast-from: pm::encode applies it
   if (a.layered) encode.layer_window = std::numeric_limits<double>::infinity();
   write.error_bits = a.error_bits.value_or(write.position_bits > 0 ? pm::kQuantizedErrorBits : 0);
   write.threads = encode.threads;
@@ -407,7 +406,7 @@ Progressive encode(const Mesh& mesh, EncodeArguments arguments) {
   // meanwhile gives an error or the new values, never a crash.
   LibraryInput input;
   library_input(mesh, "input", input);
-  complete_options(arguments, input.faces);
+  complete_options(arguments);
   pm::EncodeOptions& options = arguments.encode;
   Progressive p;
   p.write = arguments.write;
@@ -813,7 +812,7 @@ encode()'s quantize=, zstd_level=, ... ; lossless for a decoded mesh.)")
       py::arg("face_materials") = py::none(), py::arg("material_names") = py::list(),
       py::arg("material_libraries") = py::list(), py::arg("metric") = "quadric",
       py::arg("quantize") = 0, py::arg("quantize_uv") = 0, py::arg("quantize_normal") = 0,
-      py::arg("error_bits") = py::none(), py::arg("fast") = false, py::arg("fast_from") = 1000000,
+      py::arg("error_bits") = py::none(), py::arg("fast") = false, py::arg("fast_from") = pm::kDefaultFastFrom,
       py::arg("feature_angle") = py::none(), py::arg("max_normal_flip") = 90.0,
       py::arg("keep_corners") = false, py::arg("keep_order") = false, py::arg("drop_attributes") = false,
       py::arg("min_faces") = 0, py::arg("min_vertices") = 0, py::arg("layer_window") = 1.0 / 16,

@@ -18,6 +18,10 @@ enum class Metric {
   kQuadric,    // Garland and Heckbert 1997: quadric error, accumulated by summing quadrics
 };
 
+// pmenc's and pmesh's default EncodeOptions::fast_from: a million faces, where the measured
+// loop takes more than 20 s on one core.
+inline constexpr std::size_t kDefaultFastFrom = 1000000;
+
 struct EncodeOptions {
   // Quadric by default: its levels measure closer to the input than Schroeder's on every
   // mesh and target of tests/bench/quality.md.
@@ -60,9 +64,13 @@ struct EncodeOptions {
   // faster on nefertiti (100K faces), 9 times on a 1.6M-face mesh (tests/bench/scale.md),
   // levels about as close to the input as meshoptimizer's, the Hausdorff distance twice the
   // measured loop's and the RMS 1.2 times. Either way the recorded errors bound every input
-  // vertex's distance to the level (tests/bench/bound.md). pmenc --fast, and --fast-from
-  // (by default on meshes of a million faces or more).
+  // vertex's distance to the level (tests/bench/bound.md). pmenc --fast.
   bool fast = false;
+  // Meshes of at least this many input faces take `fast` whatever it says: the measure costs
+  // 9 times the time on 1.6 million faces, 35 s against 3.8 s (tests/bench/scale.md). 0: only
+  // `fast` decides. The library's default leaves the choice to the caller; pmenc --fast-from
+  // and pmesh's fast_from default to kDefaultFastFrom. EncodeStats::fast says which loop ran.
+  std::size_t fast_from = 0;
   // The collapse loop on a mesh of at least this many vertices, without welds or faces carried
   // by the repair: its collapses run in rounds, each in eight regions of the mesh at once
   // (on `threads` threads), then merged in order of cost; the last thirty-second run in one
@@ -107,7 +115,8 @@ struct EncodeStats {
   std::size_t base_faces = 0;
   std::size_t base_vertices = 0;
   std::size_t collapses = 0;
-  bool fast = false;  // the loop ran without its measured distance (EncodeOptions::fast)
+  // The loop ran without its measured distance: EncodeOptions::fast, or fast_from reached.
+  bool fast = false;
 };
 
 // Recorded errors are float32 distances between points of the mesh, so at most its

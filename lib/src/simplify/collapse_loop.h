@@ -576,12 +576,13 @@ class CollapseLoop {
     // Hausdorff distance twice as far from the input and the RMS 1.2 times (geometric means
     // on the shared meshes at 50, 10 and 2%). The records are the same bound either way
     // (kept_.collapse() and dropped_, below).
-    if (!measure_ && measured_[v] != kMeasuredWhole) {
-      measured_[v] = kMeasuredWhole;
-      const double drift = seam_drift(star);
-      if (drift > 0 && !top_with_measure(worker, v, drift)) return;
-    }
-    if (measured_[v] != kMeasuredWhole) {
+    if (!measure_) {
+      if (seam_drift_ && measured_[v] != kMeasuredWhole) {
+        measured_[v] = kMeasuredWhole;
+        const double drift = seam_drift(star);
+        if (drift > 0 && !top_with_measure(worker, v, drift)) return;
+      }
+    } else if (measured_[v] != kMeasuredWhole) {
       if (measured_[v] == kNotMeasured) {
         measured_[v] = kMeasuredPoints;
         double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
@@ -731,7 +732,7 @@ class CollapseLoop {
     evaluate(worker, u);
     // Points moved onto u's faces: a neighbour's key that holds a measure of them is
     // measured again when it comes to the top (as the former default loop's keyed_by_measure_).
-    {
+    if (keyed_by_measure()) {
       Neighbour ring_u[kMaxValence];
       bool boundary_u_now;
       const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
@@ -750,7 +751,7 @@ class CollapseLoop {
           (!attributes_ || vertex_[w].cheapest) && worker.queued(w) && best_[w].target != v &&
           w != vl && w != vr) {
         if (keeps_best(worker, w, u)) {
-          measured_[w] = kNotMeasured;  // points may have moved onto its faces at u
+          unmeasure(w);  // points may have moved onto its faces at u
           continue;
         }
       }
@@ -767,6 +768,15 @@ class CollapseLoop {
   double seam_drift(const Star& star) const {
     if (!seam_drift_) return 0;
     return (schroeder_ ? SeamDrift::kDriftScale : kDriftScale) * seam_drift_->collapse_drift(star.c);
+  }
+
+  // Whether a queued key may hold more than the cost: the measured distance, or with
+  // EncodeOptions::fast a texture seam's drift. Otherwise measured_ is empty (nothing to
+  // track: the key is the cost).
+  bool keyed_by_measure() const { return measure_ || seam_drift_; }
+  // v's queued key holds no measure (yet): apply() measures it when v comes to the top.
+  void unmeasure(uint32_t v) {
+    if (keyed_by_measure()) measured_[v] = kNotMeasured;
   }
 
   // Queues v with its quadric cost plus the squared measure `worst` (as the former default loop's
@@ -916,7 +926,8 @@ class CollapseLoop {
   KeptPoints::InputSurface input_;  // kept_.input_distance()'s
   enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
   std::vector<uint8_t> measured_;     // per vertex: how much of its queued key is measured
-  std::vector<double> points_worst_;  // kMeasuredPoints' distance (apply())
+                                      // (empty unless keyed_by_measure())
+  std::vector<double> points_worst_;  // kMeasuredPoints' distance (apply()); empty with fast
   // Attributes kept (attach_attributes()), in local ids until run() ends; null: geometry
   // only. The drift of texture seams, null without texture coordinates.
   std::unique_ptr<CornerAttributes> attributes_;

@@ -122,7 +122,7 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
   auto queue = [&](const Option& o, bool cheapest) {
     if (!owns(worker, ring_v[o.index].vertex)) return false;
     best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
-    measured_[v] = kNotMeasured;
+    unmeasure(v);
     vertex_[v].simple = kind == VertexKind::kSimple;
     vertex_[v].cheapest = cheapest;
     worker.queue(v, queued_key(o.cost));

@@ -320,6 +320,12 @@ Status encode(const Mesh& input, const EncodeOptions& options, const WriteOption
   // left them afterwards; no exception leaves (status.h).
   const QuietOpenMeshLogs quiet;
   try {
+    // fast_from: the one place the rule is (pmenc and pmesh pass their --fast-from here).
+    if (!options.fast && options.fast_from != 0 && input.face_count() >= options.fast_from) {
+      EncodeOptions fast = options;
+      fast.fast = true;
+      return encode_unguarded(input, fast, stream.chunk_splits, out, stats);
+    }
     return encode_unguarded(input, options, stream.chunk_splits, out, stats);
   } catch (const std::bad_alloc&) {
     out = ProgressiveMesh();

@@ -25,11 +25,11 @@ void CollapseLoop::run() {
   });
   if (schroeder_) mark_sharp_corners();
   best_.assign(n_vertices, Best{kNone, kNone, 0});
-  measured_.assign(n_vertices, kNotMeasured);
-  points_worst_.assign(n_vertices, 0.0);
-  kept_.reset(half_.size() / 3, xyz_.data());
-  // The input's faces, before any collapse (kept_.input_distance()).
-  {
+  if (keyed_by_measure()) measured_.assign(n_vertices, kNotMeasured);
+  kept_.reset(half_.size() / 3, xyz_.data());  // the records' bound, with or without fast
+  // The input's faces, before any collapse (kept_.input_distance()): only for the measure.
+  if (measure_) {
+    points_worst_.assign(n_vertices, 0.0);
     std::vector<uint32_t> corners(half_.size());
     for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
     input_.build(std::move(corners), n_vertices);
@@ -191,7 +191,7 @@ void CollapseLoop::run_rounds() {
         const Best& best = best_[v];
         if (best.target != kNone && owns(w, v) && owns(w, best.target)) {
           w.queue(v, best.key);
-          measured_[v] = kNotMeasured;
+          unmeasure(v);
         } else
           evaluate(w, v);
       }
