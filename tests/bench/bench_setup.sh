@@ -24,6 +24,12 @@
 #   bench_need_meshes MESHES REPORT [MESH] exits (0) with a note when the folder MESHES, or
 #                                          the mesh MESH in it, is missing, leaving REPORT as it
 #                                          was
+# And the scripts that write their table themselves (run_scale.sh, run_textured.sh,
+# run_size.sh) share its cells' helpers:
+#   median FILE COLUMN                     the median of a column of numbers (the mean of the
+#                                          middle two when even)
+#   mib KIB, per_face KIB FACES            MiB with one decimal; bytes per face, whole
+#   ratio A B, seconds S, thousands N      "1.23×"; 2 decimals under 10 s, else 1; 1,234,567
 
 bench_install() {
   local tool=$1
@@ -115,3 +121,14 @@ bench_write_report() {
   mv "$report.tmp" "$report"
   cat "$report"
 }
+
+# --- cells of a table ----------------------------------------------------------------------
+median() {
+  sort -g -k"$2,$2" "$1" | awk -v c="$2" '{ v[NR] = $c }
+    END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
+}
+mib() { awk -v k="$1" 'BEGIN { printf "%.1f", k / 1024 }'; }
+per_face() { awk -v k="$1" -v f="$2" 'BEGIN { printf "%.0f", k * 1024 / f }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f×", a / b }'; }
+seconds() { awk -v s="$1" 'BEGIN { printf (s < 10 ? "%.2f" : "%.1f"), s }'; }
+thousands() { sed ':a;s/\B[0-9]\{3\}\>/,&/;ta' <<<"$1"; }

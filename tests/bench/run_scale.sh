@@ -107,18 +107,7 @@ inprocess_seconds() {
   sed -n "s/.*$2[= ]\([0-9.]*\).*/\1/p" "$work/$1.stdout" | head -1 >>"$work/$1.inproc"
 }
 
-# median FILE COLUMN: the median of a column of numbers (the mean of the middle two when even).
-median() {
-  sort -g -k"$2,$2" "$1" | awk -v c="$2" '{ v[NR] = $c }
-    END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
-}
-
-# Formatting: MiB with one decimal, bytes per face as a whole number, ratios with 2 digits.
-mib() { awk -v k="$1" 'BEGIN { printf "%.1f", k / 1024 }'; }
-per_face() { awk -v k="$1" -v f="$2" 'BEGIN { printf "%.0f", k * 1024 / f }'; }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f×", a / b }'; }
-thousands() { sed ':a;s/\B[0-9]\{3\}\>/,&/;ta' <<<"$1"; }
-seconds() { awk -v s="$1" 'BEGIN { printf (s < 10 ? "%.2f" : "%.1f"), s }'; }
+# median, mib, per_face, ratio, seconds, thousands: bench_setup.sh.
 
 # --- one mesh ------------------------------------------------------------------------------
 

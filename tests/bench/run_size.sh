@@ -94,7 +94,6 @@ if [[ ! -s "$big_pm" || "$bin/pmenc" -nt "$big_pm" || "$big" -nt "$big_pm" ]]; t
 fi
 faces=$(grep -c '^f ' "$big")
 
-median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 declare -A seconds written
 for ratio in 0.01 0.1 1; do
   : >"$work/extract.runs"
@@ -103,7 +102,7 @@ for ratio in 0.01 0.1 1; do
       -o "$work/extract.obj"
     cat "$work/extract.time" >>"$work/extract.runs"
   done
-  seconds[$ratio]=$(median <"$work/extract.runs")
+  seconds[$ratio]=$(median "$work/extract.runs" 1)
   written[$ratio]=$(grep -c '^f ' "$work/extract.obj")
 done
 rm -f "$work/extract.obj"

@@ -73,15 +73,7 @@ measure() {
 }
 # field LABEL NAME: the number after NAME= or NAME (space) in LABEL's last output.
 field() { sed -n "s/.*$2[= ]\([0-9.]*\).*/\1/p" "$work/$1.stdout" | head -1; }
-# median FILE COLUMN: the median of a column (the mean of the middle two when even).
-median() {
-  sort -g -k"$2,$2" "$1" | awk -v c="$2" '{ v[NR] = $c }
-    END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
-}
-mib() { awk -v k="$1" 'BEGIN { printf "%.1f", k / 1024 }'; }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f×", a / b }'; }
-seconds() { awk -v s="$1" 'BEGIN { printf (s < 10 ? "%.2f" : "%.1f"), s }'; }
-thousands() { sed ':a;s/\B[0-9]\{3\}\>/,&/;ta' <<<"$1"; }
+# median, mib, ratio, seconds, thousands: bench_setup.sh.
 
 commit="$(bench_commit "$repo" lib formats apps)"
 load="$(cut -d' ' -f1-3 /proc/loadavg)"
