@@ -74,6 +74,19 @@ def test_stats_are_pmencs_json(tmp_path, name):
         assert stats["repair"]["complex_edges"] > 0 and stats["repair"]["loose_vertices"] == 2
 
 
+def test_fast_from_takes_the_fast_loop_by_size(tmp_path):
+    # pm::EncodeOptions::fast_from decides, for pmenc and pmesh alike: "loop" says which ran.
+    mesh = pmesh.read(sample("sphere.obj"))
+    faces = len(mesh.faces)
+    assert pmesh.encode(mesh, fast_from=faces).stats["loop"] == "fast"
+    assert pmesh.encode(mesh, fast_from=faces + 1).stats["loop"] == "default"
+    assert pmesh.encode(mesh, fast_from=0).stats["loop"] == "default"
+    report = json.loads(run(PMENC, sample("sphere.obj"), "-o", tmp_path / "x.pm", "--fast-from", str(faces),
+                            "--json", "-q"))
+    assert report["loop"] == "fast"
+    assert (tmp_path / "x.pm").read_bytes() == pmesh.encode(mesh, fast_from=faces).to_bytes()
+
+
 def moves_by_split(pm):
     """Each split's moved faces, sorted within the split."""
     splits = pm.splits()
