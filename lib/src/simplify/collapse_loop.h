@@ -605,6 +605,7 @@ class CollapseLoop {
       for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
       worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old, input_,
                                    worst);
+      points_worst_[v] = worst;  // what the key holds now (queued_measured_key())
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
@@ -779,6 +780,15 @@ class CollapseLoop {
     if (keyed_by_measure()) measured_[v] = kNotMeasured;
   }
 
+  // v's key as apply() last queued it, when it holds a measure still valid (measured_ says so;
+  // every change around v since has reset it): a new round's heap takes it as it was, rather
+  // than the cost alone, which would have v measured again when it comes to the top.
+  bool queued_measured_key(uint32_t v, float* key) const {
+    if (!measure_ || measured_[v] == kNotMeasured) return false;
+    *key = combined(best_[v].key, points_worst_[v]);
+    return true;
+  }
+
   // Queues v with its quadric cost plus the squared measure `worst` (as the former default loop's
   // combined() for the quadric metric); whether v is still the cheapest.
   bool top_with_measure(Worker& worker, uint32_t v, double worst) {
@@ -927,7 +937,9 @@ class CollapseLoop {
   enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
   std::vector<uint8_t> measured_;     // per vertex: how much of its queued key is measured
                                       // (empty unless keyed_by_measure())
-  std::vector<double> points_worst_;  // kMeasuredPoints' distance (apply()); empty with fast
+  // The measured distance v's queued key holds (apply()): the kept points' with
+  // kMeasuredPoints, the whole with kMeasuredWhole. Empty with fast.
+  std::vector<double> points_worst_;
   // Attributes kept (attach_attributes()), in local ids until run() ends; null: geometry
   // only. The drift of texture seams, null without texture coordinates.
   std::unique_ptr<CornerAttributes> attributes_;
