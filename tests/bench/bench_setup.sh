@@ -30,6 +30,8 @@
 #                                          middle two when even)
 #   mib KIB, per_face KIB FACES            MiB with one decimal; bytes per face, whole
 #   ratio A B, seconds S, thousands N      "1.23×"; 2 decimals under 10 s, else 1; 1,234,567
+#   field LABEL NAME                       the number after NAME= or NAME (space) in
+#                                          $work/LABEL.stdout (a run's own report)
 
 bench_install() {
   local tool=$1
@@ -132,3 +134,4 @@ per_face() { awk -v k="$1" -v f="$2" 'BEGIN { printf "%.0f", k * 1024 / f }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f×", a / b }'; }
 seconds() { awk -v s="$1" 'BEGIN { printf (s < 10 ? "%.2f" : "%.1f"), s }'; }
 thousands() { sed ':a;s/\B[0-9]\{3\}\>/,&/;ta' <<<"$1"; }
+field() { sed -n "s/.*$2[= ]\([0-9.]*\).*/\1/p" "$work/$1.stdout" | head -1; }

@@ -103,9 +103,7 @@ inprocess() {
   fi
   inprocess_seconds "$label" "$field"
 }
-inprocess_seconds() {
-  sed -n "s/.*$2[= ]\([0-9.]*\).*/\1/p" "$work/$1.stdout" | head -1 >>"$work/$1.inproc"
-}
+inprocess_seconds() { field "$1" "$2" >>"$work/$1.inproc"; }  # field: bench_setup.sh
 
 # median, mib, per_face, ratio, seconds, thousands: bench_setup.sh.
 

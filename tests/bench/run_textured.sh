@@ -71,9 +71,7 @@ measure() {
   fi
   tail -1 "$work/$label.time" >>"$work/$label.runs"
 }
-# field LABEL NAME: the number after NAME= or NAME (space) in LABEL's last output.
-field() { sed -n "s/.*$2[= ]\([0-9.]*\).*/\1/p" "$work/$1.stdout" | head -1; }
-# median, mib, ratio, seconds, thousands: bench_setup.sh.
+# field, median, mib, ratio, seconds, thousands: bench_setup.sh.
 
 commit="$(bench_commit "$repo" lib formats apps)"
 load="$(cut -d' ' -f1-3 /proc/loadavg)"

@@ -587,13 +587,13 @@ class CollapseLoop {
         measured_[v] = kMeasuredPoints;
         double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
         worst = std::max(worst, seam_drift(star));
-        points_worst_[v] = worst;
-        if (!top_with_measure(worker, v, points_worst_[v])) return;
+        measured_worst_[v] = worst;
+        if (!top_with_measure(worker, v, measured_worst_[v])) return;
       }
       measured_[v] = kMeasuredWhole;
       for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
       double worst =
-          KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), points_worst_[v]);
+          KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), measured_worst_[v]);
       // Schroeder's metric: the old fan against the new one too (kept_points.h).
       if (schroeder_)
         worst = KeptPoints::grid_distance(old_fan, n_old, fan, n_fan,
@@ -605,7 +605,7 @@ class CollapseLoop {
       for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
       worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old, input_,
                                    worst);
-      points_worst_[v] = worst;  // what the key holds now (queued_measured_key())
+      measured_worst_[v] = worst;  // what the key holds now (queued_measured_key())
       if (!top_with_measure(worker, v, worst)) return;
     }
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
@@ -785,7 +785,7 @@ class CollapseLoop {
   // than the cost alone, which would have v measured again when it comes to the top.
   bool queued_measured_key(uint32_t v, float* key) const {
     if (!measure_ || measured_[v] == kNotMeasured) return false;
-    *key = combined(best_[v].key, points_worst_[v]);
+    *key = combined(best_[v].key, measured_worst_[v]);
     return true;
   }
 
@@ -939,7 +939,7 @@ class CollapseLoop {
                                       // (empty unless keyed_by_measure())
   // The measured distance v's queued key holds (apply()): the kept points' with
   // kMeasuredPoints, the whole with kMeasuredWhole. Empty with fast.
-  std::vector<double> points_worst_;
+  std::vector<double> measured_worst_;
   // Attributes kept (attach_attributes()), in local ids until run() ends; null: geometry
   // only. The drift of texture seams, null without texture coordinates.
   std::unique_ptr<CornerAttributes> attributes_;

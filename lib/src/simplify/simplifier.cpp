@@ -29,7 +29,7 @@ void CollapseLoop::run() {
   kept_.reset(half_.size() / 3, xyz_.data());  // the records' bound, with or without fast
   // The input's faces, before any collapse (kept_.input_distance()): only for the measure.
   if (measure_) {
-    points_worst_.assign(n_vertices, 0.0);
+    measured_worst_.assign(n_vertices, 0.0);
     std::vector<uint32_t> corners(half_.size());
     for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
     input_.build(std::move(corners), n_vertices);
@@ -91,7 +91,7 @@ void CollapseLoop::run() {
   one.clear();
   std::vector<Best>().swap(best_);
   std::vector<uint8_t>().swap(measured_);
-  std::vector<double>().swap(points_worst_);
+  std::vector<double>().swap(measured_worst_);
   kept_.reset(0, nullptr);
   input_.clear();
   seam_drift_.reset();  // it reads xyz_
