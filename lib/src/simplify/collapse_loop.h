@@ -534,6 +534,13 @@ class CollapseLoop {
     __builtin_prefetch(&xyz_[3 * std::size_t{v}]);
   }
 
+  // apply()'s measure of the collapse v -> u at the top (collapse_measure.cpp): whether v
+  // is still at the top with it. `fan` (n_fan faces, the first `moved` v's moved ones) and
+  // old_faces (n_old) as make_fan() makes them; `star` v's, aimed at u, with attributes.
+  bool measured_at_top(Worker& worker, uint32_t v, uint32_t u, const Star& star,
+                       const Neighbour* ring_v, int n, const KeptPoints::FanFace* fan, int n_fan,
+                       int moved, const uint32_t* old_faces, int n_old);
+
   // Applies v's queued collapse if it is still legal, or finds v's best again.
   void apply(Worker& worker, uint32_t v) {
     const uint32_t edge = best_[v].edge;
@@ -557,57 +564,12 @@ class CollapseLoop {
       return;
     }
     const Sides s = sides(v, edge);
-    KeptPoints::FanFace fan[2 * kMaxValence], old_fan[kMaxValence];
+    KeptPoints::FanFace fan[2 * kMaxValence];
     uint32_t old_faces[kMaxValence];
     int n_old = 0, moved = 0;
     const int n_fan = make_fan(v, u, s, ring_v, n, fan, old_faces, &n_old, &moved);
-    // The quadric orders the candidates; the kept points' distance is measured only for
-    // the one at the top, which goes back with its new key when that puts it behind the
-    // next (lazy evaluation, as the former default loop's remeasure(); Klein, Liebich and Straßer
-    // 1996 measure the distance of the removed points, kept_points.h). In two steps, each
-    // a lower bound of the whole: the kept points' distance to the new fan (and a texture
-    // seam's drift), then the new fan's distance to the old one, only for a candidate still
-    // at the top after the first (most go back after it: 2.3 of the 2.8 measures per
-    // collapse on armadillo did). Either way the candidate is collapsed at the top with its
-    // whole measured key, which replaces the cost find_best() queued it with.
-    // EncodeOptions::fast: no measured distance, the key stays the cost, but for a texture
-    // seam's drift (cheap, and what keeps the seams from sliding off their texture).
-    // 3.7 times faster on nefertiti (100K faces: 0.35 s against 1.28 s), the levels'
-    // Hausdorff distance twice as far from the input and the RMS 1.2 times (geometric means
-    // on the shared meshes at 50, 10 and 2%). The records are the same bound either way
-    // (kept_.collapse() and dropped_, below).
-    if (!measure_) {
-      if (seam_drift_ && measured_[v] != kMeasuredWhole) {
-        measured_[v] = kMeasuredWhole;
-        const double drift = seam_drift(star);
-        if (drift > 0 && !top_with_measure(worker, v, drift)) return;
-      }
-    } else if (measured_[v] != kMeasuredWhole) {
-      if (measured_[v] == kNotMeasured) {
-        measured_[v] = kMeasuredPoints;
-        double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
-        worst = std::max(worst, seam_drift(star));
-        measured_worst_[v] = worst;
-        if (!top_with_measure(worker, v, measured_worst_[v])) return;
-      }
-      measured_[v] = kMeasuredWhole;
-      for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
-      double worst =
-          KeptPoints::surface_distance(fan, moved, old_fan, n_old, point(u), measured_worst_[v]);
-      // Schroeder's metric: the old fan against the new one too (kept_points.h).
-      if (schroeder_)
-        worst = KeptPoints::grid_distance(old_fan, n_old, fan, n_fan,
-                                          KeptPoints::kSchroederOldFanSteps, worst);
-      // The moved faces against the input around v and its neighbours (kept_points.h).
-      uint32_t region[kMaxValence + 1];
-      int n_region = 0;
-      region[n_region++] = v;
-      for (int i = 0; i < n; ++i) region[n_region++] = ring_v[i].vertex;
-      worst = kept_.input_distance(fan, moved, point(u), region, n_region, old_faces, n_old, input_,
-                                   worst);
-      measured_worst_[v] = worst;  // what the key holds now (queued_measured_key())
-      if (!top_with_measure(worker, v, worst)) return;
-    }
+    if (!measured_at_top(worker, v, u, star, ring_v, n, fan, n_fan, moved, old_faces, n_old))
+      return;
     const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
     if (worker.removed_faces + removed_faces > worker.face_budget ||
         worker.removed_vertices >= worker.vertex_budget) {
@@ -737,7 +699,12 @@ class CollapseLoop {
       Neighbour ring_u[kMaxValence];
       bool boundary_u_now;
       const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
-      for (int i = 0; i < n_u; ++i) measured_[ring_u[i].vertex] = kNotMeasured;
+      for (int i = 0; i < n_u; ++i) {
+        uint8_t& m = measured_[ring_u[i].vertex];
+        m = m == kMeasuredWhole          ? kPointsMovedFanBelow
+            : m == kMeasuredWholeFanAbove ? kPointsMovedFanAbove
+                                          : kNotMeasured;
+      }
     }
     for (int i = 0; i < n; ++i) {
       const uint32_t w = ring_v[i].vertex;
@@ -778,6 +745,26 @@ class CollapseLoop {
   // v's queued key holds no measure (yet): apply() measures it when v comes to the top.
   void unmeasure(uint32_t v) {
     if (keyed_by_measure()) measured_[v] = kNotMeasured;
+  }
+
+  // A new heap (a round's, or the one heap after the rounds) takes v as it was: its
+  // candidate, since every collapse that changed v's options had it evaluated again
+  // (apply()) or dropped it (best_ says so), and its measure unless a collapse since reset
+  // it (queued_measured_key()); v is evaluated when it has no candidate, or one w may not
+  // make.
+  void requeue(Worker& w, uint32_t v) {
+    const Best& best = best_[v];
+    if (best.target == kNone || !owns(w, v) || !owns(w, best.target)) {
+      evaluate(w, v);
+      return;
+    }
+    float key;
+    if (queued_measured_key(v, &key)) {
+      w.queue(v, key);
+    } else {
+      w.queue(v, best.key);
+      unmeasure(v);
+    }
   }
 
   // v's key as apply() last queued it, when it holds a measure still valid (measured_ says so;
@@ -934,11 +921,24 @@ class CollapseLoop {
   static constexpr double kDriftScale = SeamDrift::kDriftScale * 0.70710678118654752;
   KeptPoints kept_;
   KeptPoints::InputSurface input_;  // kept_.input_distance()'s
-  enum : uint8_t { kNotMeasured, kMeasuredPoints, kMeasuredWhole };
-  std::vector<uint8_t> measured_;     // per vertex: how much of its queued key is measured
-                                      // (empty unless keyed_by_measure())
+  // How much of v's queued key is measured (apply()): nothing; the kept points' part; the
+  // whole, the fan's part (the moved faces against the old fan and the input) at most the
+  // points' or above it; or the whole, but points have moved onto v's faces since, which
+  // changes the points' part alone (kPointsMoved*, as the whole was).
+  enum : uint8_t {
+    kNotMeasured,
+    kMeasuredPoints,
+    kMeasuredWhole,
+    kMeasuredWholeFanAbove,
+    kPointsMovedFanBelow,
+    kPointsMovedFanAbove
+  };
+  static bool whole_measured(uint8_t m) {
+    return m == kMeasuredWhole || m == kMeasuredWholeFanAbove;
+  }
+  std::vector<uint8_t> measured_;  // per vertex, the enum above (empty unless keyed_by_measure())
   // The measured distance v's queued key holds (apply()): the kept points' with
-  // kMeasuredPoints, the whole with kMeasuredWhole. Empty with fast.
+  // kMeasuredPoints, else the whole (unless kNotMeasured). Empty with fast.
   std::vector<double> measured_worst_;
   // Attributes kept (attach_attributes()), in local ids until run() ends; null: geometry
   // only. The drift of texture seams, null without texture coordinates.
