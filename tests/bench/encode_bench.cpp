@@ -7,8 +7,9 @@
 //                   [--runs N] [--out FILE.pm]
 //
 // --one-heap: the collapse loop without regions (EncodeOptions::fast_partition_vertices = 0);
-// --threads: EncodeOptions::threads. --fast is accepted and ignored, as pmenc's: one collapse
-// loop since issue 25 (EncodeOptions::fast is a no-op).
+// --threads: EncodeOptions::threads. --fast: EncodeOptions::fast, the collapse loop without its
+// measured distance (pmenc --fast). The mesh's own size never chooses --fast here
+// (EncodeOptions::fast_from stays 0), so --fast alone says which loop ran.
 #include <sys/resource.h>
 
 #include <algorithm>

@@ -58,6 +58,8 @@ int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const F
                        int n_fan, bool take, Moving* moving) const {
   int n = 0;
   moving[n++] = {v, -1};
+  // The faces' lists, then the points' positions, asked for ahead (input_distance() says why).
+  for (int i = 0; i < n_old; ++i) __builtin_prefetch(&point_[kKept * std::size_t{old_faces[i]}]);
   for (int i = 0; i < n_old; ++i) {
     const uint32_t f = old_faces[i];
     int hint = -1;
@@ -72,6 +74,7 @@ int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const F
       if (take) kept[k] = kNone;
     }
   }
+  for (int i = 0; i < n; ++i) __builtin_prefetch(xyz_ + 3 * std::size_t{moving[i].point});
   return n;
 }
 
@@ -196,21 +199,42 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
         if (std::find(points, points + n_points, x) == points + n_points) points[n_points++] = x;
       }
   }
-  // The region's input faces, each once (a small open-addressed set on the stack).
+  // The region's input faces, each once (a small open-addressed set on the stack). The
+  // input's rows are far apart in memory, and a face's corners and their positions farther:
+  // gathered in steps (all rows' starts, all rows, all new faces' corners, all their
+  // positions), each step asks for what the next reads before reading it, so that the
+  // cache misses overlap instead of following each other (the gathering took 14% of the
+  // loop on nefertiti, most of it waiting for memory).
   constexpr int kSlots = 4 * kMaxInputFaces;
   uint32_t seen[kSlots];
   std::fill(seen, seen + kSlots, kNone);
   FanFace faces[kMaxInputFaces];
   int n_faces = 0;
-  auto add_around = [&](uint32_t x) {
-    for (uint32_t i = input.begin[x]; i < input.begin[x + 1] && n_faces < kMaxInputFaces; ++i) {
-      const uint32_t f = input.faces[i];
-      uint32_t slot = (f * 0x9E3779B1u) & (kSlots - 1);  // Fibonacci hashing
-      while (seen[slot] != kNone && seen[slot] != f) slot = (slot + 1) & (kSlots - 1);
-      if (seen[slot] == f) continue;
-      seen[slot] = f;
-      const uint32_t* c = &input.corners[3 * std::size_t{f}];
-      faces[n_faces++] = FanFace::make(f, position(c[0]), position(c[1]), position(c[2]));
+  auto add_around = [&](const uint32_t* xs, int n_xs) {
+    for (int i = 0; i < n_xs; ++i) __builtin_prefetch(&input.begin[xs[i]]);
+    for (int i = 0; i < n_xs; ++i) __builtin_prefetch(&input.faces[input.begin[xs[i]]]);
+    uint32_t added[kMaxInputFaces];
+    int n_added = 0;
+    for (int k = 0; k < n_xs; ++k) {
+      const uint32_t x = xs[k];
+      for (uint32_t i = input.begin[x]; i < input.begin[x + 1] && n_faces + n_added < kMaxInputFaces;
+           ++i) {
+        const uint32_t f = input.faces[i];
+        uint32_t slot = (f * 0x9E3779B1u) & (kSlots - 1);  // Fibonacci hashing
+        while (seen[slot] != kNone && seen[slot] != f) slot = (slot + 1) & (kSlots - 1);
+        if (seen[slot] == f) continue;
+        seen[slot] = f;
+        added[n_added++] = f;
+        __builtin_prefetch(&input.corners[3 * std::size_t{f}]);
+      }
+    }
+    for (int i = 0; i < n_added; ++i) {
+      const uint32_t* c = &input.corners[3 * std::size_t{added[i]}];
+      for (int k = 0; k < 3; ++k) __builtin_prefetch(xyz_ + 3 * std::size_t{c[k]});
+    }
+    for (int i = 0; i < n_added; ++i) {
+      const uint32_t* c = &input.corners[3 * std::size_t{added[i]}];
+      faces[n_faces++] = FanFace::make(added[i], position(c[0]), position(c[1]), position(c[2]));
     }
   };
   // A point within `worst` of some region face cannot raise it, whatever is nearer still.
@@ -234,14 +258,17 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
     }
     return left;
   };
-  for (int i = 0; i < n_region; ++i) add_around(region[i]);
+  add_around(region, n_region);
   for (int i = 0; i < n_points; ++i) pending[i] = i;
   const int n_pending = measure(n_points, false);
   if (n_pending == 0) return worst;
+  uint32_t kept_points[kMaxMoved * kKept];
+  int n_kept = 0;
   for (int i = 0; i < n_old; ++i) {
     const uint32_t* kept = &point_[kKept * std::size_t{old_faces[i]}];
-    for (int k = 0; k < kKept && kept[k] != kNone; ++k) add_around(kept[k]);
+    for (int k = 0; k < kKept && kept[k] != kNone; ++k) kept_points[n_kept++] = kept[k];
   }
+  add_around(kept_points, n_kept);
   measure(n_pending, true);
   return worst;
 }
