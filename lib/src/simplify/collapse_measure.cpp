@@ -41,7 +41,8 @@ bool CollapseLoop::measured_at_top(Worker& worker, uint32_t v, uint32_t u, const
       // onto a neighbour, apply()), the fan's part of it still holds: the whole is
       // the larger of that part and the points' (kPointsMovedFanAbove), or the points'
       // alone when they are as far as they were, the fan's part at most that then
-      // (kPointsMovedFanBelow). 4% of the whole measures on nefertiti and armadillo.
+      // (kPointsMovedFanBelow). 4% of the whole measures on nefertiti and armadillo. The
+      // quadric metric only (apply() says why).
       if (measured_[v] == kPointsMovedFanAbove ||
           (measured_[v] == kPointsMovedFanBelow && worst >= measured_worst_[v])) {
         whole_known = true;
