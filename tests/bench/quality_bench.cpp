@@ -758,9 +758,9 @@ std::string render(const std::vector<MeshReport>& reports, const Settings& setti
         "mesh, and is the same for every target; each peer's time produces one LOD. "
         "OpenMesh's time is the decimater's setup and decimation (not building its mesh); "
         "vtkDecimatePro's is its `Update()` alone.\n\n"
-     << "pmenc's rows, per metric: the one collapse loop (since issue 25; `pm::encode`, "
-        "which every input takes: `EncodeOptions::fast`, `pmenc --fast` are accepted no-ops), "
-        "and **pmenc "
+     << "pmenc's rows, per metric: the one collapse loop (since issue 25; `pm::encode` with "
+        "its measured distance, pmenc's default below a million faces; `pmenc --fast` leaves "
+        "the measure out, tests/bench/fast_unmeasured.md), and **pmenc "
      << settings.reference_label << "**: the former default loop (OpenMesh half-edge mesh, "
         "deleted by issue 25) as of commit "
      << settings.reference_label
