@@ -61,13 +61,13 @@ struct EncodeOptions {
   // its key adds a measured distance: a few removed input vertices kept per face, and the
   // faces that change measured against the input (tests/bench/fast.md, quality.md).
   // fast: the same loop without that measure, its key the metric's cost alone: 3.7 times
-  // faster on nefertiti (100K faces), 4.3 times on a 1.6M-face mesh (tests/bench/scale.md),
+  // faster on nefertiti (100K faces), 3.9 times on a 1.6M-face mesh (tests/bench/scale.md),
   // levels about as close to the input as meshoptimizer's, the Hausdorff distance twice the
   // measured loop's and the RMS 1.2 times. Either way the recorded errors bound every input
   // vertex's distance to the level (tests/bench/bound.md). pmenc --fast.
   bool fast = false;
   // Meshes of at least this many input faces take `fast` whatever it says: the measure costs
-  // 4.3 times the time on 1.6 million faces, 15.8 s against 3.7 s (tests/bench/scale.md). 0: only
+  // 3.9 times the time on 1.6 million faces, 14.0 s against 3.6 s (tests/bench/scale.md). 0: only
   // `fast` decides. The library's default leaves the choice to the caller; pmenc --fast-from
   // and pmesh's fast_from default to kDefaultFastFrom. EncodeStats::fast says which loop ran.
   std::size_t fast_from = 0;
