@@ -699,13 +699,15 @@ class CollapseLoop {
       Neighbour ring_u[kMaxValence];
       bool boundary_u_now;
       const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
-      // Those not next to v keep their fan's part (collapse_measure.cpp); v's neighbours
-      // are evaluated again below. Not with Schroeder's metric: there the levels came out
-      // a little farther from the input (tests/bench/quality.md: 13 points of 24 passing
-      // against 15, RMS up to 1.04x on spot, cow and rocker-arm at 10% and 2%).
+      // With the quadric metric's measure, those not next to v keep their fan's part
+      // (collapse_measure.cpp); v's neighbours are evaluated again below. Not with
+      // Schroeder's metric: there the levels came out a little farther from the input
+      // (tests/bench/quality.md: 13 points of 24 passing against 15, RMS up to 1.04x on
+      // spot, cow and rocker-arm at 10% and 2%); nor with fast, which has no fan's part.
+      const bool keep_fan_part = measure_ && !schroeder_;
       for (int i = 0; i < n_u; ++i) {
         uint8_t& m = measured_[ring_u[i].vertex];
-        m = schroeder_                    ? kNotMeasured
+        m = !keep_fan_part                ? kNotMeasured
             : m == kMeasuredWhole          ? kPointsMovedFanBelow
             : m == kMeasuredWholeFanAbove ? kPointsMovedFanAbove
                                           : kNotMeasured;
@@ -756,8 +758,9 @@ class CollapseLoop {
   // candidate, since every collapse that changed v's options had it evaluated again
   // (apply()) or dropped it (best_ says so), and its measure unless a collapse since reset
   // it (queued_measured_key()); v is evaluated when it has no candidate, or one w may not
-  // make.
+  // make. A collapsed vertex stays out (its best_ still names the collapse it made).
   void requeue(Worker& w, uint32_t v) {
+    if (vertex_[v].dead) return;
     const Best& best = best_[v];
     if (best.target == kNone || !owns(w, v) || !owns(w, best.target)) {
       evaluate(w, v);

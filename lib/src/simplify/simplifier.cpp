@@ -76,7 +76,7 @@ void CollapseLoop::run() {
     // step, 400K faces, and 3% on the bunny after one). The later sweeps evaluate every
     // vertex.
     for (uint32_t v = 0; v < n_vertices; ++v) {
-      if (first && partitioned_ && !vertex_[v].dead)
+      if (first && partitioned_)
         requeue(w, v);
       else
         evaluate(w, v);
@@ -192,16 +192,11 @@ void CollapseLoop::run_rounds() {
     if (waiting > vertices_alive_ / kMostWaiting) break;
     in_turn(regions, [&](Worker& w) {
       w.heap = IndexedHeap(w.hi - w.lo);
-      // A vertex queued before keeps its candidate: every collapse since that changed its
-      // options had it evaluated again (apply()), or else dropped it (best_ says so). And
-      // its measure, unless a collapse since reset it: queued at its cost alone, every vertex
-      // would be measured again in every round (nefertiti after a Loop step, 400K faces:
-      // 14.4 measures of the kept points and 5.0 of the whole per collapse in the rounds,
-      // against 3.5 and 1.7 in one heap; 4.0 and 1.9 so, and half the time).
-      for (uint32_t r = w.lo; r < w.hi; ++r) {
-        const uint32_t v = w.vertex_at(r);
-        if (!vertex_[v].dead) requeue(w, v);
-      }
+      // Each vertex as the last round left it (requeue()): queued at its cost alone, every
+      // vertex would be measured again in every round (nefertiti after a Loop step, 400K
+      // faces: 14.4 measures of the kept points and 5.0 of the whole per collapse in the
+      // rounds, against 3.5 and 1.7 in one heap; 4.0 and 1.9 so, and half the time).
+      for (uint32_t r = w.lo; r < w.hi; ++r) requeue(w, w.vertex_at(r));
     });
     keys.clear();
     for (const Worker& w : regions) w.heap.append_keys(keys);
