@@ -74,9 +74,9 @@ struct EncodeOptions {
   // The collapse loop on a mesh of at least this many vertices, without welds or faces carried
   // by the repair: its collapses run in rounds, each in eight regions of the mesh at once
   // (on `threads` threads; with the measured distance, four near the end), then merged in
-  // order of cost; the last thirty-second run in one heap. The sequence is the same whatever the number of threads, but not exactly the
-  // one-heap greedy order (vertices next to a region's edge wait for a later round). 0 or SIZE_MAX:
-  // never.
+  // order of cost; the last thirty-second run in one heap. The sequence is the same whatever
+  // the number of threads, but not exactly the one-heap greedy order (vertices next to a
+  // region's edge wait for a later round). 0 or SIZE_MAX: never.
   std::size_t fast_partition_vertices = 131072;
   // Threads the collapse loop may use (its regions, and parts of building its arrays), and the
   // splits' layers (two stages at once): 0, the machine's cores. The result is the same for
