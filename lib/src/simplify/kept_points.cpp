@@ -237,39 +237,59 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
       faces[n_faces++] = FanFace::make(added[i], position(c[0]), position(c[1]), position(c[2]));
     }
   };
-  // A point within `worst` of some region face cannot raise it, whatever is nearer still.
-  // `last`: the region is whole; a point not settled walks from its nearest region face.
+  // A point within `worst` of some region face cannot raise it, whatever is nearer still;
+  // the others (pending) keep their nearest region face and its distance.
   int pending[kMaxMoved * kPerFace];
-  auto measure = [&](int n_pending, bool last) {
-    int hint = -1, left = 0;  // the points come face by face: the last one's face first
-    for (int p = 0; p < n_pending; ++p) {
-      const Vec3& x = points[pending[p]];
+  int n_pending = 0;
+  double pending_d[kMaxMoved * kPerFace];
+  uint32_t pending_f[kMaxMoved * kPerFace];
+  add_around(region, n_region);
+  {
+    int hint = -1;  // the points come face by face: the last one's face first
+    for (int p = 0; p < n_points; ++p) {
       int at;
-      double d = nearest(x, faces, n_faces, worst, hint, &at);
+      const double d = nearest(points[p], faces, n_faces, worst, hint, &at);
       if (at >= 0) hint = at;
       if (!(d > worst) || d == HUGE_VAL) continue;
-      if (!last) {
-        pending[left++] = pending[p];
-        continue;
-      }
-      uint32_t f = faces[at].face;
-      d = walk_input(x, &f, d, worst, input);
-      if (d > worst) worst = d;
+      pending_d[n_pending] = d;
+      pending_f[n_pending] = faces[at].face;
+      pending[n_pending++] = p;
     }
-    return left;
-  };
-  add_around(region, n_region);
-  for (int i = 0; i < n_points; ++i) pending[i] = i;
-  const int n_pending = measure(n_points, false);
+  }
   if (n_pending == 0) return worst;
+  // A point not settled starts from the nearer of its nearest region face and the nearest
+  // input face around the kept point nearest to it (the kept points lie on the old faces,
+  // among the input faces the moved ones have come to stand for), then walks on the input.
+  Vec3 kept_at[kMaxMoved * kKept];
   uint32_t kept_points[kMaxMoved * kKept];
   int n_kept = 0;
   for (int i = 0; i < n_old; ++i) {
     const uint32_t* kept = &point_[kKept * std::size_t{old_faces[i]}];
     for (int k = 0; k < kKept && kept[k] != kNone; ++k) kept_points[n_kept++] = kept[k];
   }
-  add_around(kept_points, n_kept);
-  measure(n_pending, true);
+  for (int i = 0; i < n_kept; ++i) kept_at[i] = position(kept_points[i]);
+  for (int p = 0; p < n_pending; ++p) {
+    double d = pending_d[p];
+    if (!(d > worst)) continue;
+    const Vec3& x = points[pending[p]];
+    uint32_t f = pending_f[p];
+    int nearest_kept = -1;
+    double nearest_kept2 = HUGE_VAL;
+    for (int i = 0; i < n_kept; ++i) {
+      const double d2 = (x - kept_at[i]).sqrnorm();
+      if (d2 < nearest_kept2) nearest_kept2 = d2, nearest_kept = i;
+    }
+    if (nearest_kept >= 0) {
+      const uint32_t s = kept_points[nearest_kept];
+      for (uint32_t i = input.begin[s]; i < input.begin[s + 1]; ++i) {
+        const uint32_t g = input.faces[i];
+        const double dg = input_face_distance(x, g, input);
+        if (dg < d) d = dg, f = g;
+      }
+    }
+    d = walk_input(x, &f, d, worst, input);
+    if (d > worst) worst = d;
+  }
   return worst;
 }
 
