@@ -193,7 +193,7 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-corners", settings.encode.keep_corners,
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
   app.add_flag("--fast", settings.encode.fast,
-               "Leave out the measured distance: about 4 times faster, levels about as close to "
+               "Leave out the measured distance: 3 to 4 times faster, levels about as close to "
                "the input as meshoptimizer's (Hausdorff twice the default's); attributes, "
                "seams and the recorded errors' bound as without");
   app.add_option("--fast-from", settings.encode.fast_from,

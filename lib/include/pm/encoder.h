@@ -61,14 +61,14 @@ struct EncodeOptions {
   // its key adds a measured distance: a few removed input vertices kept per face, and the
   // faces that change measured against the input (tests/bench/fast.md, quality.md).
   // fast: the same loop without that measure, its key the metric's cost alone: 3.7 times
-  // faster on nefertiti (100K faces), 3.9 times on a 1.6M-face mesh (tests/bench/scale.md),
+  // faster on nefertiti (100K faces), 3.2 times on a 1.6M-face mesh (tests/bench/scale.md),
   // levels about as close to the input as meshoptimizer's, the Hausdorff distance twice the
   // measured loop's and the RMS 1.2 times. Either way the recorded errors bound every input
   // vertex's distance to the level (tests/bench/bound.md). pmenc --fast.
   bool fast = false;
   // Meshes of at least this many input faces take `fast` whatever it says: the measure costs
-  // 3.9 times the time on 1.6 million faces, 14.0 s against 3.6 s (tests/bench/scale.md). 0: only
-  // `fast` decides. The library's default leaves the choice to the caller; pmenc --fast-from
+  // 3.2 times the time on 1.6 million faces, 16.4 s against 5.1 s (tests/bench/scale.md). 0:
+  // only `fast` decides. The library's default leaves the choice to the caller; pmenc --fast-from
   // and pmesh's fast_from default to kDefaultFastFrom. EncodeStats::fast says which loop ran.
   std::size_t fast_from = 0;
   // The collapse loop on a mesh of at least this many vertices, without welds or faces carried
