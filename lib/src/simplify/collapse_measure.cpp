@@ -33,7 +33,6 @@ bool CollapseLoop::measured_at_top(Worker& worker, uint32_t v, uint32_t u, const
       if (drift > 0 && !top_with_measure(worker, v, drift)) return false;
     }
   } else if (!whole_measured(measured_[v])) {
-    bool whole_known = false;
     if (measured_[v] != kMeasuredPoints) {
       double worst = kept_.points_distance(v, old_faces, n_old, fan, n_fan);
       worst = std::max(worst, seam_drift(star));
@@ -45,7 +44,6 @@ bool CollapseLoop::measured_at_top(Worker& worker, uint32_t v, uint32_t u, const
       // quadric metric only (apply() says why).
       if (measured_[v] == kPointsMovedFanAbove ||
           (measured_[v] == kPointsMovedFanBelow && worst >= measured_worst_[v])) {
-        whole_known = true;
         const bool fan_above = measured_worst_[v] > worst;
         measured_[v] = fan_above ? kMeasuredWholeFanAbove : kMeasuredWhole;
         measured_worst_[v] = std::max(worst, measured_worst_[v]);
@@ -55,7 +53,7 @@ bool CollapseLoop::measured_at_top(Worker& worker, uint32_t v, uint32_t u, const
       }
       if (!top_with_measure(worker, v, measured_worst_[v])) return false;
     }
-    if (!whole_known) {
+    if (!whole_measured(measured_[v])) {  // the fan's part, unless it still held above
       const double points_worst = measured_worst_[v];
       KeptPoints::FanFace old_fan[kMaxValence];
       for (int i = 0; i < n_old; ++i) old_fan[i] = old_fan_face(old_faces[i]);
