@@ -154,19 +154,23 @@ void KeptPoints::InputSurface::build(std::vector<uint32_t> corner_ids, std::size
     faces[fill[corners[i]]++] = static_cast<uint32_t>(i / 3);
 }
 
+void KeptPoints::nearer_around(const Vec3& x, uint32_t vertex, uint32_t skip,
+                               const InputSurface& input, uint32_t* f, double* d) const {
+  for (uint32_t i = input.begin[vertex]; i < input.begin[vertex + 1]; ++i) {
+    const uint32_t g = input.faces[i];
+    if (g == skip) continue;
+    const double dg = input_face_distance(x, g, input);
+    if (dg < *d) *d = dg, *f = g;
+  }
+}
+
 double KeptPoints::walk_input(const Vec3& x, uint32_t* f, double d, double stop,
                               const InputSurface& input) const {
   for (int step = 0; step < kWalkSteps && d > stop; ++step) {
     uint32_t best_f = *f;
     double best_d = d;
     const uint32_t* c = &input.corners[3 * std::size_t{*f}];
-    for (int k = 0; k < 3; ++k)
-      for (uint32_t i = input.begin[c[k]]; i < input.begin[c[k] + 1]; ++i) {
-        const uint32_t g = input.faces[i];
-        if (g == *f) continue;
-        const double dg = input_face_distance(x, g, input);
-        if (dg < best_d) best_d = dg, best_f = g;
-      }
+    for (int k = 0; k < 3; ++k) nearer_around(x, c[k], *f, input, &best_f, &best_d);
     if (best_f == *f) break;  // a local minimum of the distance on the input
     *f = best_f;
     d = best_d;
@@ -279,14 +283,7 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
       const double d2 = (x - kept_at[i]).sqrnorm();
       if (d2 < nearest_kept2) nearest_kept2 = d2, nearest_kept = i;
     }
-    if (nearest_kept >= 0) {
-      const uint32_t s = kept_points[nearest_kept];
-      for (uint32_t i = input.begin[s]; i < input.begin[s + 1]; ++i) {
-        const uint32_t g = input.faces[i];
-        const double dg = input_face_distance(x, g, input);
-        if (dg < d) d = dg, f = g;
-      }
-    }
+    if (nearest_kept >= 0) nearer_around(x, kept_points[nearest_kept], kNone, input, &f, &d);
     d = walk_input(x, &f, d, worst, input);
     if (d > worst) worst = d;
   }

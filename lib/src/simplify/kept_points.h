@@ -166,6 +166,10 @@ class KeptPoints {
   // those faces when `take`. Returns their count.
   int gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan,
              bool take, Moving* moving) const;
+  // The input faces around `vertex` but `skip`: where one is nearer to x than *d, the
+  // nearest of them goes to *f and its distance to *d.
+  void nearer_around(const Vec3& x, uint32_t vertex, uint32_t skip, const InputSurface& input,
+                     uint32_t* f, double* d) const;
   // From input face *f at distance d of x, to the input face sharing a corner with it
   // nearest to x, while one is nearer (a descent on the input surface), until within
   // `stop` or after kWalkSteps steps; *f where it ends, and its distance.
