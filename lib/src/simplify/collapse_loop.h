@@ -252,7 +252,10 @@ class CollapseLoop {
     bool seamless = true;  // seam_ is current at every edge (update_seams_at())
     for (int i = 0; i < n_v; ++i) {
       const uint32_t e = ring_v[i].edge, t = half_[e].twin;
-      if (half_[e].vertex == v) star.faces[n_faces++] = e / 3;
+      if (half_[e].vertex == v) {
+        star.faces[n_faces++] = e / 3;
+        attributes_->prefetch(e / 3);
+      }
       star.edges[i] = {ring_v[i].vertex, e / 3, t == kNone ? CollapseStar::kNoFace : t / 3};
       seamless &= t == kNone || !seam_[e];
     }

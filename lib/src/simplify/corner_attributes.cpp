@@ -61,9 +61,16 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
                                    std::size_t faces, const float* points,
                                    std::size_t n_vertices, const uint32_t* input_face,
                                    const uint32_t* input_vertex) {
-  vertex_.resize(faces);
-  for (std::size_t f = 0; f < faces; ++f)
-    for (int k = 0; k < 3; ++k) vertex_[f][k] = corners[3 * f + k];
+  faces_.resize(faces);
+  for (std::size_t f = 0; f < faces; ++f) {
+    FaceCorners& face = faces_[f];
+    for (int k = 0; k < 3; ++k) face.vertex[k] = corners[3 * f + k];
+    for (int kind = 0; kind < kKinds; ++kind) {
+      face.id[kind] = {kNoAttribute, kNoAttribute, kNoAttribute};
+      face.wedge[kind] = {kNoWedge, kNoWedge, kNoWedge};
+    }
+    face.material = kNoAttribute;
+  }
   auto input_face_of = [&](std::size_t f) {
     return input_face ? input_face[f] : static_cast<uint32_t>(f);
   };
@@ -71,7 +78,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   // the input vertex of the corner's copy names it.
   auto input_corner = [&](std::size_t f, int k) {
     const uint32_t face = input_face_of(f);
-    const uint32_t w = input_vertex ? input_vertex[vertex_[f][k]] : vertex_[f][k];
+    const uint32_t w = input_vertex ? input_vertex[faces_[f].vertex[k]] : faces_[f].vertex[k];
     for (int j = 0; j < 3; ++j)
       if (input.triangles[3 * std::size_t{face} + j] == w) return 3 * std::size_t{face} + j;
     return 3 * std::size_t{face};  // unreachable for a face of distinct vertices
@@ -90,15 +97,13 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     k.present = true;
     k.dims = dims[kind];
     k.values = tables[kind];
-    k.value_class = value_classes(*tables[kind], dims[kind]);
-    k.ids.resize(faces);
     for (std::size_t f = 0; f < faces; ++f)
-      for (int c = 0; c < 3; ++c) k.ids[f][c] = (*input_ids[kind])[input_corner(f, c)];
+      for (int c = 0; c < 3; ++c) faces_[f].id[kind][c] = (*input_ids[kind])[input_corner(f, c)];
   }
   if (!input.face_materials.empty()) {
     has_materials_ = true;
-    material_.resize(faces);
-    for (std::size_t f = 0; f < faces; ++f) material_[f] = input.face_materials[input_face_of(f)];
+    for (std::size_t f = 0; f < faces; ++f)
+      faces_[f].material = input.face_materials[input_face_of(f)];
   }
 
   // Scales that make an attribute deviation comparable to a distance. Texture: the
@@ -107,9 +112,10 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   if (has_uvs()) {
     double area = 0, uv_area = 0;
     for (std::size_t f = 0; f < faces; ++f) {
-      const auto& ids = kinds_[kUv].ids[f];
+      const auto& ids = faces_[f].id[kUv];
       if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
-      const Vec3 a = point(vertex_[f][0]), b = point(vertex_[f][1]), c = point(vertex_[f][2]);
+      const auto& vs = faces_[f].vertex;
+      const Vec3 a = point(vs[0]), b = point(vs[1]), c = point(vs[2]);
       area += 0.5 * area_vector(a, b, c).norm();
       uv_area += std::abs(uv_triangle_area(kinds_[kUv].value(ids[0]), kinds_[kUv].value(ids[1]),
                                            kinds_[kUv].value(ids[2])));
@@ -125,23 +131,24 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     kinds_[kNormal].scale = n_vertices ? kNormalScaleOfDiagonal * (hi - lo).norm() : 0;
   }
   for (int kind = 0; kind < kKinds; ++kind)
-    if (kinds_[kind].present) initialize_wedges(kind, points, n_vertices);
+    if (kinds_[kind].present)
+      initialize_wedges(kind, value_classes(*tables[kind], dims[kind]), points, n_vertices);
 }
 
 // One wedge per vertex and value; each face adds its quadric to its three corners' wedges.
-void CornerAttributes::initialize_wedges(int kind, const float* points, std::size_t n_vertices) {
+void CornerAttributes::initialize_wedges(int kind, const std::vector<uint32_t>& value_class,
+                                         const float* points, std::size_t n_vertices) {
   Kind& k = kinds_[kind];
-  const std::size_t faces = vertex_.size();
-  k.wedge.assign(faces, {kNoWedge, kNoWedge, kNoWedge});
+  const std::size_t faces = faces_.size();
   // Each vertex's corners (face and corner index), in face order.
   std::vector<uint32_t> begin(n_vertices + 1, 0), corners(3 * faces);
-  for (const auto& vs : vertex_)
-    for (uint32_t x : vs) ++begin[x + 1];
+  for (const FaceCorners& face : faces_)
+    for (uint32_t x : face.vertex) ++begin[x + 1];
   for (std::size_t x = 0; x < n_vertices; ++x) begin[x + 1] += begin[x];
   {
     std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
     for (std::size_t f = 0; f < faces; ++f)
-      for (int c = 0; c < 3; ++c) corners[fill[vertex_[f][c]]++] = static_cast<uint32_t>(3 * f + c);
+      for (int c = 0; c < 3; ++c) corners[fill[faces_[f].vertex[c]]++] = static_cast<uint32_t>(3 * f + c);
   }
   uint32_t wedges = 0;
   std::vector<std::pair<uint32_t, uint32_t>> seen;  // (class, wedge) around one vertex
@@ -150,22 +157,24 @@ void CornerAttributes::initialize_wedges(int kind, const float* points, std::siz
     for (uint32_t i = begin[x]; i < begin[x + 1]; ++i) {
       const uint32_t f = corners[i] / 3;
       const int c = static_cast<int>(corners[i] % 3);
-      const uint32_t cls = k.class_of(k.ids[f][c]);
-      if (cls == kNoAttribute) continue;
+      const uint32_t id = faces_[f].id[kind][c];
+      if (id == kNoAttribute) continue;
+      const uint32_t cls = value_class[id];
       auto it = std::find_if(seen.begin(), seen.end(), [&](auto& s) { return s.first == cls; });
       if (it == seen.end()) it = seen.insert(seen.end(), {cls, wedges++});
-      k.wedge[f][c] = it->second;
+      faces_[f].wedge[kind][c] = it->second;
     }
   }
   if (kind == kUv) uv_quadrics_.assign(wedges, {});
   else normal_quadrics_.assign(wedges, {});
   for (std::size_t f = 0; f < faces; ++f) {
-    const auto& ids = k.ids[f];
+    const auto& ids = faces_[f].id[kind];
+    const auto& wedge = faces_[f].wedge[kind];
     if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
     Vec3 p[3];
     const float* values[3];
     for (int c = 0; c < 3; ++c) {
-      const float* q = points + 3 * std::size_t{vertex_[f][c]};
+      const float* q = points + 3 * std::size_t{faces_[f].vertex[c]};
       p[c] = Vec3(q[0], q[1], q[2]);
       values[c] = k.value(ids[c]);
     }
@@ -173,10 +182,10 @@ void CornerAttributes::initialize_wedges(int kind, const float* points, std::siz
     // Each corner's wedge keeps the face's quadric about that corner's vertex.
     if (kind == kUv) {
       const auto face = AttributeQuadric<2>::from_face(p, values, area);
-      for (int c = 0; c < 3; ++c) uv_quadrics_[k.wedge[f][c]] += face.moved_origin(p[c]);
+      for (int c = 0; c < 3; ++c) uv_quadrics_[wedge[c]] += face.moved_origin(p[c]);
     } else {
       const auto face = AttributeQuadric<3>::from_face(p, values, area);
-      for (int c = 0; c < 3; ++c) normal_quadrics_[k.wedge[f][c]] += face.moved_origin(p[c]);
+      for (int c = 0; c < 3; ++c) normal_quadrics_[wedge[c]] += face.moved_origin(p[c]);
     }
   }
 }
@@ -184,8 +193,8 @@ void CornerAttributes::initialize_wedges(int kind, const float* points, std::siz
 bool CornerAttributes::is_seam_of_kind(int kind, uint32_t f, uint32_t g, uint32_t a,
                                        uint32_t b) const {
   if (g == CollapseStar::kNoFace || f == CollapseStar::kNoFace) return false;
-  if (kind == kKinds) return material_[f] != material_[g];
-  return class_at(kind, f, a) != class_at(kind, g, a) || class_at(kind, f, b) != class_at(kind, g, b);
+  if (kind == kKinds) return faces_[f].material != faces_[g].material;
+  return wedge_at(kind, f, a) != wedge_at(kind, g, a) || wedge_at(kind, f, b) != wedge_at(kind, g, b);
 }
 
 bool CornerAttributes::is_seam(uint32_t f, uint32_t g, uint32_t a, uint32_t b) const {
@@ -208,14 +217,14 @@ bool CornerAttributes::kind_allows(int kind, const CollapseStar& c) const {
   if (kind == kKinds) return true;
   // v's two sides must differ, so that its corners split between u's two sides; a seam
   // that differs only at u would open a new seam there.
-  return class_at(kind, c.fl, c.v) != class_at(kind, c.fr, c.v) ||
-         class_at(kind, c.fl, c.u) == class_at(kind, c.fr, c.u);
+  return wedge_at(kind, c.fl, c.v) != wedge_at(kind, c.fr, c.v) ||
+         wedge_at(kind, c.fl, c.u) == wedge_at(kind, c.fr, c.u);
 }
 
 std::pair<uint32_t, int> CornerAttributes::target_corner(int kind, const CollapseStar& c,
-                                                         uint32_t v_class) const {
+                                                         uint32_t v_wedge) const {
   const bool has_l = c.fl != CollapseStar::kNoFace, has_r = c.fr != CollapseStar::kNoFace;
-  const bool left = has_l && (!has_r || class_at(kind, c.fl, c.v) == v_class);
+  const bool left = has_l && (!has_r || wedge_at(kind, c.fl, c.v) == v_wedge);
   const uint32_t f = left ? c.fl : c.fr;
   return {f, corner_of(f, c.u)};
 }
@@ -225,11 +234,11 @@ bool CornerAttributes::keeps_uv_winding(const CollapseStar& c) const {
   for (int i = 0; i < c.n_faces; ++i) {
     const uint32_t g = c.faces[i];
     if (g == c.fl || g == c.fr) continue;
-    const auto& ids = k.ids[g];
+    const auto& ids = faces_[g].id[kUv];
     if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
     const int corner = corner_of(g, c.v);
-    const auto [tf, tc] = target_corner(kUv, c, k.class_of(ids[corner]));
-    const uint32_t target = k.ids[tf][tc];
+    const auto [tf, tc] = target_corner(kUv, c, faces_[g].wedge[kUv][corner]);
+    const uint32_t target = faces_[tf].id[kUv][tc];
     if (target == kNoAttribute) return false;
     const float* value[3] = {k.value(ids[0]), k.value(ids[1]), k.value(ids[2])};
     const int before = sign(uv_triangle_area(value[0], value[1], value[2]));
@@ -259,18 +268,18 @@ void CornerAttributes::star_wedges(const CollapseStar& c, StarWedges& out) const
   static_assert(kKinds == 2, "StarWedges holds two kinds");
   for (int kind = 0; kind < kKinds; ++kind) {
     const Kind& k = kinds_[kind];
-    StarWedges::Wedge* wedges = out.wedges[kind];
+    uint32_t* wedges = out.wedges[kind];
     int& count = out.count[kind];
     count = 0;
     if (!k.present || k.scale == 0) continue;
     for (int i = 0; i < c.n_faces && count < StarWedges::kMost; ++i) {
       const uint32_t g = c.faces[i];
       const int corner = corner_of(g, c.v);
-      const uint32_t w = k.wedge[g][corner];
+      const uint32_t w = faces_[g].wedge[kind][corner];
       if (w == kNoWedge || std::any_of(wedges, wedges + count,
-                                       [&](const StarWedges::Wedge& s) { return s.slot == w; }))
+                                       [&](uint32_t s) { return s == w; }))
         continue;
-      wedges[count++] = {w, k.class_of(k.ids[g][corner])};
+      wedges[count++] = w;
     }
   }
 }
@@ -281,23 +290,23 @@ double CornerAttributes::collapse_cost(const CollapseStar& c, const StarWedges& 
   for (int kind = 0; kind < kKinds; ++kind) {
     const Kind& k = kinds_[kind];
     if (wedges.count[kind] == 0) continue;
-    // target_corner() for each wedge: u's corner in fl for v's class there, else in fr.
-    const uint32_t left_class = has_l && has_r ? class_at(kind, c.fl, c.v) : 0;
-    const uint32_t left_target = has_l ? k.ids[c.fl][corner_of(c.fl, c.u)] : kNoAttribute;
-    const uint32_t right_target = has_r ? k.ids[c.fr][corner_of(c.fr, c.u)] : kNoAttribute;
+    // target_corner() for each wedge: u's corner in fl for v's wedge there, else in fr.
+    const uint32_t left_wedge = has_l && has_r ? wedge_at(kind, c.fl, c.v) : kNoWedge;
+    const uint32_t left_target = has_l ? faces_[c.fl].id[kind][corner_of(c.fl, c.u)] : kNoAttribute;
+    const uint32_t right_target = has_r ? faces_[c.fr].id[kind][corner_of(c.fr, c.u)] : kNoAttribute;
     double error = 0, weight = 0;
     const Vec3 pu_about_v = c.pu - c.pv;  // v's wedges' quadrics are about v
     for (int i = 0; i < wedges.count[kind]; ++i) {
-      const StarWedges::Wedge& w = wedges.wedges[kind][i];
-      const bool left = has_l && (!has_r || left_class == w.v_class);
+      const uint32_t w = wedges.wedges[kind][i];
+      const bool left = has_l && (!has_r || left_wedge == w);
       const uint32_t target = left ? left_target : right_target;
       if (target == kNoAttribute) continue;
       if (kind == kUv) {
-        error += uv_quadrics_[w.slot].error(pu_about_v, k.value(target));
-        weight += uv_quadrics_[w.slot].weight;
+        error += uv_quadrics_[w].error(pu_about_v, k.value(target));
+        weight += uv_quadrics_[w].weight;
       } else {
-        error += normal_quadrics_[w.slot].error(pu_about_v, k.value(target));
-        weight += normal_quadrics_[w.slot].weight;
+        error += normal_quadrics_[w].error(pu_about_v, k.value(target));
+        weight += normal_quadrics_[w].weight;
       }
     }
     if (weight > 0) cost += k.cost_weight * k.scale * k.scale * error / weight;
@@ -326,12 +335,12 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
     for (int i = 0; i < c.n_faces; ++i) {
       const uint32_t g = c.faces[i];
       const int corner = corner_of(g, c.v);
-      const uint32_t w = k.wedge[g][corner];
+      const uint32_t w = faces_[g].wedge[kind][corner];
       if (w == kNoWedge || std::find(merged, merged + merged_count, w) != merged + merged_count)
         continue;
       if (merged_count < 64) merged[merged_count++] = w;
-      const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
-      const uint32_t target = k.wedge[tf][tc];
+      const auto [tf, tc] = target_corner(kind, c, w);
+      const uint32_t target = faces_[tf].wedge[kind][tc];
       if (target == kNoWedge || target == w) continue;
       // u's wedges' quadrics are about u: v's moves there first, in double.
       if (kind == kUv) uv_quadrics_[target] += uv_quadrics_[w].moved_origin(c.pu - c.pv);
@@ -346,12 +355,13 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
       Kind& k = kinds_[kind];
       if (!k.present) continue;
       std::vector<uint32_t>& moved = kind == kUv ? record.moved_uvs : record.moved_normals;
-      moved.push_back(k.ids[g][corner]);
-      const auto [tf, tc] = target_corner(kind, c, k.class_of(k.ids[g][corner]));
-      k.ids[g][corner] = k.ids[tf][tc];
-      k.wedge[g][corner] = k.wedge[tf][tc];
+      uint32_t& id = faces_[g].id[kind][corner];
+      moved.push_back(id);
+      const auto [tf, tc] = target_corner(kind, c, faces_[g].wedge[kind][corner]);
+      id = faces_[tf].id[kind][tc];
+      faces_[g].wedge[kind][corner] = faces_[tf].wedge[kind][tc];
     }
-    vertex_[g][corner] = c.u;
+    faces_[g].vertex[corner] = c.u;
   }
 }
 
@@ -359,8 +369,8 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
                                   uint32_t (&normals)[3]) const {
   for (int i = 0; i < 3; ++i) {
     const int c = corner_of(f, at[i]);
-    uvs[i] = has_uvs() ? kinds_[kUv].ids[f][c] : kNoAttribute;
-    normals[i] = has_normals() ? kinds_[kNormal].ids[f][c] : kNoAttribute;
+    uvs[i] = has_uvs() ? faces_[f].id[kUv][c] : kNoAttribute;
+    normals[i] = has_normals() ? faces_[f].id[kNormal][c] : kNoAttribute;
   }
 }
 
@@ -372,14 +382,9 @@ void CornerAttributes::rename(const std::vector<uint32_t>& face_of,
     for (std::size_t f = 0; f < per_face.size(); ++f) renamed[face_of[f]] = per_face[f];
     per_face.swap(renamed);
   };
-  for (auto& vs : vertex_)
-    for (uint32_t& x : vs) x = vertex_of[x];
-  permute(vertex_);
-  for (Kind& k : kinds_) {
-    permute(k.ids);
-    permute(k.wedge);
-  }
-  permute(material_);
+  for (FaceCorners& face : faces_)
+    for (uint32_t& x : face.vertex) x = vertex_of[x];
+  permute(faces_);
 }
 
 }  // namespace pm
