@@ -280,6 +280,11 @@ void CornerAttributes::star_wedges(const CollapseStar& c, StarWedges& out) const
                                        [&](uint32_t s) { return s == w; }))
         continue;
       wedges[count++] = w;
+      // collapse_cost() reads its quadric next, for every target priced.
+      const char* quadric = kind == kUv ? reinterpret_cast<const char*>(&uv_quadrics_[w])
+                                        : reinterpret_cast<const char*>(&normal_quadrics_[w]);
+      __builtin_prefetch(quadric);
+      __builtin_prefetch(quadric + 64);
     }
   }
 }

@@ -165,12 +165,16 @@ void KeptPoints::nearer_around(const Vec3& x, uint32_t vertex, uint32_t skip,
 }
 
 double KeptPoints::walk_input(const Vec3& x, uint32_t* f, double d, double stop,
-                              const InputSurface& input) const {
+                              const InputSurface& input, Searched& searched) const {
   for (int step = 0; step < kWalkSteps && d > stop; ++step) {
     uint32_t best_f = *f;
     double best_d = d;
     const uint32_t* c = &input.corners[3 * std::size_t{*f}];
-    for (int k = 0; k < 3; ++k) nearer_around(x, c[k], *f, input, &best_f, &best_d);
+    for (int k = 0; k < 3; ++k) {
+      if (searched.has(c[k])) continue;
+      nearer_around(x, c[k], *f, input, &best_f, &best_d);
+      searched.add(c[k]);
+    }
     if (best_f == *f) break;  // a local minimum of the distance on the input
     *f = best_f;
     d = best_d;
@@ -214,6 +218,7 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
   std::fill(seen, seen + kSlots, kNone);
   FanFace faces[kMaxInputFaces];
   int n_faces = 0;
+  bool region_whole = true;  // every input face around the region is in `faces`
   auto add_around = [&](const uint32_t* xs, int n_xs) {
     for (int i = 0; i < n_xs; ++i) __builtin_prefetch(&input.begin[xs[i]]);
     for (int i = 0; i < n_xs; ++i) __builtin_prefetch(&input.faces[input.begin[xs[i]]]);
@@ -221,8 +226,11 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
     int n_added = 0;
     for (int k = 0; k < n_xs; ++k) {
       const uint32_t x = xs[k];
-      for (uint32_t i = input.begin[x]; i < input.begin[x + 1] && n_faces + n_added < kMaxInputFaces;
-           ++i) {
+      for (uint32_t i = input.begin[x]; i < input.begin[x + 1]; ++i) {
+        if (n_faces + n_added == kMaxInputFaces) {
+          region_whole = false;
+          break;
+        }
         const uint32_t f = input.faces[i];
         uint32_t slot = (f * 0x9E3779B1u) & (kSlots - 1);  // Fibonacci hashing
         while (seen[slot] != kNone && seen[slot] != f) slot = (slot + 1) & (kSlots - 1);
@@ -283,8 +291,16 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
       const double d2 = (x - kept_at[i]).sqrnorm();
       if (d2 < nearest_kept2) nearest_kept2 = d2, nearest_kept = i;
     }
-    if (nearest_kept >= 0) nearer_around(x, kept_points[nearest_kept], kNone, input, &f, &d);
-    d = walk_input(x, &f, d, worst, input);
+    // The region's vertices when all their faces were tried: the point's distance is at most
+    // theirs (nearest() stopped at no face: the point is farther than `worst`, its `stop`).
+    Searched searched;
+    if (region_whole)
+      for (int i = 0; i < n_region; ++i) searched.add(region[i]);
+    if (nearest_kept >= 0 && !searched.has(kept_points[nearest_kept])) {
+      nearer_around(x, kept_points[nearest_kept], kNone, input, &f, &d);
+      searched.add(kept_points[nearest_kept]);
+    }
+    d = walk_input(x, &f, d, worst, input, searched);
     if (d > worst) worst = d;
   }
   return worst;

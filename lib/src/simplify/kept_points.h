@@ -170,11 +170,25 @@ class KeptPoints {
   // nearest of them goes to *f and its distance to *d.
   void nearer_around(const Vec3& x, uint32_t vertex, uint32_t skip, const InputSurface& input,
                      uint32_t* f, double* d) const;
+  // The input vertices all of whose faces one point's search has tried: none of those faces
+  // is nearer than the distance it had then, which only decreases after, so a vertex here
+  // needs no second look (the same faces found, fewer distances: the walks of the textured
+  // 950K-face mesh's last collapses tried each corner's faces up to three times).
+  struct Searched {
+    static constexpr int kMost = kMaxMoved + 2 + 3 * kWalkSteps;  // region, kept point, walk
+    uint32_t vertex[kMost];
+    int n = 0;
+    bool has(uint32_t w) const { return std::find(vertex, vertex + n, w) != vertex + n; }
+    void add(uint32_t w) {
+      if (n < kMost) vertex[n++] = w;  // when full, a vertex is searched again: the same faces
+    }
+  };
   // From input face *f at distance d of x, to the input face sharing a corner with it
   // nearest to x, while one is nearer (a descent on the input surface), until within
-  // `stop` or after kWalkSteps steps; *f where it ends, and its distance.
-  double walk_input(const Vec3& x, uint32_t* f, double d, double stop,
-                    const InputSurface& input) const;
+  // `stop` or after kWalkSteps steps; *f where it ends, and its distance. Corners in
+  // `searched` are not searched again; those it searches join it.
+  double walk_input(const Vec3& x, uint32_t* f, double d, double stop, const InputSurface& input,
+                    Searched& searched) const;
   double input_face_distance(const Vec3& x, uint32_t f, const InputSurface& input) const {
     const uint32_t* c = &input.corners[3 * std::size_t{f}];
     return point_triangle_distance(x, position(c[0]), position(c[1]), position(c[2]));
