@@ -2,6 +2,8 @@
 // (Garland and Heckbert 1998, §4), attribute error by quadrics (Hoppe 1999, §4).
 #include "simplify/corner_attributes.h"
 
+#include "core/in_turn.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -60,7 +62,7 @@ int sign(double x) { return (x > 0) - (x < 0); }
 CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
                                    std::size_t faces, const float* points,
                                    std::size_t n_vertices, const uint32_t* input_face,
-                                   const uint32_t* input_vertex) {
+                                   const uint32_t* input_vertex, unsigned threads) {
   faces_.resize(faces);
   for (std::size_t f = 0; f < faces; ++f) {
     FaceCorners& face = faces_[f];
@@ -130,26 +132,32 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     }
     kinds_[kNormal].scale = n_vertices ? kNormalScaleOfDiagonal * (hi - lo).norm() : 0;
   }
-  for (int kind = 0; kind < kKinds; ++kind)
-    if (kinds_[kind].present)
-      initialize_wedges(kind, value_classes(*tables[kind], dims[kind]), points, n_vertices);
-}
-
-// One wedge per vertex and value; each face adds its quadric to its three corners' wedges.
-void CornerAttributes::initialize_wedges(int kind, const std::vector<uint32_t>& value_class,
-                                         const float* points, std::size_t n_vertices) {
-  Kind& k = kinds_[kind];
-  const std::size_t faces = faces_.size();
-  // Each vertex's corners (face and corner index), in face order.
-  std::vector<uint32_t> begin(n_vertices + 1, 0), corners(3 * faces);
+  if (!has_uvs() && !has_normals()) return;
+  // Each vertex's corners (face and corner index), in face order, for both kinds.
+  std::vector<uint32_t> begin(n_vertices + 1, 0), vertex_corners(3 * faces);
   for (const FaceCorners& face : faces_)
     for (uint32_t x : face.vertex) ++begin[x + 1];
   for (std::size_t x = 0; x < n_vertices; ++x) begin[x + 1] += begin[x];
   {
     std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
     for (std::size_t f = 0; f < faces; ++f)
-      for (int c = 0; c < 3; ++c) corners[fill[faces_[f].vertex[c]]++] = static_cast<uint32_t>(3 * f + c);
+      for (int c = 0; c < 3; ++c)
+        vertex_corners[fill[faces_[f].vertex[c]]++] = static_cast<uint32_t>(3 * f + c);
   }
+  for (int kind = 0; kind < kKinds; ++kind)
+    if (kinds_[kind].present)
+      number_wedges(kind, value_classes(*tables[kind], dims[kind]), begin, vertex_corners);
+  // The kinds' quadrics apart, each on a thread of its own: they only read faces_.
+  run_in_turn(kKinds, threads, [&](std::size_t kind, bool) {
+    if (kinds_[kind].present) add_face_quadrics(static_cast<int>(kind), points);
+  });
+}
+
+// One wedge per vertex and value.
+void CornerAttributes::number_wedges(int kind, const std::vector<uint32_t>& value_class,
+                                     const std::vector<uint32_t>& begin,
+                                     const std::vector<uint32_t>& corners) {
+  const std::size_t n_vertices = begin.size() - 1;
   uint32_t wedges = 0;
   std::vector<std::pair<uint32_t, uint32_t>> seen;  // (class, wedge) around one vertex
   for (std::size_t x = 0; x < n_vertices; ++x) {
@@ -167,7 +175,12 @@ void CornerAttributes::initialize_wedges(int kind, const std::vector<uint32_t>& 
   }
   if (kind == kUv) uv_quadrics_.assign(wedges, {});
   else normal_quadrics_.assign(wedges, {});
-  for (std::size_t f = 0; f < faces; ++f) {
+}
+
+// Each face adds its quadric to its three corners' wedges, in face order.
+void CornerAttributes::add_face_quadrics(int kind, const float* points) {
+  const Kind& k = kinds_[kind];
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
     const auto& ids = faces_[f].id[kind];
     const auto& wedge = faces_[f].wedge[kind];
     if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;

@@ -58,10 +58,12 @@ class CornerAttributes {
  public:
   // The input's corner ids for each face of the loop's mesh: face f has vertices
   // corners[3f..3f+2] (distinct), at points (three floats per vertex); input_face[f] is its
-  // input triangle and input_vertex[x] the input vertex of x (null: the identity).
+  // input triangle and input_vertex[x] the input vertex of x (null: the identity). The
+  // texture coordinates' and the normals' quadrics are summed on two threads when `threads`
+  // allows (each in face order: the same sums).
   CornerAttributes(const Mesh& input, const uint32_t* corners, std::size_t n_faces,
                    const float* points, std::size_t n_vertices, const uint32_t* input_face,
-                   const uint32_t* input_vertex);
+                   const uint32_t* input_vertex, unsigned threads = 1);
 
   bool has_uvs() const { return kinds_[kUv].present; }
   bool has_normals() const { return kinds_[kNormal].present; }
@@ -160,9 +162,12 @@ class CornerAttributes {
   // The corner of u whose wedge a corner of v with wedge w takes: u's corner in fl when w
   // is v's wedge in fl, else in fr. Returns {face, corner index}.
   std::pair<uint32_t, int> target_corner(int kind, const CollapseStar& c, uint32_t v_wedge) const;
-  // value_class: per id, the smallest id with the same value bits (value_classes()).
-  void initialize_wedges(int kind, const std::vector<uint32_t>& value_class, const float* points,
-                         std::size_t n_vertices);
+  // value_class: per id, the smallest id with the same value bits (value_classes()); begin and
+  // corners: each vertex's corners (3 f + c), corners[begin[x]] to corners[begin[x + 1]], in
+  // face order. Sizes the kind's quadrics.
+  void number_wedges(int kind, const std::vector<uint32_t>& value_class,
+                     const std::vector<uint32_t>& begin, const std::vector<uint32_t>& corners);
+  void add_face_quadrics(int kind, const float* points);
 
   // Per face: its corners' vertices, per kind their ids and wedges (quadric slots), and its
   // material (kNoAttribute where the kind or the materials are absent). One cache line a face:

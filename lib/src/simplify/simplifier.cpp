@@ -135,7 +135,7 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
   for (std::size_t x = 0; x < n_vertices; ++x)
     vertices[x] = input_vertex ? input_vertex[vertex_of_[x]] : vertex_of_[x];
   attributes_ = std::make_unique<CornerAttributes>(input, corners.data(), n_faces, xyz_.data(),
-                                                   n_vertices, faces.data(), vertices.data());
+                                                   n_vertices, faces.data(), vertices.data(), threads_);
   if (!attributes_->any()) {
     attributes_.reset();
     return;
