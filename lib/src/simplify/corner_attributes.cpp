@@ -63,16 +63,6 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
                                    std::size_t faces, const float* points,
                                    std::size_t n_vertices, const uint32_t* input_face,
                                    const uint32_t* input_vertex, unsigned threads) {
-  faces_.resize(faces);
-  for (std::size_t f = 0; f < faces; ++f) {
-    FaceCorners& face = faces_[f];
-    for (int k = 0; k < 3; ++k) face.vertex[k] = corners[3 * f + k];
-    for (int kind = 0; kind < kKinds; ++kind) {
-      face.id[kind] = {kNoAttribute, kNoAttribute, kNoAttribute};
-      face.wedge[kind] = {kNoWedge, kNoWedge, kNoWedge};
-    }
-    face.material = kNoAttribute;
-  }
   auto input_face_of = [&](std::size_t f) {
     return input_face ? input_face[f] : static_cast<uint32_t>(f);
   };
@@ -99,14 +89,23 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     k.present = true;
     k.dims = dims[kind];
     k.values = tables[kind];
-    for (std::size_t f = 0; f < faces; ++f)
-      for (int c = 0; c < 3; ++c) faces_[f].id[kind][c] = (*input_ids[kind])[input_corner(f, c)];
   }
-  if (!input.face_materials.empty()) {
-    has_materials_ = true;
-    for (std::size_t f = 0; f < faces; ++f)
-      faces_[f].material = input.face_materials[input_face_of(f)];
-  }
+  has_materials_ = !input.face_materials.empty();
+  // Each face's record on its own: in slices, on `threads`.
+  faces_.resize(faces);
+  run_in_slices(faces, threads, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t f = lo; f < hi; ++f) {
+      FaceCorners& face = faces_[f];
+      for (int k = 0; k < 3; ++k) face.vertex[k] = corners[3 * f + k];
+      for (int kind = 0; kind < kKinds; ++kind) {
+        face.id[kind] = {kNoAttribute, kNoAttribute, kNoAttribute};
+        face.wedge[kind] = {kNoWedge, kNoWedge, kNoWedge};
+        if (kinds_[kind].present)
+          for (int c = 0; c < 3; ++c) face.id[kind][c] = (*input_ids[kind])[input_corner(f, c)];
+      }
+      face.material = has_materials_ ? input.face_materials[input_face_of(f)] : kNoAttribute;
+    }
+  });
 
   // Scales that make an attribute deviation comparable to a distance. Texture: the
   // surface's model units per texture unit, the square root of the ratio of the surface's

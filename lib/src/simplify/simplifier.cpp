@@ -145,8 +145,11 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
     seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), n_vertices, *attributes_);
   features_ = true;  // seams and material borders are feature edges
   seam_.assign(half_.size(), 0);
-  for (uint32_t h = 0; h < half_.size(); ++h)
-    if (half_[h].twin != kNone && h < half_[h].twin) seam_[h] = seam_[half_[h].twin] = seam_now(h);
+  // Each interior edge by its lower half-edge: no byte is written twice.
+  run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
+    for (auto h = static_cast<uint32_t>(lo); h < hi; ++h)
+      if (half_[h].twin != kNone && h < half_[h].twin) seam_[h] = seam_[half_[h].twin] = seam_now(h);
+  });
 }
 
 void CollapseLoop::run_rounds() {
