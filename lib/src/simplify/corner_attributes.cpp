@@ -2,13 +2,13 @@
 // (Garland and Heckbert 1998, §4), attribute error by quadrics (Hoppe 1999, §4).
 #include "simplify/corner_attributes.h"
 
-#include "core/in_turn.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <utility>
+
+#include "core/in_turn.h"
 
 namespace pm {
 namespace {

@@ -134,8 +134,9 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
     faces[f] = input_face ? input_face[face_of_[f]] : face_of_[f];
   for (std::size_t x = 0; x < n_vertices; ++x)
     vertices[x] = input_vertex ? input_vertex[vertex_of_[x]] : vertex_of_[x];
-  attributes_ = std::make_unique<CornerAttributes>(input, corners.data(), n_faces, xyz_.data(),
-                                                   n_vertices, faces.data(), vertices.data(), threads_);
+  attributes_ =
+      std::make_unique<CornerAttributes>(input, corners.data(), n_faces, xyz_.data(), n_vertices,
+                                         faces.data(), vertices.data(), threads_);
   if (!attributes_->any()) {
     attributes_.reset();
     return;
@@ -148,7 +149,8 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
   // Each interior edge by its lower half-edge: no byte is written twice.
   run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
     for (auto h = static_cast<uint32_t>(lo); h < hi; ++h)
-      if (half_[h].twin != kNone && h < half_[h].twin) seam_[h] = seam_[half_[h].twin] = seam_now(h);
+      if (half_[h].twin != kNone && h < half_[h].twin)
+        seam_[h] = seam_[half_[h].twin] = seam_now(h);
   });
 }
 
