@@ -361,8 +361,13 @@ void SplitFans::Prefetch::step(uint32_t u_ahead) {
     } else {  // this face's record was asked for a step ago: its ring vertices, then on
       const Face& face = fans_.faces_[corner / 3];
       const uint32_t k = corner % 3;
+      for (int r = 0; r < n_rows_; ++r)
+        if (3 * std::size_t{corner / 3} < rows_[r]->size())
+          __builtin_prefetch(rows_[r]->data() + 3 * std::size_t{corner / 3});
       for (const uint32_t w : {face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3]}) {
         if (w < value_count) __builtin_prefetch(values + 3 * std::size_t{w});
+        if (more_values_ && per_vertex_ * (std::size_t{w} + 1) <= more_values_->size())
+          __builtin_prefetch(more_values_->data() + per_vertex_ * std::size_t{w});
         // A split links its new faces into the corner lists of vl and vr, ring vertices.
         if (w < vertices) __builtin_prefetch(&fans_.first_corner_[w], 1);
       }

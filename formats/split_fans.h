@@ -92,11 +92,28 @@ class SplitFans {
     Prefetch& operator=(const Prefetch&) = delete;
     // Once per split, before its fan(): u of the split kAhead further on (kNone: none).
     void step(uint32_t u_ahead);
+    // Also asks, for each ring vertex, for its `per_vertex` entries of `values` (the colours),
+    // and for each face of the walk, for its 3 entries of `rows` (a wedge coder's corner ids,
+    // as many as there are faces so far): what predicting the split reads next (the colours'
+    // and texture coordinates' loads were a third of the writer's coding time, most of it
+    // waiting for memory). Each storage must not move while this lives (reserved vectors).
+    void also_values(const std::vector<uint32_t>* values, std::size_t per_vertex) {
+      more_values_ = values;
+      per_vertex_ = per_vertex;
+    }
+    void also_rows(const std::vector<uint32_t>* rows) {
+      if (n_rows_ < kMostRows) rows_[n_rows_++] = rows;
+    }
 
    private:
     static constexpr uint32_t kFirst = 0xFFFFFFFEu;  // a walk waiting for its first corner
+    static constexpr int kMostRows = 2;
     const SplitFans& fans_;
     const std::vector<uint32_t>* values_;
+    const std::vector<uint32_t>* more_values_ = nullptr;
+    std::size_t per_vertex_ = 0;
+    const std::vector<uint32_t>* rows_[kMostRows] = {};
+    int n_rows_ = 0;
     uint32_t vertex_[kAhead];  // each walk's vertex
     uint32_t corner_[kAhead];  // the corner it reached (fetched a step ago), kFirst or kNone
     std::size_t next_slot_ = 0;

@@ -131,6 +131,8 @@ class WedgeCoder {
   bool known(uint32_t id) const { return ids_.known(id); }
   uint32_t unknown() const { return ids_.unknown(); }
   const uint32_t* units(uint32_t id) const { return units_.data() + components_ * std::size_t{id}; }
+  // The current level's corner ids, 3 per face (what predict() reads of the arc's faces).
+  const std::vector<uint32_t>& level_ids() const { return current_; }
 
   // A corner before the splits (base and carried faces, in corner order): its vertex's
   // wedges. `level`: the face is one of the current level's (a base face), whose corner ids

@@ -74,6 +74,9 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
   }
   SplitFans::Fan fan;
   SplitFans::Prefetch prefetch(fans, &positions.units);
+  if (colors.components != 0) prefetch.also_values(&colors.units, colors.components);
+  for (int kind = 0; kind < 2; ++kind)
+    if (h.minor >= 2 && has_ids(kind)) prefetch.also_rows(&wedges[kind].level_ids());
   for (std::size_t k = 0; k < SplitFans::Prefetch::kAhead; ++k)
     prefetch.step(k < pm.splits.size() ? pm.splits[k].u : SplitFans::kNone);
   std::vector<uint32_t> arc, record, sorted_arc, sorted_record, neighbours;
@@ -421,6 +424,9 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   // The moved corners' ids, when the stream has any (2.2: their faces, for the wedges).
   const bool moved_ids = wedged ? wedge_rc[0] || wedge_rc[1] : uv_codes || normal_codes;
   SplitFans::Prefetch prefetch(fans, &positions.units);
+  if (h.color_components != 0) prefetch.also_values(&colors.units, h.color_components);
+  for (int kind = 0; kind < 2; ++kind)
+    if (wedge_rc[kind]) prefetch.also_rows(&wedges[kind].level_ids());
   constexpr std::size_t kAhead = SplitFans::Prefetch::kAhead;
   for (std::size_t k = 0; ranged && k < kAhead; ++k)
     prefetch.step(k < entry.splits ? chunk_u[k] : SplitFans::kNone);
