@@ -344,15 +344,22 @@ void SplitFans::split_arc(uint32_t u, uint32_t v, uint32_t vl, uint32_t vr, cons
 }
 
 SplitFans::Prefetch::Prefetch(const SplitFans& fans, const std::vector<uint32_t>* values)
-    : fans_(fans), values_(values) {
+    : fans_(fans) {
   std::fill(vertex_, vertex_ + kAhead, kNone);
   std::fill(corner_, corner_ + kAhead, kNone);
+  also_values(values, 3);
+}
+
+void SplitFans::Prefetch::fetch_values(uint32_t x) const {
+  for (int i = 0; i < n_values_; ++i) {
+    const PerVertex& v = values_[i];
+    if (v.per_vertex * (std::size_t{x} + 1) <= v.values->size())
+      __builtin_prefetch(v.values->data() + v.per_vertex * std::size_t{x});
+  }
 }
 
 void SplitFans::Prefetch::step(uint32_t u_ahead) {
   const std::size_t faces = fans_.faces_.size(), vertices = fans_.first_corner_.size();
-  const uint32_t* values = values_ ? values_->data() : nullptr;
-  const std::size_t value_count = values_ ? values_->size() / 3 : 0;
   for (std::size_t s = 0; s < kAhead; ++s) {
     uint32_t corner = corner_[s];
     if (corner == kNone) continue;
@@ -365,9 +372,7 @@ void SplitFans::Prefetch::step(uint32_t u_ahead) {
         if (3 * std::size_t{corner / 3} < rows_[r]->size())
           __builtin_prefetch(rows_[r]->data() + 3 * std::size_t{corner / 3});
       for (const uint32_t w : {face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3]}) {
-        if (w < value_count) __builtin_prefetch(values + 3 * std::size_t{w});
-        if (more_values_ && per_vertex_ * (std::size_t{w} + 1) <= more_values_->size())
-          __builtin_prefetch(more_values_->data() + per_vertex_ * std::size_t{w});
+        fetch_values(w);
         // A split links its new faces into the corner lists of vl and vr, ring vertices.
         if (w < vertices) __builtin_prefetch(&fans_.first_corner_[w], 1);
       }
@@ -384,7 +389,7 @@ void SplitFans::Prefetch::step(uint32_t u_ahead) {
   corner_[s] = kNone;
   if (u_ahead < vertices) {
     __builtin_prefetch(&fans_.first_corner_[u_ahead]);
-    if (u_ahead < value_count) __builtin_prefetch(values + 3 * std::size_t{u_ahead});
+    fetch_values(u_ahead);
     corner_[s] = kFirst;
   }
 }

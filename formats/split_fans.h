@@ -92,27 +92,31 @@ class SplitFans {
     Prefetch& operator=(const Prefetch&) = delete;
     // Once per split, before its fan(): u of the split kAhead further on (kNone: none).
     void step(uint32_t u_ahead);
-    // Also asks, for each ring vertex, for its `per_vertex` entries of `values` (the colours),
-    // and for each face of the walk, for its 3 entries of `rows` (a wedge coder's corner ids,
-    // as many as there are faces so far): what predicting the split reads next (the colours'
-    // and texture coordinates' loads were a third of the writer's coding time, most of it
-    // waiting for memory). Each storage must not move while this lives (reserved vectors).
+    // Also asks, for each vertex of the walk, for its `per_vertex` entries of `values` (the
+    // colours), and for each face of the walk, for its 3 entries of `rows` (a wedge coder's
+    // corner ids, as many as there are faces so far): what predicting the split reads next
+    // (the colours' and texture coordinates' loads were a third of the writer's coding time,
+    // most of it waiting for memory). Each storage must not move while this lives.
     void also_values(const std::vector<uint32_t>* values, std::size_t per_vertex) {
-      more_values_ = values;
-      per_vertex_ = per_vertex;
+      if (values && n_values_ < kMost) values_[n_values_++] = {values, per_vertex};
     }
     void also_rows(const std::vector<uint32_t>* rows) {
-      if (n_rows_ < kMostRows) rows_[n_rows_++] = rows;
+      if (rows && n_rows_ < kMost) rows_[n_rows_++] = rows;
     }
 
    private:
     static constexpr uint32_t kFirst = 0xFFFFFFFEu;  // a walk waiting for its first corner
-    static constexpr int kMostRows = 2;
+    static constexpr int kMost = 2;
+    struct PerVertex {
+      const std::vector<uint32_t>* values;
+      std::size_t per_vertex;
+    };
+    // x's entries of each, when it has them so far.
+    void fetch_values(uint32_t x) const;
     const SplitFans& fans_;
-    const std::vector<uint32_t>* values_;
-    const std::vector<uint32_t>* more_values_ = nullptr;
-    std::size_t per_vertex_ = 0;
-    const std::vector<uint32_t>* rows_[kMostRows] = {};
+    PerVertex values_[kMost] = {};  // the positions (the constructor's), then also_values()'
+    int n_values_ = 0;
+    const std::vector<uint32_t>* rows_[kMost] = {};
     int n_rows_ = 0;
     uint32_t vertex_[kAhead];  // each walk's vertex
     uint32_t corner_[kAhead];  // the corner it reached (fetched a step ago), kFirst or kNone
