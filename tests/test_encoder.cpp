@@ -47,7 +47,7 @@ Encoded encode_file(const std::string& path, const EncodeOptions& options = {}) 
 
 // The collapse loop (one since issue 25, the former fast loop: the names keep "fast") with
 // either metric, with one heap or in regions at once (forced here on every mesh; by default
-// on meshes of more than 131072 vertices).
+// on meshes of 16384 vertices or more).
 enum class Loop { kFast, kFastRegions, kFastSchroeder, kFastSchroederRegions };
 
 // Every acceptance property holds for every loop.

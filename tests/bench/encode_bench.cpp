@@ -3,10 +3,11 @@
 // writing), and an FNV-1a hash of the written .pm, so that two builds' outputs can be
 // compared without keeping the files.
 //
-//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] [--threads N]
-//                   [--runs N] [--out FILE.pm]
+//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap]
+//                   [--partition VERTICES] [--threads N] [--runs N] [--out FILE.pm]
 //
 // --one-heap: the collapse loop without regions (EncodeOptions::fast_partition_vertices = 0);
+// --partition: regions from that many vertices (fast_partition_vertices) instead of the default;
 // --threads: EncodeOptions::threads. --fast: EncodeOptions::fast, the collapse loop without its
 // measured distance (pmenc --fast). The mesh's own size never chooses --fast here
 // (EncodeOptions::fast_from stays 0), so --fast alone says which loop ran.
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <string>
@@ -54,6 +56,8 @@ int main(int argc, char** argv) {
       options.fast = true;  // the collapse loop without its measured distance (pmenc --fast)
     } else if (arg == "--one-heap") {
       options.fast_partition_vertices = 0;
+    } else if (arg == "--partition" && i + 1 < argc) {
+      options.fast_partition_vertices = std::strtoull(argv[++i], nullptr, 10);
     } else if (arg == "--threads" && i + 1 < argc) {
       options.threads = static_cast<unsigned>(std::max(0, std::atoi(argv[++i])));
     } else if (arg == "--layer-window" && i + 1 < argc) {
@@ -66,7 +70,7 @@ int main(int argc, char** argv) {
       path = arg;
     } else {
       die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] "
-          "[--threads N] [--layer-window SHARE] [--runs N] [--out FILE]");
+          "[--partition VERTICES] [--threads N] [--layer-window SHARE] [--runs N] [--out FILE]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");
