@@ -73,7 +73,7 @@ struct EncodeOptions {
   std::size_t fast_from = 0;
   // The collapse loop on a mesh of at least this many vertices, without welds or faces carried
   // by the repair: its collapses run in rounds, each in eight regions of the mesh at once
-  // (on `threads` threads; with the measured distance, four near the end), then merged in
+  // (on `threads` threads; with the measured distance, down to two near the end), then merged in
   // order of cost; the last thirty-second run in one heap. The sequence is the same whatever
   // the number of threads, but not exactly the one-heap greedy order (vertices next to a
   // region's edge wait for a later round). 0 or SIZE_MAX: never. From 16,384: with the

@@ -158,7 +158,7 @@ void CollapseLoop::run_rounds() {
   constexpr std::size_t kRegions = 8;      // enough for two threads to end a round together
   constexpr std::size_t kMostWaiting = 8;  // the rounds end when 1/8 of the vertices wait
   // At the end, with the measure (below); without it, kRegions throughout.
-  const std::size_t fewest_regions = measure_ ? 4 : kRegions;
+  const std::size_t fewest_regions = measure_ ? 2 : kRegions;
   const std::size_t n = vertex_.size();
   const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
   const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
@@ -197,8 +197,13 @@ void CollapseLoop::run_rounds() {
     // mesh: 3.3 s of 9.9); with four at the end, 11% and 12% less wall time on nefertiti
     // after a Loop step and armadillo after two (400K and 830K faces), the levels as far
     // from the input (on those, the bunny after a step and the textured mesh, at 10% to 1%
-    // of the faces: Hausdorff 0.996 times what it was and RMS 1.002, geometric means).
-    // Without the measure the one heap's collapses cost little: 6% less time on armadillo,
+    // of the faces: Hausdorff 0.996 times what it was and RMS 1.002, geometric means); with
+    // two at the end, one region per thread, the one heap holds less again (nefertiti: 0.39 s
+    // of its 0.81 s loop, then 0.08 of 0.68): two threads, medians of 5, nefertiti 0.93 ->
+    // 0.86 s, armadillo 0.49 -> 0.43, the bunny 0.69 -> 0.59, the textured mesh 9.63 -> 9.27
+    // (3 runs), armadillo after two steps the same; the levels as close to the input (those
+    // meshes and the 8 shared ones at 50/10/2%: Hausdorff 1.003 and 1.002, RMS 1.000 and
+    // 1.001 times). Without the measure the one heap's collapses cost little: 6% less time on armadillo,
     // the Hausdorff distance 1.023 times what it was.
     const std::size_t most_waiting = vertices_alive_ / kMostWaiting;
     mark_band();
