@@ -28,10 +28,11 @@ uint32_t bits(float x) {
 }
 
 // The collapse loop (one since issue 25, the former fast loop: the names keep "Fast") with
-// either metric, with one heap or in regions on two threads (asked for here; by default on meshes of 16384
-// vertices or more; the rounds run while more than 1,024 vertices and 2,048 faces are
-// left above the limits, and stop when the cuts hold an eighth of them: on the large grid
-// below, not on spot nor on the small grids). Each keeps the attributes the same way.
+// either metric, with one heap or in regions on two threads (asked for here; by default on
+// meshes of 16384 vertices or more; the rounds run while more than 1,024 vertices and 2,048
+// faces are left above the limits, and stop when the cuts hold an eighth of them: on the
+// large grid below, not on spot nor on the small grids). Each keeps the attributes the same
+// way.
 enum class Loop { kFast, kFastRegions, kFastSchroeder, kFastSchroederRegions };
 
 std::string loop_name(Loop loop) {

@@ -203,8 +203,8 @@ void CollapseLoop::run_rounds() {
     // 0.86 s, armadillo 0.49 -> 0.43, the bunny 0.69 -> 0.59, the textured mesh 9.63 -> 9.27
     // (3 runs), armadillo after two steps the same; the levels as close to the input (those
     // meshes and the 8 shared ones at 50/10/2%: Hausdorff 1.003 and 1.002, RMS 1.000 and
-    // 1.001 times). Without the measure the one heap's collapses cost little: 6% less time on armadillo,
-    // the Hausdorff distance 1.023 times what it was.
+    // 1.001 times). Without the measure the one heap's collapses cost little: 6% less time
+    // on armadillo, the Hausdorff distance 1.023 times what it was.
     const std::size_t most_waiting = vertices_alive_ / kMostWaiting;
     mark_band();
     while (waiting > most_waiting && n_regions > fewest_regions) {
