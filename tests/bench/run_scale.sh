@@ -195,7 +195,7 @@ run_mesh() {
     openmesh_s=$(median "$work/$name.openmesh.inproc" 1)
     for label in encode_quadric encode_schroeder encode_measured meshopt openmesh; do
       case "$label" in
-        encode_quadric) title="**pm::encode**, quadric, \`fast\` (\`pmenc\`'s default on a million faces or more: no measured distance; in regions on two threads from 16,384 vertices, $(seconds "$(median "$work/$name.encode_quadric.user" 1)") s of CPU)" ;;
+        encode_quadric) title="**pm::encode**, quadric, \`fast\` (\`pmenc\`'s default on a million faces or more: no measured distance; in regions on two threads (EncodeOptions::fast_partition_vertices), $(seconds "$(median "$work/$name.encode_quadric.user" 1)") s of CPU)" ;;
         encode_schroeder) title="**pm::encode**, schroeder, \`fast\` (likewise)" ;;
         encode_measured) title="**pm::encode**, quadric, with the measured distance (\`pmenc --fast-from 0\`; in regions, $(seconds "$(median "$work/$name.encode_measured.user" 1)") s of CPU)" ;;
         meshopt) title="meshopt_simplify to 1%" ;;

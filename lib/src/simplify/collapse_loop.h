@@ -709,10 +709,10 @@ class CollapseLoop {
       // spot, cow and rocker-arm at 10% and 2%); nor with fast, which has no fan's part.
       // Nor with attributes: on geometry alone in one heap the sequence is the same either
       // way (nefertiti, armadillo: the same bytes, 4% to 7% less time with it), but with
-      // attributes it is not, and uv.md's vase lost to meshopt_simplify at 2%
-      // and 1% (same-chart texture error 1.008 and 1.018 times meshopt's; measured whole
-      // again, 0.88 and 0.90, all 10 comparisons holding; no time lost on the 950K-face
-      // textured mesh within its runs' spread).
+      // attributes it is not (why is not pinned down), and uv.md's vase lost to
+      // meshopt_simplify at 2% and 1% (same-chart texture error 1.008 and 1.018 times
+      // meshopt's; measured whole again, 0.88 and 0.90, all 10 comparisons holding; no time
+      // lost on the 950K-face textured mesh within its runs' spread).
       const bool keep_fan_part = measure_ && !schroeder_ && !attributes_;
       for (int i = 0; i < n_u; ++i) {
         uint8_t& m = measured_[ring_u[i].vertex];
