@@ -101,6 +101,7 @@ class CollapseLoop {
         angle_features_(features_),
         schroeder_(options.metric == Metric::kSchroeder),
         measure_(!options.fast),
+        reuse_fan_part_(simplify_reuses_fan_part.load()),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -702,25 +703,27 @@ class CollapseLoop {
       Neighbour ring_u[kMaxValence];
       bool boundary_u_now;
       const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
-      // With the quadric metric's measure, those not next to v keep their fan's part
-      // (collapse_measure.cpp); v's neighbours are evaluated again below. Not with
-      // Schroeder's metric: there the levels came out a little farther from the input
-      // (tests/bench/quality.md: 13 points of 24 passing against 15, RMS up to 1.04x on
-      // spot, cow and rocker-arm at 10% and 2%); nor with fast, which has no fan's part.
-      // Nor with attributes: on geometry alone in one heap the sequence is the same either
-      // way (nefertiti, armadillo: the same bytes, 4% to 7% less time with it), but with
-      // attributes it is not (why is not pinned down), and uv.md's vase lost to
-      // meshopt_simplify at 2% and 1% (same-chart texture error 1.008 and 1.018 times
-      // meshopt's; measured whole again, 0.88 and 0.90, all 10 comparisons holding; no time
-      // lost on the 950K-face textured mesh within its runs' spread).
-      const bool keep_fan_part = measure_ && !schroeder_ && !attributes_;
+      // With the measure, those not next to v keep their fan's part (their faces, their ring
+      // and their candidate did not change; collapse_measure.cpp measures the points' part
+      // alone then), either metric, with attributes or without. It skips work, 4% of the
+      // time on nefertiti and on the 950K-face textured mesh, and leaves the sequence as it
+      // was (test_encoder.cpp's MeasuredLoop; collapse_measure.cpp says where it may not).
+      // v's neighbours and u are measured from nothing (their fans changed); the fast loop
+      // has no fan's part.
+      const bool keep_fan_part = measure_ && reuse_fan_part_;
       for (int i = 0; i < n_u; ++i) {
         uint8_t& m = measured_[ring_u[i].vertex];
-        m = !keep_fan_part                ? kNotMeasured
-            : m == kMeasuredWhole          ? kPointsMovedFanBelow
-            : m == kMeasuredWholeFanAbove ? kPointsMovedFanAbove
-                                          : kNotMeasured;
+        if (!keep_fan_part)
+          m = kNotMeasured;
+        else if (m == kMeasuredWhole)
+          m = kPointsMovedFanBelow;
+        else if (m == kMeasuredWholeFanAbove)
+          m = kPointsMovedFanAbove;
+        else if (m != kPointsMovedFanBelow && m != kPointsMovedFanAbove)  // those still hold
+          m = kNotMeasured;
       }
+      for (int i = 0; i < n; ++i) unmeasure(ring_v[i].vertex);
+      unmeasure(u);
     }
     for (int i = 0; i < n; ++i) {
       const uint32_t w = ring_v[i].vertex;
@@ -780,15 +783,17 @@ class CollapseLoop {
       w.queue(v, key);
     } else {
       w.queue(v, best.key);
-      unmeasure(v);
+      if (!fan_part_known(v)) unmeasure(v);  // a known fan's part still holds
     }
   }
 
   // v's key as apply() last queued it, when it holds a measure still valid (measured_ says so;
   // every change around v since has reset it): a new round's heap takes it as it was, rather
   // than the cost alone, which would have v measured again when it comes to the top.
+  // Not when only v's fan's part is known (kPointsMoved*): its key is queued as a key
+  // that holds no measure would be.
   bool queued_measured_key(uint32_t v, float* key) const {
-    if (!measure_ || measured_[v] == kNotMeasured) return false;
+    if (!measure_ || measured_[v] == kNotMeasured || fan_part_known(v)) return false;
     *key = combined(best_[v].key, measured_worst_[v]);
     return true;
   }
@@ -878,6 +883,7 @@ class CollapseLoop {
   const bool angle_features_;  // the angle is below 180 degrees
   const bool schroeder_;       // Schroeder's metric (schroeder_costs.cpp), else quadrics
   const bool measure_;         // the measured distance joins the key (EncodeOptions::fast: no)
+  const bool reuse_fan_part_;  // simplify_reuses_fan_part (simplifier.h), for tests
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
@@ -952,6 +958,10 @@ class CollapseLoop {
   };
   static bool whole_measured(uint8_t m) {
     return m == kMeasuredWhole || m == kMeasuredWholeFanAbove;
+  }
+  bool fan_part_known(uint32_t v) const {
+    return measure_ &&
+           (measured_[v] == kPointsMovedFanBelow || measured_[v] == kPointsMovedFanAbove);
   }
   std::vector<uint8_t> measured_;  // per vertex, the enum above (empty unless keyed_by_measure())
   // The measured distance v's queued key holds (apply()): the kept points' with

@@ -9,6 +9,7 @@
 // attribute quadrics in the cost, texture-seam drift in the measured key.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -21,6 +22,11 @@
 #include "simplify/manifold_repair.h"
 
 namespace pm {
+
+// Tests only: whether the loop with its measure reuses the fan's part of a measure that
+// still holds (collapse_measure.cpp). The reuse saves work and keeps the sequence:
+// test_encoder.cpp encodes with and without it and compares.
+inline std::atomic<bool> simplify_reuses_fan_part{true};
 
 struct Simplification {
   std::vector<Collapse> collapses;
