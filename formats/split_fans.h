@@ -96,7 +96,10 @@ class SplitFans {
     // colours), and for each face of the walk, for its 3 entries of `rows` (a wedge coder's
     // corner ids, as many as there are faces so far): what predicting the split reads next
     // (the colours' and texture coordinates' loads were a third of the writer's coding time,
-    // most of it waiting for memory). Each storage must not move while this lives.
+    // most of it waiting for memory). Each storage must not move while this lives. Two
+    // lists of values in all (the positions and the colours) and two of rows (the two wedge
+    // kinds', as the writer and reader ask) are fetched; one beyond them is not, which costs
+    // time only: this is a hint.
     void also_values(const std::vector<uint32_t>* values, std::size_t per_vertex) {
       if (values && n_values_ < kMost) values_[n_values_++] = {values, per_vertex};
     }
