@@ -708,8 +708,8 @@ class CollapseLoop {
       // alone then), either metric, with attributes or without. It skips work, 4% of the
       // time on nefertiti and on the 950K-face textured mesh, and leaves the sequence as it
       // was (test_encoder.cpp's MeasuredLoop; collapse_measure.cpp says where it may not).
-      // v's neighbours and u are measured from nothing (their fans changed); the fast loop
-      // has no fan's part.
+      // v's neighbours and u are measured from nothing (their fans changed: reset here, for
+      // the fast loop's seam drift too, whether evaluate() below queues them again or not).
       const bool keep_fan_part = measure_ && reuse_fan_part_;
       for (int i = 0; i < n_u; ++i) {
         uint8_t& m = measured_[ring_u[i].vertex];
@@ -737,10 +737,7 @@ class CollapseLoop {
       if (!schroeder_ && !angle_features_ && vertex_[w].simple &&
           (!attributes_ || vertex_[w].cheapest) && worker.queued(w) && best_[w].target != v &&
           w != vl && w != vr) {
-        if (keeps_best(worker, w, u)) {
-          unmeasure(w);  // points may have moved onto its faces at u
-          continue;
-        }
+        if (keeps_best(worker, w, u)) continue;  // its measure was reset above
       }
       evaluate(worker, w);
     }
