@@ -119,9 +119,10 @@ class CollapseLoop {
   // their sequences interleave in any order into a valid one (the vertex splits of Hoppe
   // 1996, §3, on disjoint neighbourhoods commute: Pajarola and Rossignac 2000, "Compressed
   // progressive meshes", refine in batches of such independent splits). Merged by cost, the
-  // sequence stays close to the one-heap greedy order. The regions are kRegions runs of a
-  // Morton order: the local ids' in even rounds, in odd ones that of the positions shifted
-  // by an odd fraction of the box (order_b_), whose cuts lie elsewhere, so that a vertex
+  // sequence stays close to the one-heap greedy order. The regions are runs of a Morton
+  // order (kRegions, or without the measure on a large mesh one per kRegionVertices): the
+  // local ids' in even rounds, in odd ones that of the positions shifted by an odd
+  // fraction of the box (order_b_), whose cuts lie elsewhere, so that a vertex
   // next to a region's edge (band_), which waits, is inside one the next round (in the
   // first order alone, vertices along its big cells' walls, whose neighbours are far in
   // it, waited every round: 70% of those left by the end on a 200K-vertex mesh, and the
