@@ -17,6 +17,8 @@
 #                                          not given) and $runs (7 unless given, at least 5)
 #   bench_commit REPO PATHSPEC...          prints HEAD's short hash, "with uncommitted
 #                                          changes" after it when the paths have some
+#   bench_loop_mesh MAKE SOURCE STEPS OBJ  makes OBJ, SOURCE after STEPS Loop steps (MAKE:
+#                                          pm_make_big_mesh), unless OBJ is newer than SOURCE
 #   bench_textured_mesh REPO BUILD         makes BUILD/tests/bench/textured/textured-loop4.obj
 #                                          (samples/textured.obj after 4 Loop steps keeping its
 #                                          attributes) unless it is newer than both its sources;
@@ -89,6 +91,14 @@ bench_need_meshes() {
   echo "*** Put the test meshes in $1 (see its README.md) and run this again." >&2
   echo "*** $2 was left as it was." >&2
   exit 0
+}
+
+bench_loop_mesh() {
+  local make=$1 source=$2 steps=$3 obj=$4
+  if [[ ! -s "$obj" || "$source" -nt "$obj" ]]; then
+    echo "making $(basename "$obj") ($(basename "$source") after $steps Loop steps)" >&2
+    "$make" "$source" "$steps" "$obj" -q
+  fi
 }
 
 bench_textured_mesh() {

@@ -122,8 +122,6 @@ bool take_metric(int& argc, char** argv, pm::Metric& metric) {
   return true;
 }
 
-}  // namespace
-
 // Takes `flag` out of argv: true when it was there.
 bool take_flag(int& argc, char** argv, const std::string& flag) {
   bool found = false;
@@ -137,6 +135,8 @@ bool take_flag(int& argc, char** argv, const std::string& flag) {
   argc = kept;
   return found;
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // --loop-meshes: MESH_DIR holds run_fast.sh --loop-meshes's meshes made by Loop

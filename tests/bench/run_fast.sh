@@ -35,10 +35,7 @@ if ((loop_meshes)); then
   mkdir -p "$made" "$only"
   for spec in nefertiti.obj:2:nefertiti-loop2 stanford-bunny.obj:3:stanford-bunny-loop3; do
     IFS=: read -r source steps name <<<"$spec"
-    if [[ ! -s "$made/$name.obj" || "$meshes/$source" -nt "$made/$name.obj" ]]; then
-      echo "run_fast.sh: making $name.obj ($source after $steps Loop steps)" >&2
-      "$build/tests/bench/pm_make_big_mesh" "$meshes/$source" "$steps" "$made/$name.obj" -q
-    fi
+    bench_loop_mesh "$build/tests/bench/pm_make_big_mesh" "$meshes/$source" "$steps" "$made/$name.obj"
     ln -sf "$made/$name.obj" "$only/$name.obj"
   done
   meshes="$only"

@@ -114,10 +114,7 @@ inprocess_seconds() { field "$1" "$2" >>"$work/$1.inproc"; }  # field: bench_set
 run_mesh() {
   local source="$1" steps="$2" name="$3"
   local obj="$work/$name.obj"
-  if [[ ! -s "$obj" || "$meshes/$source" -nt "$obj" ]]; then
-    echo "run_scale.sh: making $name.obj ($source after $steps Loop steps)" >&2
-    "$bench/pm_make_big_mesh" "$meshes/$source" "$steps" "$obj" -q
-  fi
+  bench_loop_mesh "$bench/pm_make_big_mesh" "$meshes/$source" "$steps" "$obj"
   local faces vertices obj_bytes
   faces=$(grep -c '^f ' "$obj")
   vertices=$(grep -c '^v ' "$obj")
