@@ -2,8 +2,8 @@
 // decides which of its edges it may collapse along (Schroeder, Zarge and Lorensen 1992,
 // §3.1, with Schroeder 1997's corner rule), each is an option with a cost, and the options
 // are ranked: special edges first (a corner's), then by cost (Schroeder's metric: by length,
-// schroeder_costs.cpp), ties to the shortest edge. Garland and Heckbert 1997, §4: the
-// cheapest pair, here among v's half-edge collapses.
+// schroeder_costs.cpp), ties to the shortest edge, then to the smaller neighbour id.
+// Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses.
 //
 // With attributes, the quadric metric's cost is v's planes at the target plus the
 // attributes' error in the same units (Hoppe 1999, §4's attribute quadrics:
@@ -78,7 +78,11 @@ class InOrderOfWholeCost {
 bool CollapseLoop::ranks_before(const Option& a, const Option& b) {
   if (a.special != b.special) return a.special;
   if (a.rank != b.rank) return a.rank < b.rank;
-  return a.length != b.length ? a.length < b.length : a.index < b.index;
+  // The last tie to the neighbour of smaller id, not the earlier place in v's ring: the ring
+  // walk starts where a collapse left v's outgoing half-edge, and a vertex whose options
+  // did not change must make the same choice when evaluated again (apply() relies on it for
+  // vl and vr). Only ties of cost and length reach it (fandisk's flat parts).
+  return a.length != b.length ? a.length < b.length : a.vertex < b.vertex;
 }
 
 bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
@@ -94,7 +98,7 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
     const bool boundary = half_[e].twin == kNone, feature = !boundary && is_feature(e);
     boundary_edges += boundary;
     feature_edges += feature;
-    options[i] = {boundary || feature, 0.0, 0.0, 0.0, i};
+    options[i] = {boundary || feature, 0.0, 0.0, 0.0, i, ring_v[i].vertex};
   }
   const VertexKind kind = vertex_[v].input_corner ? VertexKind::kCorner
                                                   : kind_from_edges(boundary_edges, feature_edges);
@@ -157,6 +161,27 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
       return queue(options[i], i == 0);
   }
   return false;
+}
+
+bool CollapseLoop::keeps_best_with_attributes(Worker& worker, uint32_t v, uint32_t u,
+                                              double geometric) {
+  Star star;
+  CornerAttributes::StarWedges wedges;
+  Neighbour ring_v[kMaxValence];
+  bool boundary_v;
+  const int n = ring(v, ring_v, kMaxValence, &boundary_v);
+  const Neighbour* to = std::find_if(ring_v, ring_v + std::max(n, 0),
+                                     [&](const Neighbour& x) { return x.vertex == u; });
+  if (to == ring_v + std::max(n, 0)) return false;
+  make_star(v, ring_v, n, star);
+  attributes_->star_wedges(star.c, wedges);
+  // The geometric cost alone already above the key: so is the sum (attribute_cost() >= 0).
+  if (!(static_cast<float>(geometric) > best_[v].key) &&
+      !(static_cast<float>(geometric + attribute_cost(u, to->edge, star, wedges)) > best_[v].key))
+    return false;
+  const Best& best = best_[v];
+  worker.queue(v, queued_key(cost_of(v, best.target, best.edge, star, wedges)));
+  return true;
 }
 
 }  // namespace pm::collapse_loop
