@@ -86,7 +86,7 @@ bool CollapseLoop::ranks_before(const Option& a, const Option& b) {
 }
 
 bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
-  if (!owns(worker, v) || vertex_[v].dead || vertex_[v].pinned) return false;
+  if (!owns(worker, v) || dead_vertex_[v] || vertex_[v].pinned) return false;
   Neighbour ring_v[kMaxValence];
   bool boundary_v;
   const int n = ring(v, ring_v, kMaxValence, &boundary_v);

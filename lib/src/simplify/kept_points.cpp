@@ -60,14 +60,10 @@ int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const F
   moving[n++] = {v, -1};
   // The faces' lists, then the points' positions, asked for ahead (input_distance() says why).
   for (int i = 0; i < n_old; ++i) __builtin_prefetch(&point_[kKept * std::size_t{old_faces[i]}]);
-  for (int i = 0; i < n_old; ++i) {
+  // The fan lists v's faces but those at v-u first, in the order of old_faces.
+  for (int i = 0, j = 0; i < n_old; ++i) {
     const uint32_t f = old_faces[i];
-    int hint = -1;
-    for (int j = 0; j < n_fan; ++j)
-      if (fan[j].face == f) {
-        hint = j;
-        break;
-      }
+    const int hint = j < n_fan && fan[j].face == f ? j++ : -1;
     uint32_t* kept = const_cast<uint32_t*>(&point_[kKept * std::size_t{f}]);
     for (int k = 0; k < kKept && kept[k] != kNone; ++k) {
       moving[n++] = {kept[k], hint};

@@ -25,6 +25,7 @@ void CollapseLoop::run() {
   });
   if (schroeder_) mark_sharp_corners();
   best_.assign(n_vertices, Best{kNone, kNone, 0});
+  dead_vertex_.assign(n_vertices, 0);
   if (keyed_by_measure()) measured_.assign(n_vertices, kNotMeasured);
   kept_.reset(half_.size() / 3, xyz_.data());  // the records' bound, with or without fast
   // The input's faces, before any collapse (kept_.input_distance()): only for the measure.
@@ -110,8 +111,6 @@ void CollapseLoop::run() {
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
     for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
   std::vector<float>().swap(xyz_);
-  dead_vertex_.resize(vertex_.size());
-  for (std::size_t i = 0; i < vertex_.size(); ++i) dead_vertex_[i] = vertex_[i].dead;
   std::vector<VertexRecord>().swap(vertex_);
   to_given_ids();
   write_base();
@@ -203,7 +202,7 @@ void CollapseLoop::run_rounds() {
         if (region_of(b) != region || region_of(c) != region) band_[a] = band_[b] = band_[c] = 1;
       }
       waiting = 0;
-      for (std::size_t v = 0; v < n; ++v) waiting += band_[v] && !vertex_[v].dead;
+      for (std::size_t v = 0; v < n; ++v) waiting += band_[v] && !dead_vertex_[v];
     };
     // When the cuts hold a good part of what is left, the waiting vertices would hoard
     // the coarse levels' vertices (the rest simplified past them): fewer, larger regions,
