@@ -89,7 +89,8 @@ class CollapseLoop {
 
  public:
   // `repaired`: its welds and carried faces, or null for an input without either.
-  CollapseLoop(const ManifoldMesh* repaired, const EncodeOptions& options, Simplification& out)
+  CollapseLoop(const ManifoldMesh* repaired, const EncodeOptions& options,
+               const LoopSwitches& switches, Simplification& out)
       : options_(options),
         out_(out),
         welds_(repaired ? weld_groups(*repaired) : WeldGroups{}),
@@ -101,7 +102,7 @@ class CollapseLoop {
         angle_features_(features_),
         schroeder_(options.metric == Metric::kSchroeder),
         measure_(!options.fast),
-        reuse_fan_part_(simplify_reuses_fan_part.load()),
+        reuse_fan_part_(switches.reuse_fan_part),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -891,7 +892,7 @@ class CollapseLoop {
   const bool angle_features_;  // the angle is below 180 degrees
   const bool schroeder_;       // Schroeder's metric (schroeder_costs.cpp), else quadrics
   const bool measure_;         // the measured distance joins the key (EncodeOptions::fast: no)
-  const bool reuse_fan_part_;  // simplify_reuses_fan_part (simplifier.h), for tests
+  const bool reuse_fan_part_;  // LoopSwitches::reuse_fan_part (simplifier.h), for tests
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one

@@ -405,7 +405,7 @@ void CollapseLoop::write_base() {
 using collapse_loop::CollapseLoop;
 
 Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
-                Simplification& out) {
+                Simplification& out, const LoopSwitches& switches) {
   // The triangles and points of the repaired mesh, then its memory goes back.
   HalfEdgeMesh& mesh = repaired.mesh;
   const std::size_t n_faces = mesh.n_faces(), n_vertices = mesh.n_vertices();
@@ -420,7 +420,7 @@ Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& 
   for (std::size_t v = 0; v < n_vertices; ++v)
     for (int c = 0; c < 3; ++c) points[3 * v + c] = mesh.point(mesh.vertex_handle(int(v)))[c];
   mesh.clean();
-  CollapseLoop simplifier(&repaired, options, out);
+  CollapseLoop simplifier(&repaired, options, switches, out);
   if (!simplifier.build(triangles.data(), n_faces, points.data(), n_vertices, &repaired.pinned,
                         /*faceless_allowed=*/true))
     return Status(ErrorCode::kInternal, "the repaired mesh is not a manifold");
@@ -431,8 +431,9 @@ Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& 
   return Status::ok();
 }
 
-bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out) {
-  CollapseLoop simplifier(nullptr, options, out);
+bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out,
+                     const LoopSwitches& switches) {
+  CollapseLoop simplifier(nullptr, options, switches, out);
   if (!simplifier.build(input.triangles.data(), input.face_count(), input.positions.data(),
                         input.vertex_count(), nullptr, /*faceless_allowed=*/false))
     return false;

@@ -9,7 +9,6 @@
 // attribute quadrics in the cost, texture-seam drift in the measured key.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -23,10 +22,14 @@
 
 namespace pm {
 
-// Tests only: whether the loop with its measure reuses the fan's part of a measure that
-// still holds (collapse_measure.cpp). The reuse saves work and keeps the sequence:
-// test_encoder.cpp encodes with and without it and compares.
-inline std::atomic<bool> simplify_reuses_fan_part{true};
+// Switches of the loop that only tests turn; encode() runs with the defaults. Passed with
+// each call, not kept in a global, so that encodes on other threads never see a test's.
+struct LoopSwitches {
+  // Whether the loop with its measure reuses the fan's part of a measure that still holds
+  // (collapse_measure.cpp). The reuse saves work and keeps the sequence: test_encoder.cpp
+  // runs the loop with and without it and compares.
+  bool reuse_fan_part = true;
+};
 
 struct Simplification {
   std::vector<Collapse> collapses;
@@ -47,13 +50,14 @@ struct Simplification {
 // is not the manifold build_manifold_mesh makes.
 // `input` is the mesh repaired was built from (its attributes).
 Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
-                Simplification& out);
+                Simplification& out, const LoopSwitches& switches = {});
 
 // The same on the input as it is, in its ids, when it is a manifold that needs no repair (see
 // build_manifold_mesh: no face with a repeated vertex, no vertex without faces, every edge
 // in one face or two of opposite orientation, every vertex's faces one fan): the OpenMesh
 // mesh is never built. False, with nothing done, otherwise. The input must have passed
 // check_encodable.
-bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out);
+bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out,
+                     const LoopSwitches& switches = {});
 
 }  // namespace pm
