@@ -18,13 +18,27 @@ void CollapseLoop::morton_order(const float* points, std::size_t n, const float*
       const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
       for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
     }
-    keys[v] = code << 32 | (id ? id[v] : v);
+    keys[id ? id[v] : v] = code;
   }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 0; i < n; ++i) {
-    order[i] = static_cast<uint32_t>(keys[i]);
-    rank[order[i]] = static_cast<uint32_t>(i);
+  // By code, ties to the smaller id: a least-significant-digit radix sort (Knuth, "The Art
+  // of Computer Programming", vol. 3, §5.2.5), three stable passes of 10 bits over the ids
+  // in increasing order, back and forth between `order` and `rank` (std::sort of the 64-bit
+  // (code, id) pairs took twice as long: 1.7% of the loop on nefertiti after two Loop steps).
+  constexpr int kDigitBits = 10, kDigits = 1 << kDigitBits;
+  for (std::size_t i = 0; i < n; ++i) rank[i] = static_cast<uint32_t>(i);
+  std::vector<uint32_t>*from = &rank, *to = &order;
+  for (int pass = 0; pass < 3; ++pass, std::swap(from, to)) {
+    const int shift = kDigitBits * pass;
+    std::size_t start[kDigits + 1] = {};
+    for (std::size_t i = 0; i < n; ++i) ++start[((keys[i] >> shift) & (kDigits - 1)) + 1];
+    for (int d = 0; d < kDigits; ++d) start[d + 1] += start[d];
+    for (std::size_t i = 0; i < n; ++i) {
+      const uint32_t x = (*from)[i];
+      (*to)[start[(keys[x] >> shift) & (kDigits - 1)]++] = x;
+    }
   }
+  // Three passes: the sorted ids are in `order`.
+  for (std::size_t i = 0; i < n; ++i) rank[order[i]] = static_cast<uint32_t>(i);
 }
 
 bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* points,

@@ -7,6 +7,8 @@
 #include "simplify/simplifier.h"
 
 #include <algorithm>
+#include <functional>
+#include <queue>
 #include <utility>
 #include <vector>
 
@@ -273,19 +275,21 @@ void CollapseLoop::run_rounds() {
 
 void CollapseLoop::merge(std::vector<Worker>& workers) {
   std::vector<std::size_t> next(workers.size(), 0);
-  for (;;) {
-    Worker* from = nullptr;
-    std::size_t* at = nullptr;
-    for (std::size_t i = 0; i < workers.size(); ++i) {
-      if (next[i] == workers[i].collapses.size()) continue;
-      if (!from || workers[i].collapses[next[i]].bound < from->collapses[*at].bound) {
-        from = &workers[i];
-        at = &next[i];
-      }
-    }
-    if (!from) break;
+  // Each worker's next collapse, the least bound first, ties to the earlier worker: a heap
+  // of (bound, worker) rather than a look at every worker per collapse (16 on nefertiti
+  // after two Loop steps).
+  using Head = std::pair<float, std::size_t>;
+  std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
+  for (std::size_t i = 0; i < workers.size(); ++i)
+    if (!workers[i].collapses.empty()) heads.push({workers[i].collapses[0].bound, i});
+  while (!heads.empty()) {
+    const std::size_t i = heads.top().second;
+    heads.pop();
+    Worker* from = &workers[i];
+    std::size_t* at = &next[i];
     const float recorded = from->recorded[*at];
     Collapse c = from->collapses[(*at)++];
+    if (*at < from->collapses.size()) heads.push({from->collapses[*at].bound, i});
     const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
     out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
                             from->moved_faces.begin() + c.moved_begin + c.moved_count);
