@@ -26,7 +26,8 @@ void CollapseLoop::morton_order(const float* points, std::size_t n, const float*
   // (code, id) pairs took twice as long: 1.7% of the loop on nefertiti after two Loop steps).
   constexpr int kDigitBits = 10, kDigits = 1 << kDigitBits;
   for (std::size_t i = 0; i < n; ++i) rank[i] = static_cast<uint32_t>(i);
-  std::vector<uint32_t>*from = &rank, *to = &order;
+  std::vector<uint32_t>* from = &rank;
+  std::vector<uint32_t>* to = &order;
   for (int pass = 0; pass < 3; ++pass, std::swap(from, to)) {
     const int shift = kDigitBits * pass;
     std::size_t start[kDigits + 1] = {};

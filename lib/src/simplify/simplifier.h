@@ -29,6 +29,10 @@ struct LoopSwitches {
   // (collapse_measure.cpp). The reuse saves work and keeps the sequence: test_encoder.cpp
   // runs the loop with and without it and compares.
   bool reuse_fan_part = true;
+  // Whether, geometry only, vl and vr keep their queued candidate after a collapse when it
+  // is still their cheapest (collapse_loop.h's apply()), instead of being evaluated again.
+  // The same sequence with fewer evaluations: test_encoder.cpp compares.
+  bool keep_apex_candidates = true;
 };
 
 struct Simplification {
