@@ -733,15 +733,13 @@ class CollapseLoop {
       // option w -> v for w -> u; the others cost what they did, attributes too (its wedges
       // and the corners its options read did not change). Unless it was queued towards v,
       // or w -> u is no dearer, its queued candidate is still its best.
-      // vl and vr, geometry only, lost their option to v and kept the others at their cost
-      // (their quadrics and the positions are as they were), and stay simple (their edges to
-      // v and u become one, a boundary edge if either was). When their queued candidate was
-      // their cheapest option, legal or not, and not towards v, evaluate() would queue it
-      // again (ranks_before() breaks ties by the neighbour's id, not by its place in the
-      // ring, which this collapse changes): it is queued again at its key, as evaluate()
-      // would, so that it waits behind the ties queued before it. The same sequence, in
-      // either mode, with fewer evaluations (nefertiti after two Loop steps: 4.5 per
-      // collapse, 5.9 before) and 4% less time without the measure. With attributes their
+      // vl and vr, geometry only, lost their option to v and kept the others at their cost,
+      // and stay simple (their edges to v and u become one, a boundary edge if either was).
+      // When their queued candidate was their cheapest, legal or not, and not towards v,
+      // evaluate() would queue it again (ranks_before()'s last tie is the neighbour's id, not
+      // its place in the ring): queued again at its key, behind the ties queued before, the
+      // same sequence with fewer evaluations (nefertiti after two Loop steps: 4.5 per
+      // collapse, 5.9 before; 4% less time without the measure). With attributes their
       // options' corners changed (v's became u's in the faces they share).
       const bool apex = w == vl || w == vr;
       if (!schroeder_ && !angle_features_ && vertex_[w].simple &&
