@@ -170,7 +170,7 @@ class CollapseLoop {
   // ties). `keys`, `order` and `rank` hold n each: nothing is allocated here, so that this
   // may run on a thread of its own.
   static void morton_order(const float* points, std::size_t n, const float* low, const float* high,
-                           double shift, const uint32_t* id, std::vector<uint64_t>& keys,
+                           double shift, const uint32_t* id, std::vector<uint32_t>& keys,
                            std::vector<uint32_t>& order, std::vector<uint32_t>& rank);
 
   // The flat connectivity of triangles `tri` (n_faces, ids below n_vertices) on `points`
@@ -742,9 +742,10 @@ class CollapseLoop {
       // collapse, 5.9 before; 4% less time without the measure). With attributes their
       // options' corners changed (v's became u's in the faces they share).
       const bool apex = w == vl || w == vr;
-      if (!schroeder_ && !angle_features_ && vertex_[w].simple &&
-          (!attributes_ || vertex_[w].cheapest) && worker.queued(w) && best_[w].target != v &&
-          (!apex || (keep_apex_candidates_ && !attributes_ && vertex_[w].cheapest))) {
+      const bool may_keep = apex ? keep_apex_candidates_ && !attributes_ && vertex_[w].cheapest
+                                 : !attributes_ || vertex_[w].cheapest;
+      if (!schroeder_ && !angle_features_ && vertex_[w].simple && may_keep && worker.queued(w) &&
+          best_[w].target != v) {
         if (keeps_best(worker, w, u)) {  // its measure was reset above
           if (apex) worker.queue(w, queued_key(best_[w].key));
           continue;
@@ -891,8 +892,7 @@ class CollapseLoop {
   const bool angle_features_;  // the angle is below 180 degrees
   const bool schroeder_;       // Schroeder's metric (schroeder_costs.cpp), else quadrics
   const bool measure_;         // the measured distance joins the key (EncodeOptions::fast: no)
-  const bool reuse_fan_part_;  // LoopSwitches::reuse_fan_part (simplifier.h), for tests
-  const bool keep_apex_candidates_;  // LoopSwitches::keep_apex_candidates, for tests
+  const bool reuse_fan_part_, keep_apex_candidates_;  // LoopSwitches' (simplifier.h), for tests
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one

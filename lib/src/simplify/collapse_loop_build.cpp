@@ -7,15 +7,15 @@ namespace pm::collapse_loop {
 
 void CollapseLoop::morton_order(const float* points, std::size_t n, const float* low,
                                 const float* high, double shift, const uint32_t* id,
-                                std::vector<uint64_t>& keys, std::vector<uint32_t>& order,
+                                std::vector<uint32_t>& keys, std::vector<uint32_t>& order,
                                 std::vector<uint32_t>& rank) {
   for (std::size_t v = 0; v < n; ++v) {
-    uint64_t code = 0;
+    uint32_t code = 0;  // 30 bits
     for (int c = 0; c < 3; ++c) {
       const float extent = high[c] - low[c];
       double t = extent > 0 ? (points[3 * v + c] - low[c]) / double(extent) + shift : 0.0;
       if (shift > 0 && t >= 1.0) t -= 1.0;
-      const uint64_t cell = std::min<uint64_t>(1023, static_cast<uint64_t>(t * 1024.0));
+      const uint32_t cell = std::min<uint32_t>(1023, static_cast<uint32_t>(t * 1024.0));
       for (int bit = 0; bit < 10; ++bit) code |= ((cell >> bit) & 1) << (3 * bit + c);
     }
     keys[id ? id[v] : v] = code;
@@ -51,7 +51,7 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     low[i % 3] = std::min(low[i % 3], points[i]);
     high[i % 3] = std::max(high[i % 3], points[i]);
   }
-  std::vector<uint64_t> keys(n_vertices);
+  std::vector<uint32_t> keys(n_vertices);  // the Morton codes, by vertex (morton_order())
   vertex_of_.resize(n_vertices);
   local_vertex_.resize(n_vertices);
   morton_order(points, n_vertices, low, high, 0.0, nullptr, keys, vertex_of_, local_vertex_);

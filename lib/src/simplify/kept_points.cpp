@@ -58,8 +58,8 @@ int KeptPoints::gather(uint32_t v, const uint32_t* old_faces, int n_old, const F
                        int n_fan, bool take, Moving* moving) const {
   int n = 0;
   moving[n++] = {v, -1};
-  // The faces' lists, then the points' positions, asked for ahead (input_distance() says why).
-  for (int i = 0; i < n_old; ++i) __builtin_prefetch(&point_[kKept * std::size_t{old_faces[i]}]);
+  // The faces' lists were asked for ahead (prefetch(): the collapse loop does when it reads
+  // v's ring); the points' positions are below (input_distance() says why).
   // The fan lists v's faces but those at v-u first, in the order of old_faces.
   for (int i = 0, j = 0; i < n_old; ++i) {
     const uint32_t f = old_faces[i];
