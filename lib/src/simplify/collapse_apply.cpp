@@ -1,0 +1,233 @@
+// The collapse loop's step (collapse_loop.h): the collapse at the top of a heap, if it is still
+// legal, with its record (Hoppe 1996, §3: the vertex split that undoes it), its measure
+// (collapse_measure.cpp) and the bound it records (kept_points.h, dropped_points_bound.h), then
+// the quadrics' sum (Garland and Heckbert 1997, §4) and the neighbours' candidates found again.
+// Internal to simplify/.
+#include "simplify/collapse_loop.h"
+
+namespace pm::collapse_loop {
+
+void CollapseLoop::apply(Worker& worker, uint32_t v) {
+  const uint32_t edge = best_[v].edge;
+  // The candidate's edge may have gone, or changed, since it was queued.
+  if (face_dead_[edge / 3] || (half_[edge].vertex != v && half_[next_of(edge)].vertex != v)) {
+    evaluate(worker, v, true);
+    return;
+  }
+  const uint32_t u = half_[edge].vertex == v ? half_[next_of(edge)].vertex : half_[edge].vertex;
+  Neighbour ring_v[kMaxValence];
+  bool boundary_v;
+  const int n = ring(v, ring_v, kMaxValence, &boundary_v);
+  // The neighbours' records are read after the collapse (their re-evaluation): asked for
+  // now, they arrive while legality is decided.
+  for (int i = 0; i < n; ++i) {
+    __builtin_prefetch(&vertex_[ring_v[i].vertex]);
+    // And v's faces' kept points and slack, which the collapse reads (a third of the
+    // kept points' time went to waiting for their lists).
+    const uint32_t e = ring_v[i].edge;
+    if (half_[e].vertex == v) kept_.prefetch(e / 3), dropped_.prefetch(e / 3);
+  }
+  // With attributes, v's star, aimed at u: legality, the seam drift and the record read it.
+  Star star;
+  if (attributes_ && n > 0) make_star(v, ring_v, n, star);
+  if (n <= 0 || !legal(v, u, edge, ring_v, n, boundary_v, &star)) {
+    evaluate(worker, v, true);
+    return;
+  }
+  const Sides s = sides(v, edge);
+  KeptPoints::FanFace fan[2 * kMaxValence];
+  uint32_t old_faces[kMaxValence];
+  int n_old = 0, moved = 0;
+  const int n_fan = make_fan(v, u, s, ring_v, n, fan, old_faces, &n_old, &moved);
+  if (!measured_at_top(worker, v, u, star, ring_v, n, fan, n_fan, moved, old_faces, n_old))
+    return;
+  const std::size_t removed_faces = (s.h != kNone) + (s.t != kNone);
+  if (worker.removed_faces + removed_faces > worker.face_budget ||
+      worker.removed_vertices >= worker.vertex_budget) {
+    worker.full = true;
+    return;
+  }
+  const uint32_t fl = s.h == kNone ? kNone : s.h / 3, fr = s.t == kNone ? kNone : s.t / 3;
+  // The record, in local ids until the loop ends (to_given_ids()).
+  const uint32_t vl = s.h == kNone ? kNone : half_[prev_of(s.h)].vertex;
+  const uint32_t vr = s.t == kNone ? kNone : half_[prev_of(s.t)].vertex;
+  Collapse c;
+  c.v = v;
+  c.u = u;
+  c.fl = fl == kNone ? -1 : static_cast<int>(fl);
+  c.fr = fr == kNone ? -1 : static_cast<int>(fr);
+  c.vl = vl == kNone ? kNoVertex : vl;
+  c.vr = vr == kNone ? kNoVertex : vr;
+  c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
+  c.new_faces_begin = worker.new_faces;  // merge() places it in the sequence
+  worker.new_faces += static_cast<uint32_t>(removed_faces);
+  if (attributes_) {
+    // In the order of the moved faces below (v's ring), before the corners change.
+    if (seam_drift_) seam_drift_->collapse(star.c);
+    attributes_->collapse(star.c, worker.record);
+  }
+  // The slack of the points dropped on v's faces moves onto the new fan, then the points
+  // kept there move, and those left off lists join the slack (dropped_points_bound.h).
+  double inherited;
+  {
+    Vec3 ring_points[kMaxValence];
+    int u_at = -1;
+    for (int i = 0; i < n; ++i) {
+      ring_points[i] = point(ring_v[i].vertex);
+      if (ring_v[i].vertex == u) u_at = i;
+    }
+    inherited = dropped_.collapse(
+        {point(v), ring_points, n, !boundary_v, u_at, old_faces, fl, fr}, fan, n_fan);
+  }
+  // With the measure, which reads the kept points, each goes to its nearest face: a
+  // point resting elsewhere changed the sequence (on the 8 shared meshes at 50/10/2%,
+  // 3% less time and the levels' distance as close, but other points above 1.05x).
+  const double farthest =
+      kept_.collapse(v, old_faces, n_old, fan, n_fan, dropped_, /*nearest_face=*/measure_);
+  for (int i = 0; i < n; ++i) {
+    const uint32_t e = ring_v[i].edge;
+    if (half_[e].vertex != v) continue;
+    const uint32_t f = e / 3;
+    if (f == fl || f == fr) continue;
+    worker.moved_faces.push_back(f);
+    for (int k = 0; k < 3; ++k)
+      if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
+  }
+  c.moved_count = static_cast<uint32_t>(worker.moved_faces.size()) - c.moved_begin;
+  // Its own, at least the kept points' distance; merge() makes it the running maximum.
+  // At most the largest float: no distance on a mesh encode() accepts (its diagonal is
+  // at most kMaxEncodeDiagonal, below that) is larger, where the key's square overflows.
+  c.bound =
+      static_cast<float>(std::min<double>(std::max<double>(key_distance(worker.key(v)), farthest),
+                                          std::numeric_limits<float>::max()));
+  worker.collapses.push_back(c);
+  // What the record claims: the same, and the slack this collapse set, rounded up to a
+  // float (at most the largest, as above). Infinite where a point found no face: then no
+  // finite record bounds it (an empty fan, or non-finite input).
+  {
+    // Not the key: its quadric, attribute and surface terms are no distance of an input
+    // vertex, and only loosened the record (sqrt of the key: 1.3-9.4x the exact distance).
+    double own = std::max(farthest, inherited);
+    if (n_fan == 0 || dropped_.take_lost()) own = HUGE_VAL;
+    own = std::min<double>(own, std::numeric_limits<float>::max());
+    float recorded = static_cast<float>(own);
+    if (double(recorded) < own) recorded = std::nextafter(recorded, HUGE_VALF);
+    worker.recorded.push_back(recorded);
+  }
+
+  // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
+  // at their boundary half-edge again (start_at_boundary), the others' anywhere.
+  const bool boundary_vl = vl != kNone && half_[vertex_[vl].outgoing].twin == kNone;
+  const bool boundary_vr = vr != kNone && half_[vertex_[vr].outgoing].twin == kNone;
+  const bool boundary_u = boundary_v || half_[vertex_[u].outgoing].twin == kNone;
+  // The faces at v-u go: their outer edges' twins become each other's.
+  auto remove_face = [&](uint32_t h) {
+    const uint32_t a = half_[next_of(h)].twin, b = half_[prev_of(h)].twin;
+    if (a != kNone) half_[a].twin = b;
+    if (b != kNone) half_[b].twin = a;
+    face_dead_[h / 3] = 1;
+    // The apex and u may have had their outgoing half-edge in this face.
+    const uint32_t apex = half_[prev_of(h)].vertex;
+    vertex_[apex].outgoing = a != kNone ? a : next_of(b);
+  };
+  if (s.h != kNone) remove_face(s.h);
+  if (s.t != kNone) remove_face(s.t);
+  // u: any outgoing half-edge of a face still alive.
+  {
+    uint32_t out = kNone;
+    if (s.h != kNone) {
+      const uint32_t b = half_[next_of(s.h)].twin;  // twin of the edge u-vl, now vl's side
+      out = b != kNone ? next_of(b) : kNone;
+    }
+    if (out == kNone && s.h != kNone) {
+      const uint32_t b = half_[prev_of(s.h)].twin;
+      if (b != kNone) out = b;  // v -> vl, now u -> vl
+    }
+    if (out == kNone && s.t != kNone) {
+      const uint32_t d = half_[prev_of(s.t)].twin;  // u -> vr
+      if (d != kNone)
+        out = d;
+      else if (half_[next_of(s.t)].twin != kNone)
+        out = next_of(half_[next_of(s.t)].twin);
+    }
+    vertex_[u].outgoing = out;
+  }
+  if (boundary_u) start_at_boundary(u);
+  if (boundary_vl) start_at_boundary(vl);
+  if (boundary_vr) start_at_boundary(vr);
+  vertex_[v].outgoing = kNone;
+  dead_vertex_[v] = 1;
+  if (attributes_) update_seams_at(u);
+  worker.removed_faces += removed_faces;
+  ++worker.removed_vertices;
+  // Garland and Heckbert 1997, §4: Q = Q1 + Q2.
+  vertex_[u].quadric.add(vertex_[v].quadric, point(u) - point(v));
+  worker.drop(v);
+
+  // Re-evaluated, as in the former default loop: u, and v's other neighbours, whose one-rings
+  // changed; u's other neighbours keep their best collapse unless it became illegal,
+  // which apply() finds when it is popped.
+  evaluate(worker, u);
+  // Points moved onto u's faces: a neighbour's key that holds a measure of them is
+  // measured again when it comes to the top (as the former default loop's keyed_by_measure_).
+  if (keyed_by_measure()) {
+    Neighbour ring_u[kMaxValence];
+    bool boundary_u_now;
+    const int n_u = ring(u, ring_u, kMaxValence, &boundary_u_now);
+    // With the measure, those not next to v keep their fan's part (their faces, their ring
+    // and their candidate did not change; collapse_measure.cpp measures the points' part
+    // alone then), either metric, with attributes or without. It skips work, 4% of the
+    // time on nefertiti and on the 950K-face textured mesh, and leaves the sequence as it
+    // was (test_encoder.cpp's MeasuredLoop; collapse_measure.cpp says where it may not).
+    // v's neighbours and u are measured from nothing (their fans changed: reset here, for
+    // the fast loop's seam drift too, whether evaluate() below queues them again or not).
+    const bool keep_fan_part = measure_ && reuse_fan_part_;
+    for (int i = 0; i < n_u; ++i) {
+      uint8_t& m = measured_[ring_u[i].vertex];
+      if (!keep_fan_part)
+        m = kNotMeasured;
+      else if (m == kMeasuredWhole)
+        m = kPointsMovedFanBelow;
+      else if (m == kMeasuredWholeFanAbove)
+        m = kPointsMovedFanAbove;
+      else if (m != kPointsMovedFanBelow && m != kPointsMovedFanAbove)  // those still hold
+        m = kNotMeasured;
+    }
+    for (int i = 0; i < n; ++i) unmeasure(ring_v[i].vertex);
+    unmeasure(u);
+  }
+  for (int i = 0; i < n; ++i) {
+    const uint32_t w = ring_v[i].vertex;
+    if (w == u) continue;
+    // A simple vertex of v's ring other than vl and vr stays simple (only the angle could
+    // make a feature edge here: seams and material borders slide with the collapse, w's
+    // edge to v becoming its edge to u on the same side of them) and only traded its
+    // option w -> v for w -> u; the others cost what they did, attributes too (its wedges
+    // and the corners its options read did not change). Unless it was queued towards v,
+    // or w -> u is no dearer, its queued candidate is still its best.
+    // vl and vr, geometry only, lost their option to v and kept the others at their cost,
+    // and stay simple (their edges to v and u become one, a boundary edge if either was).
+    // When their queued candidate was their cheapest, legal or not, and not towards v,
+    // evaluate() would queue it again (ranks_before()'s last tie is the neighbour's id, not
+    // its place in the ring): queued again at its key, behind the ties queued before, the
+    // same sequence with fewer evaluations (nefertiti after two Loop steps: 4.5 per
+    // collapse, 5.9 before; 4% less time without the measure). With attributes their
+    // options' corners changed (v's became u's in the faces they share).
+    const bool apex = w == vl || w == vr;
+    const bool may_keep = apex ? keep_apex_candidates_ && !attributes_ && vertex_[w].cheapest
+                               : !attributes_ || vertex_[w].cheapest;
+    if (!schroeder_ && !angle_features_ && vertex_[w].simple && may_keep && worker.queued(w) &&
+        best_[w].target != v) {
+      if (keeps_best(worker, w, u)) {  // its measure was reset above
+        if (apex) worker.queue(w, queued_key(best_[w].key));
+        continue;
+      }
+    }
+    evaluate(worker, w);
+  }
+  // With one heap; rounds report after each merge, on the caller's thread.
+  if (options_.progress && !in_rounds_ && worker.collapses.size() % 4096 == 0)
+    report_progress(out_.collapses.size() + worker.collapses.size());
+}
+
+}  // namespace pm::collapse_loop
