@@ -140,10 +140,17 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     if (begin[v + 1] == 0 && !faceless_allowed) return give_up();  // a vertex no face uses
     begin[v + 1] += begin[v];
   }
-  std::vector<uint32_t> leaving(half_.size());
+  // Each row holds the half-edges and, beside them, the vertices they lead to: the search
+  // below reads two rows in a row, where reading each half-edge's far end was a cache miss
+  // (the search took half of build(), on nefertiti after two Loop steps).
+  std::vector<uint32_t> leaving(half_.size()), leaving_to(half_.size());
   {
     std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
-    for (uint32_t h = 0; h < half_.size(); ++h) leaving[fill[half_[h].vertex]++] = h;
+    for (uint32_t h = 0; h < half_.size(); ++h) {
+      const uint32_t slot = fill[half_[h].vertex]++;
+      leaving[slot] = h;
+      leaving_to[slot] = half_[next_of(h)].vertex;
+    }
   }
   // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
   std::atomic<bool> cut{false};
@@ -151,17 +158,17 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     for (auto h = static_cast<uint32_t>(lo); h < hi; ++h) {
       const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
       for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
-        if (leaving[i] != h && half_[next_of(leaving[i])].vertex == b) return cut.store(true);
+        if (leaving_to[i] == b && leaving[i] != h) return cut.store(true);
       for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
-        const uint32_t back = leaving[i];
-        if (half_[next_of(back)].vertex != a) continue;
+        if (leaving_to[i] != a) continue;
         if (half_[h].twin != kNone) return cut.store(true);
-        half_[h].twin = back;
+        half_[h].twin = leaving[i];
       }
     }
   });
   if (cut) return give_up();
   std::vector<uint32_t>().swap(leaving);
+  std::vector<uint32_t>().swap(leaving_to);
   // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
   // around the vertex (ring()) starts. Two such, or a walk that misses some of the
   // vertex's faces, is a vertex where fans meet.
