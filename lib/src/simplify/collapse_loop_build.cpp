@@ -141,8 +141,8 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     begin[v + 1] += begin[v];
   }
   // Each row holds the half-edges and, beside them, the vertices they lead to: the search
-  // below reads two rows in a row, where reading each half-edge's far end was a cache miss
-  // (the search took half of build(), on nefertiti after two Loop steps).
+  // below reads rows, where reading each half-edge's far end was a cache miss (the search
+  // took half of build(), on nefertiti after two Loop steps).
   std::vector<uint32_t> leaving(half_.size()), leaving_to(half_.size());
   {
     std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
@@ -152,17 +152,25 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
       leaving_to[slot] = half_[next_of(h)].vertex;
     }
   }
-  // Each half-edge writes its own twin alone: slices of them at once (in_turn.h).
+  // Two half-edges the same way are two the same way in a's row; two back from b, two the
+  // same way in b's: a row holding a target twice is a cut. Otherwise each edge a-b, a < b,
+  // is paired once, from a's row, with the one entry of b's row back to a, if any. Vertices
+  // in slices at once (in_turn.h): an edge's two half-edges are written by the slice of its
+  // smaller vertex alone.
   std::atomic<bool> cut{false};
-  run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
-    for (auto h = static_cast<uint32_t>(lo); h < hi; ++h) {
-      const uint32_t a = half_[h].vertex, b = half_[next_of(h)].vertex;
-      for (uint32_t i = begin[a]; i < begin[a + 1]; ++i)
-        if (leaving_to[i] == b && leaving[i] != h) return cut.store(true);
-      for (uint32_t i = begin[b]; i < begin[b + 1]; ++i) {
-        if (leaving_to[i] != a) continue;
-        if (half_[h].twin != kNone) return cut.store(true);
-        half_[h].twin = leaving[i];
+  run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
+    for (auto a = static_cast<uint32_t>(lo); a < hi; ++a) {
+      for (uint32_t i = begin[a]; i < begin[a + 1]; ++i) {
+        const uint32_t b = leaving_to[i];
+        for (uint32_t j = i + 1; j < begin[a + 1]; ++j)
+          if (leaving_to[j] == b) return cut.store(true);
+        if (b < a) continue;
+        for (uint32_t j = begin[b]; j < begin[b + 1]; ++j) {
+          if (leaving_to[j] != a) continue;
+          half_[leaving[i]].twin = leaving[j];
+          half_[leaving[j]].twin = leaving[i];
+          break;  // b's row holds a once, or the slice holding b finds the cut
+        }
       }
     }
   });
