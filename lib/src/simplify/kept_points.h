@@ -62,7 +62,7 @@ class KeptPoints {
   static constexpr int kMaxMoved = 64;
 
   // The measured distance of the collapse v -> u is the larger of points_distance() and
-  // surface_distance() (collapse_loop.h's apply() asks for the second only when the first
+  // surface_distance() (collapse_measure.cpp asks for the second only when the first
   // leaves the collapse the cheapest); 0 when the fan is empty.
   //
   // The largest distance from `v`'s input position and the points kept on `old_faces`

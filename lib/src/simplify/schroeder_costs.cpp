@@ -8,7 +8,7 @@
 // default loop's. In place of Schroeder 1997 §3.3's error accumulation, the collapse loop's
 // measure (kept_points.h) joins the key as the larger of the two.
 //
-// The measure (collapse_loop.h's apply()) is the quadric metric's, the moved faces against the
+// The measure (collapse_measure.cpp) is the quadric metric's, the moved faces against the
 // input (KeptPoints::input_distance()), and one more grid: the old fan against the new one
 // (KeptPoints::kSchroederOldFanSteps), which sees the input points a collapse leaves behind
 // where it pulls a boundary or a crease in. The queued key holds no guess of the measure:

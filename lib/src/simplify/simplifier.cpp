@@ -293,17 +293,17 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
   while (!heads.empty()) {
     const std::size_t i = heads.top().second;
     heads.pop();
-    Worker* from = &workers[i];
-    std::size_t* at = &next[i];
-    const float recorded = from->recorded[*at];
-    Collapse c = from->collapses[(*at)++];
-    if (*at < from->collapses.size()) heads.push({from->collapses[*at].bound, i});
+    const Worker& from = workers[i];
+    std::size_t& at = next[i];
+    const float recorded = from.recorded[at];
+    Collapse c = from.collapses[at++];
+    if (at < from.collapses.size()) heads.push({from.collapses[at].bound, i});
     const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
-    out_.moved_faces.insert(out_.moved_faces.end(), from->moved_faces.begin() + c.moved_begin,
-                            from->moved_faces.begin() + c.moved_begin + c.moved_count);
+    out_.moved_faces.insert(out_.moved_faces.end(), from.moved_faces.begin() + c.moved_begin,
+                            from.moved_faces.begin() + c.moved_begin + c.moved_count);
     if (attributes_) {
       // The worker's record of this collapse, at the places the merged sequence gives it.
-      const CollapseAttributes& from_record = from->record;
+      const CollapseAttributes& from_record = from.record;
       CollapseAttributes& to = out_.attribute_record;
       const std::size_t added = 3 * std::size_t((c.fl >= 0) + (c.fr >= 0));
       auto copy = [](const std::vector<uint32_t>& a, std::size_t at, std::size_t count,

@@ -30,7 +30,7 @@ struct LoopSwitches {
   // runs the loop with and without it and compares.
   bool reuse_fan_part = true;
   // Whether, geometry only, vl and vr keep their queued candidate after a collapse when it
-  // is still their cheapest (collapse_loop.h's apply()), instead of being evaluated again.
+  // is still their cheapest (collapse_apply.cpp's apply()), instead of being evaluated again.
   // The same sequence with fewer evaluations: test_encoder.cpp compares.
   bool keep_apex_candidates = true;
 };
