@@ -52,8 +52,8 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     high[i % 3] = std::max(high[i % 3], points[i]);
   }
   std::vector<uint32_t> keys(n_vertices);  // the Morton codes, by vertex (morton_order())
-  vertex_of_.resize(n_vertices);
-  local_vertex_.resize(n_vertices);
+  detail::assign_preferring_huge_pages(vertex_of_, n_vertices, 0u);
+  detail::assign_preferring_huge_pages(local_vertex_, n_vertices, 0u);
   morton_order(points, n_vertices, low, high, 0.0, nullptr, keys, vertex_of_, local_vertex_);
   // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
   // which look anywhere on the mesh, to be idle.
@@ -79,8 +79,8 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     return fail();
   };
   if (partitioned_) {
-    order_b_.resize(n_vertices);
-    rank_b_.resize(n_vertices);
+    detail::assign_preferring_huge_pages(order_b_, n_vertices, 0u);
+    detail::assign_preferring_huge_pages(rank_b_, n_vertices, 0u);
     const auto order = [this, points, n_vertices, low, high, &keys] {
       morton_order(points, n_vertices, low, high, 0.37, local_vertex_.data(), keys, order_b_,
                    rank_b_);
@@ -120,7 +120,7 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     for (std::size_t f = 0; f < n_faces; ++f)
       face_of_[begin[first_vertex[f]]++] = static_cast<uint32_t>(f);
   }
-  half_.assign(3 * n_faces, HalfEdge{kNone, kNone});
+  detail::assign_preferring_huge_pages(half_, 3 * n_faces, HalfEdge{kNone, kNone});
   for (std::size_t i = 0; i < n_faces; ++i) {
     if (i + 2 * kFetchAhead < n_faces)
       __builtin_prefetch(tri + 3 * std::size_t{face_of_[i + 2 * kFetchAhead]});
@@ -180,7 +180,7 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
   // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
   // around the vertex (ring()) starts. Two such, or a walk that misses some of the
   // vertex's faces, is a vertex where fans meet.
-  vertex_.assign(n_vertices, VertexRecord{});
+  detail::assign_preferring_huge_pages(vertex_, n_vertices, VertexRecord{});
   for (uint32_t h = 0; h < half_.size(); ++h) {
     const uint32_t v = half_[h].vertex;
     if (half_[h].twin == kNone) {
@@ -204,14 +204,14 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
   });
   if (cut) return give_up();
 
-  xyz_.resize(3 * n_vertices);
+  detail::assign_preferring_huge_pages(xyz_, 3 * n_vertices, 0.0f);
   for (std::size_t i = 0; i < n_vertices; ++i) {
     if (i + kFetchAhead < n_vertices)
       __builtin_prefetch(points + 3 * std::size_t{vertex_of_[i + kFetchAhead]});
     for (int c = 0; c < 3; ++c) xyz_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
     if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
   }
-  face_dead_.assign(n_faces, 0);
+  detail::assign_preferring_huge_pages(face_dead_, n_faces, uint8_t{0});
   join();
   // Only the weld check looks a vertex up by its given id from here on.
   if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);

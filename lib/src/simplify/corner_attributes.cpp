@@ -8,6 +8,7 @@
 #include <cstring>
 #include <utility>
 
+#include "core/huge_pages.h"
 #include "core/in_turn.h"
 
 namespace pm {
@@ -92,7 +93,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   }
   has_materials_ = !input.face_materials.empty();
   // Each face's record on its own: in slices, on `threads`.
-  faces_.resize(faces);
+  detail::assign_preferring_huge_pages(faces_, faces, FaceCorners{});
   run_in_slices(faces, threads, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t f = lo; f < hi; ++f) {
       FaceCorners& face = faces_[f];
@@ -172,8 +173,10 @@ void CornerAttributes::number_wedges(int kind, const std::vector<uint32_t>& valu
       faces_[f].wedge[kind][c] = it->second;
     }
   }
-  if (kind == kUv) uv_quadrics_.assign(wedges, {});
-  else normal_quadrics_.assign(wedges, {});
+  if (kind == kUv)
+    detail::assign_preferring_huge_pages(uv_quadrics_, wedges, decltype(uv_quadrics_)::value_type{});
+  else
+    detail::assign_preferring_huge_pages(normal_quadrics_, wedges, decltype(normal_quadrics_)::value_type{});
 }
 
 // Each face adds its quadric to its three corners' wedges, in face order.

@@ -2,6 +2,8 @@
 // Manocha and Olano 1997's successive mappings).
 #include "simplify/dropped_points_bound.h"
 
+#include "core/huge_pages.h"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -116,7 +118,7 @@ void DroppedPointsBound::reset(std::size_t n_faces) {
     std::vector<float>().swap(slack_);
     return;
   }
-  slack_.assign(n_faces, -1.0f);
+  detail::assign_preferring_huge_pages(slack_, n_faces, -1.0f);
   lost_ = false;
 }
 

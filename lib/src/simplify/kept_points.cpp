@@ -3,6 +3,7 @@
 
 #include <cfloat>
 
+#include "core/huge_pages.h"
 #include "simplify/dropped_points_bound.h"
 
 #include <algorithm>
@@ -19,8 +20,8 @@ void KeptPoints::reset(std::size_t n_faces, const float* xyz) {
     return;
   }
   xyz_ = xyz;
-  point_.assign(kKept * n_faces, kNone);
-  distance_.assign(kKept * n_faces, 0.0f);
+  detail::assign_preferring_huge_pages(point_, kKept * n_faces, kNone);
+  detail::assign_preferring_huge_pages(distance_, kKept * n_faces, 0.0f);
 }
 
 double KeptPoints::nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
