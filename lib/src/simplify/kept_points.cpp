@@ -321,7 +321,8 @@ double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_
 }
 
 double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
-                            int n_fan, DroppedPointsBound& dropped, bool nearest_face) {
+                            int n_fan, DroppedPointsBound& dropped, bool nearest_face,
+                            double settled) {
   if (n_fan == 0) return 0;
   Moving moving[kMaxMoving];
   const int n_moving = gather(v, old_faces, n_old, fan, n_fan, true, moving);
@@ -329,7 +330,8 @@ double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, co
   for (int i = 0; i < n_moving; ++i) {
     int at;
     const double d = nearest(position(moving[i].point), fan, n_fan,
-                             nearest_face ? 0.0 : farthest, moving[i].hint, &at);
+                             nearest_face ? 0.0 : std::max(farthest, settled), moving[i].hint,
+                             &at);
     if (at < 0) {  // no distance compares (not on finite input)
       dropped.lose();
       continue;
