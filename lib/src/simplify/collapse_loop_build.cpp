@@ -175,22 +175,26 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     }
   });
   if (cut) return give_up();
-  std::vector<uint32_t>().swap(leaving);
   std::vector<uint32_t>().swap(leaving_to);
-  // An outgoing half-edge per vertex; on a boundary, the one with no twin, where a walk
-  // around the vertex (ring()) starts. Two such, or a walk that misses some of the
-  // vertex's faces, is a vertex where fans meet.
+  // An outgoing half-edge per vertex, from its row (the half-edges leaving it, in
+  // increasing order: the first, or on a boundary the one with no twin, where a walk
+  // around the vertex, ring(), starts); read row by row, where a pass over the half-edges
+  // wrote each vertex's record at random. Two without a twin, or a walk that misses some
+  // of the vertex's faces, is a vertex where fans meet.
   detail::assign_preferring_huge_pages(vertex_, n_vertices, VertexRecord{});
-  for (uint32_t h = 0; h < half_.size(); ++h) {
-    const uint32_t v = half_[h].vertex;
-    if (half_[h].twin == kNone) {
-      if (vertex_[v].outgoing != kNone && half_[vertex_[v].outgoing].twin == kNone)
-        return give_up();
-      vertex_[v].outgoing = h;
-    } else if (vertex_[v].outgoing == kNone) {
-      vertex_[v].outgoing = h;
+  for (std::size_t v = 0; v < n_vertices; ++v) {
+    if (begin[v] == begin[v + 1]) continue;  // no faces (faceless_allowed)
+    uint32_t outgoing = leaving[begin[v]];
+    bool boundary = false;
+    for (uint32_t i = begin[v]; i < begin[v + 1]; ++i) {
+      if (half_[leaving[i]].twin != kNone) continue;
+      if (boundary) return give_up();
+      boundary = true;
+      outgoing = leaving[i];
     }
+    vertex_[v].outgoing = outgoing;
   }
+  std::vector<uint32_t>().swap(leaving);
   run_in_slices(n_vertices, threads_, [&](std::size_t lo, std::size_t hi) {
     for (auto v = static_cast<uint32_t>(lo); v < hi; ++v) {
       if (vertex_[v].outgoing == kNone) continue;  // no faces (faceless_allowed)
