@@ -3,9 +3,12 @@
 // writing), and an FNV-1a hash of the written .pm, so that two builds' outputs can be
 // compared without keeping the files.
 //
-//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap]
+//   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] [--sequence]
 //                   [--partition VERTICES] [--threads N] [--runs N] [--out FILE.pm]
 //
+// --sequence: the collapse sequence alone (issue 25's speed line: simplify_direct, attributes
+// kept unless the mesh has none, on a mesh that needs no repair), instead of the whole encode();
+// it prints the collapses as splits, and writes nothing (bytes 0, hash of nothing).
 // --one-heap: the collapse loop without regions (EncodeOptions::fast_partition_vertices = 0);
 // --partition: regions from that many vertices (fast_partition_vertices) instead of the default;
 // --threads: EncodeOptions::threads. --fast: EncodeOptions::fast, the collapse loop without its
@@ -25,6 +28,7 @@
 #include "pm/encoder.h"
 #include "pm/mesh_io.h"
 #include "pm/pm_codec.h"
+#include "simplify/simplifier.h"
 
 namespace {
 
@@ -45,6 +49,7 @@ int main(int argc, char** argv) {
   std::string path, out;
   pm::EncodeOptions options;
   int runs = 1;
+  bool sequence_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--metric" && i + 1 < argc) {
@@ -54,6 +59,8 @@ int main(int argc, char** argv) {
       else die("unknown metric " + m);
     } else if (arg == "--fast") {
       options.fast = true;  // the collapse loop without its measured distance (pmenc --fast)
+    } else if (arg == "--sequence") {
+      sequence_only = true;
     } else if (arg == "--one-heap") {
       options.fast_partition_vertices = 0;
     } else if (arg == "--partition" && i + 1 < argc) {
@@ -70,7 +77,7 @@ int main(int argc, char** argv) {
       path = arg;
     } else {
       die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] "
-          "[--partition VERTICES] [--threads N] [--layer-window SHARE] [--runs N] [--out FILE]");
+          "[--sequence] [--partition VERTICES] [--threads N] [--layer-window SHARE] [--runs N] [--out FILE]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");
@@ -79,22 +86,32 @@ int main(int argc, char** argv) {
   std::vector<double> users, walls;
   std::string bytes;
   pm::ProgressiveMesh progressive;
+  std::size_t splits = 0;
   for (int r = 0; r < runs; ++r) {
+    pm::Simplification sequence;
     const double user0 = user_seconds();
     const auto wall0 = std::chrono::steady_clock::now();
-    if (pm::Status s = pm::encode(mesh, options, progressive); !s) die("encode: " + s.message());
+    if (sequence_only) {
+      if (!pm::simplify_direct(mesh, options, sequence))
+        die(path + " needs a repair: --sequence takes a manifold mesh that needs none");
+    } else if (pm::Status s = pm::encode(mesh, options, progressive); !s) {
+      die("encode: " + s.message());
+    }
     walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
     users.push_back(user_seconds() - user0);
+    splits = sequence_only ? sequence.collapses.size() : progressive.splits.size();
   }
-  if (pm::Status s = pm::write_pm(progressive, pm::WriteOptions{}, bytes); !s)
-    die("write: " + s.message());
+  if (!sequence_only) {
+    if (pm::Status s = pm::write_pm(progressive, pm::WriteOptions{}, bytes); !s)
+      die("write: " + s.message());
+  }
   uint64_t hash = 1469598103934665603ull;
   for (unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;
   if (!out.empty()) std::ofstream(out, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
   std::sort(users.begin(), users.end());
   std::sort(walls.begin(), walls.end());
   std::printf("%s faces %zu splits %zu user %.3f wall %.3f (median of %d) bytes %zu hash %016llx\n",
-              path.c_str(), mesh.face_count(), progressive.splits.size(), users[users.size() / 2],
+              path.c_str(), mesh.face_count(), splits, users[users.size() / 2],
               walls[walls.size() / 2], runs, bytes.size(), static_cast<unsigned long long>(hash));
   return 0;
 }
