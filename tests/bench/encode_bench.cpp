@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
       path = arg;
     } else {
       die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] "
-          "[--sequence] [--partition VERTICES] [--threads N] [--layer-window SHARE] [--runs N] [--out FILE]");
+          "[--sequence] [--partition VERTICES] [--threads N] [--layer-window SHARE] [--runs N] "
+          "[--out FILE]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");

@@ -31,9 +31,11 @@ void prefer_huge_pages(const std::vector<T>& values) {
 }
 
 // values = n copies of `value`, its memory asked for huge pages before it is first written
-// (a new allocation when the old one is too small).
+// (a new allocation when the old one is too small). The vector alone gives the type, so a
+// plain 0 or {} fills any.
 template <class T>
-void assign_preferring_huge_pages(std::vector<T>& values, std::size_t n, const T& value) {
+void assign_preferring_huge_pages(std::vector<T>& values, std::size_t n,
+                                  const typename std::vector<T>::value_type& value) {
   if (values.capacity() < n) {
     std::vector<T>().swap(values);
     values.reserve(n);

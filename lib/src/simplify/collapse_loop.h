@@ -14,7 +14,6 @@
 #include <system_error>
 #include <thread>
 
-#include "core/huge_pages.h"
 #include "core/in_turn.h"
 #include "simplify/collapse_legality.h"
 #include "simplify/corner_attributes.h"

@@ -3,6 +3,8 @@
 // the legality rules only a repaired mesh needs (welds, carried faces).
 #include "simplify/collapse_loop.h"
 
+#include "core/huge_pages.h"
+
 namespace pm::collapse_loop {
 
 void CollapseLoop::morton_order(const float* points, std::size_t n, const float* low,
@@ -52,8 +54,8 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     high[i % 3] = std::max(high[i % 3], points[i]);
   }
   std::vector<uint32_t> keys(n_vertices);  // the Morton codes, by vertex (morton_order())
-  detail::assign_preferring_huge_pages(vertex_of_, n_vertices, 0u);
-  detail::assign_preferring_huge_pages(local_vertex_, n_vertices, 0u);
+  detail::assign_preferring_huge_pages(vertex_of_, n_vertices, 0);
+  detail::assign_preferring_huge_pages(local_vertex_, n_vertices, 0);
   morton_order(points, n_vertices, low, high, 0.0, nullptr, keys, vertex_of_, local_vertex_);
   // Regions of the Morton order (run_rounds()) need the weld and carried-edge checks,
   // which look anywhere on the mesh, to be idle.
@@ -79,8 +81,8 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
     return fail();
   };
   if (partitioned_) {
-    detail::assign_preferring_huge_pages(order_b_, n_vertices, 0u);
-    detail::assign_preferring_huge_pages(rank_b_, n_vertices, 0u);
+    detail::assign_preferring_huge_pages(order_b_, n_vertices, 0);
+    detail::assign_preferring_huge_pages(rank_b_, n_vertices, 0);
     const auto order = [this, points, n_vertices, low, high, &keys] {
       morton_order(points, n_vertices, low, high, 0.37, local_vertex_.data(), keys, order_b_,
                    rank_b_);
@@ -181,7 +183,7 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
   // around the vertex, ring(), starts); read row by row, where a pass over the half-edges
   // wrote each vertex's record at random. Two without a twin, or a walk that misses some
   // of the vertex's faces, is a vertex where fans meet.
-  detail::assign_preferring_huge_pages(vertex_, n_vertices, VertexRecord{});
+  detail::assign_preferring_huge_pages(vertex_, n_vertices, {});
   for (std::size_t v = 0; v < n_vertices; ++v) {
     if (begin[v] == begin[v + 1]) continue;  // no faces (faceless_allowed)
     uint32_t outgoing = leaving[begin[v]];
@@ -208,14 +210,14 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
   });
   if (cut) return give_up();
 
-  detail::assign_preferring_huge_pages(xyz_, 3 * n_vertices, 0.0f);
+  detail::assign_preferring_huge_pages(xyz_, 3 * n_vertices, 0);
   for (std::size_t i = 0; i < n_vertices; ++i) {
     if (i + kFetchAhead < n_vertices)
       __builtin_prefetch(points + 3 * std::size_t{vertex_of_[i + kFetchAhead]});
     for (int c = 0; c < 3; ++c) xyz_[3 * i + c] = points[3 * std::size_t{vertex_of_[i]} + c];
     if (pinned) vertex_[i].pinned = (*pinned)[vertex_of_[i]];
   }
-  detail::assign_preferring_huge_pages(face_dead_, n_faces, uint8_t{0});
+  detail::assign_preferring_huge_pages(face_dead_, n_faces, 0);
   join();
   // Only the weld check looks a vertex up by its given id from here on.
   if (welds_.empty()) std::vector<uint32_t>().swap(local_vertex_);

@@ -93,7 +93,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   }
   has_materials_ = !input.face_materials.empty();
   // Each face's record on its own: in slices, on `threads`.
-  detail::assign_preferring_huge_pages(faces_, faces, FaceCorners{});
+  detail::assign_preferring_huge_pages(faces_, faces, {});
   run_in_slices(faces, threads, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t f = lo; f < hi; ++f) {
       FaceCorners& face = faces_[f];
@@ -174,9 +174,9 @@ void CornerAttributes::number_wedges(int kind, const std::vector<uint32_t>& valu
     }
   }
   if (kind == kUv)
-    detail::assign_preferring_huge_pages(uv_quadrics_, wedges, decltype(uv_quadrics_)::value_type{});
+    detail::assign_preferring_huge_pages(uv_quadrics_, wedges, {});
   else
-    detail::assign_preferring_huge_pages(normal_quadrics_, wedges, decltype(normal_quadrics_)::value_type{});
+    detail::assign_preferring_huge_pages(normal_quadrics_, wedges, {});
 }
 
 // Each face adds its quadric to its three corners' wedges, in face order.

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "core/in_turn.h"
 #include "simplify/collapse_loop.h"
 
@@ -33,8 +34,8 @@ void CollapseLoop::run() {
   }
   if (schroeder_) mark_sharp_corners();
   detail::assign_preferring_huge_pages(best_, n_vertices, Best{kNone, kNone, 0});
-  detail::assign_preferring_huge_pages(dead_vertex_, n_vertices, uint8_t{0});
-  if (keyed_by_measure()) detail::assign_preferring_huge_pages(measured_, n_vertices, uint8_t{kNotMeasured});
+  detail::assign_preferring_huge_pages(dead_vertex_, n_vertices, 0);
+  if (keyed_by_measure()) detail::assign_preferring_huge_pages(measured_, n_vertices, kNotMeasured);
   kept_.reset(half_.size() / 3, xyz_.data());  // the records' bound, with or without fast
   // The input's faces, before any collapse (kept_.input_distance()): only for the measure.
   if (measure_) {
@@ -152,7 +153,7 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
   if (attributes_->has_uvs())
     seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), n_vertices, *attributes_);
   features_ = true;  // seams and material borders are feature edges
-  detail::assign_preferring_huge_pages(seam_, half_.size(), uint8_t{0});
+  detail::assign_preferring_huge_pages(seam_, half_.size(), 0);
   // Each interior edge by its lower half-edge: no byte is written twice.
   run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
     for (auto h = static_cast<uint32_t>(lo); h < hi; ++h)
@@ -186,7 +187,7 @@ void CollapseLoop::run_rounds() {
   const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
   const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
   std::size_t n_regions = first_regions;
-  detail::assign_preferring_huge_pages(band_, n, uint8_t{0});
+  detail::assign_preferring_huge_pages(band_, n, 0);
   std::vector<Worker> regions;
   std::vector<float> keys;
   for (int round = 0;
