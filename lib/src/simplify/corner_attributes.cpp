@@ -287,7 +287,10 @@ void CornerAttributes::star_wedges(const CollapseStar& c, StarWedges& out) const
     int& count = out.count[kind];
     count = 0;
     if (!k.present || k.scale == 0) continue;
-    for (int i = 0; i < c.n_faces && count < StarWedges::kMost; ++i) {
+    // Without a seam at v (c.seamless), faces across each of v's edges agree at v, so all
+    // of v's corners have one wedge: the first face's.
+    const int n_faces = c.seamless ? std::min(c.n_faces, 1) : c.n_faces;
+    for (int i = 0; i < n_faces && count < StarWedges::kMost; ++i) {
       const uint32_t g = c.faces[i];
       const int corner = corner_of(g, c.v);
       const uint32_t w = faces_[g].wedge[kind][corner];
