@@ -61,6 +61,12 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
   c.new_faces_begin = worker.new_faces;  // merge() places it in the sequence
   worker.new_faces += static_cast<uint32_t>(removed_faces);
+  // Without a seam at v or at u, none is at u after the collapse: v's corners take u's one
+  // wedge per kind, and the faces that meet across u's edges agreed at their other ends
+  // before (the removed faces' outer edges too: each agreed with the removed face there).
+  // So seam_ at u holds as it is (update_seams_at() below). The textured 950K-face mesh's
+  // loop without its measure, one thread, medians of 6 alternating runs: 2688 -> 2632 ms.
+  const bool seamless_after = attributes_ && star.c.seamless && seamless_at(u);
   if (attributes_) {
     // In the order of the moved faces below (v's ring), before the corners change.
     if (seam_drift_) seam_drift_->collapse(star.c);
@@ -163,7 +169,7 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   if (boundary_vr) start_at_boundary(vr);
   vertex_[v].outgoing = kNone;
   dead_vertex_[v] = 1;
-  if (attributes_) update_seams_at(u);
+  if (attributes_ && !seamless_after) update_seams_at(u);
   worker.removed_faces += removed_faces;
   ++worker.removed_vertices;
   // Garland and Heckbert 1997, §4: Q = Q1 + Q2.

@@ -243,6 +243,20 @@ class CollapseLoop {
     } while (h != first);
   }
 
+  // Whether no edge at u lies on a seam or a material border (seam_ is current).
+  bool seamless_at(uint32_t u) const {
+    const uint32_t first = vertex_[u].outgoing;
+    if (first == kNone) return true;
+    uint32_t h = first;
+    do {
+      if (seam_[h]) return false;
+      const uint32_t back = half_[prev_of(h)].twin;
+      if (back == kNone) break;
+      h = back;
+    } while (h != first);
+    return true;
+  }
+
   // The collapse v -> u as CornerAttributes and SeamDrift read it (corner_attributes.h):
   // v's faces in ring order (the order apply() lists the moved faces), its edges, then
   // aim() at one target. On the stack: regions on other threads have their own.
