@@ -304,7 +304,7 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   w.colors.units.resize(pm.colors.size());
   for (std::size_t i = 0; i < pm.colors.size(); ++i) w.colors.units[i] = ordered_from_float(pm.colors[i]);
 
-  // Each section compressed on its own (zstd at level 19 is the writer's largest cost after
+  // Each section compressed on its own (zstd at level 18 is the writer's largest cost after
   // the chunks' sequential replay of the fans), on other threads while the next sections
   // are made; the bytes are the same for any number of threads.
   const std::vector<uint32_t> tags = expected_sections(h);

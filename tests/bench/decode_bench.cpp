@@ -2,7 +2,7 @@
 // the shared meshes, big_mesh.h) it times a full decode, from the stream's bytes in memory to
 // the full-detail mesh, in the same run and side by side:
 //
-//   ours         pm::read_pm of the stream pmenc writes (lossless, zstd 19), then
+//   ours         pm::read_pm of the stream pmenc writes (lossless, at pmenc's default zstd level), then
 //                pm::extract_level at full detail: a pm::Mesh, as pmdec makes before writing
 //   ours q14     the same progressive mesh written with 14-bit positions (pmenc --quantize 14)
 //   OpenMesh     its own .pm (ModProgMeshT's file): parsed, the base mesh loaded into a TriMesh
