@@ -74,7 +74,9 @@ struct AttributeQuadric {
       for (int r = 0; r < 3; ++r) {
         if (g[r] == 0) continue;
         for (int s = r; s < 3; ++s) q.geometric[geometric_index(r, s)] += area * g[r] * g[s];
-        for (int k = 0; k < K; ++k) q.cross[K * r + k] += area * g[r] * (k == j ? -1.0 : 0.0);
+        // Column 3 + j alone: the other columns' terms are zeros, which would leave their
+        // sums as they are (never -0: a sum starts at +0, and +0 + -0 is +0).
+        q.cross[K * r + j] += area * g[r] * -1.0;
         q.b[r] += area * d * g[r];
       }
       q.b[3 + j] += area * d * -1.0;
@@ -121,6 +123,39 @@ struct AttributeQuadric {
     for (int r = 0; r < 3; ++r) q.c += (2 * q.b[r] + a_delta[r]) * delta[r];
     for (int i = 0; i < kDim; ++i) q.b[i] += a_delta[i];
     return q;
+  }
+
+  // The parts of a face's quadric that do not depend on its origin, rounded to Real once
+  // for the three corners it is added to (add_moved()).
+  struct Fixed {
+    std::array<Real, 6> geometric;
+    std::array<Real, 3 * K> cross;
+    Real weight;
+  };
+  static Fixed fixed_part(const AttributeQuadric<K, double>& o) {
+    Fixed f;
+    for (int i = 0; i < 6; ++i) f.geometric[i] = saturated(o.geometric[i]);
+    for (int i = 0; i < 3 * K; ++i) f.cross[i] = saturated(o.cross[i]);
+    f.weight = saturated(o.weight);
+    return f;
+  }
+  // *this += o.moved_origin(delta), the same sums without the moved copy (the face's
+  // three corners each add it about their own vertex: CornerAttributes' construction).
+  // `fixed` is fixed_part(o).
+  void add_moved(const AttributeQuadric<K, double>& o, const Fixed& fixed, const Vec3& delta) {
+    double a_delta[kDim] = {};
+    for (int r = 0; r < 3; ++r) {
+      for (int t = 0; t < 3; ++t)
+        a_delta[r] += o.geometric[r <= t ? geometric_index(r, t) : geometric_index(t, r)] * delta[t];
+      for (int k = 0; k < K; ++k) a_delta[3 + k] += o.cross[K * r + k] * delta[r];
+    }
+    double moved_c = o.c;
+    for (int r = 0; r < 3; ++r) moved_c += (2 * o.b[r] + a_delta[r]) * delta[r];
+    for (int i = 0; i < 6; ++i) geometric[i] = saturated(geometric[i] + fixed.geometric[i]);
+    for (int i = 0; i < 3 * K; ++i) cross[i] = saturated(cross[i] + fixed.cross[i]);
+    for (int i = 0; i < kDim; ++i) b[i] = saturated(b[i] + saturated(o.b[i] + a_delta[i]));
+    c = saturated(c + saturated(moved_c));
+    weight = saturated(weight + fixed.weight);
   }
 
   // Area-weighted sum of squared attribute deviations of the point p (about the origin)
