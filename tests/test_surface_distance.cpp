@@ -92,6 +92,37 @@ Mesh one_triangle(float apex_height) {
   return mesh;
 }
 
+// Each Voronoi region of a triangle (Ericson 2005, §5.1.5) at a point whose squared distance
+// is exact, and the distance as its root, bit for bit (the searches compare squares and
+// take the root of the best alone: kept_points.cpp, dropped_points_bound.cpp).
+TEST(PointTriangleDistance, EachRegionSquaredAndItsRoot) {
+  const Vec3 a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+  const struct {
+    Vec3 p;
+    double squared;
+  } cases[] = {
+      {Vec3(-1, -1, 0), 2},   // beyond a
+      {Vec3(3, -1, 0), 2},    // beyond b
+      {Vec3(-1, 3, 0), 2},    // beyond c
+      {Vec3(1, -2, 0), 4},    // beside edge ab
+      {Vec3(-3, 1, 0), 9},    // beside edge ac
+      {Vec3(2, 2, 0), 2},     // beside edge bc, nearest (1, 1, 0)
+      {Vec3(0.5, 0.5, 3), 9}, // above the inside
+      {Vec3(0.5, 0.5, 0), 0}, // on it
+  };
+  for (const auto& k : cases) {
+    SCOPED_TRACE(testing::Message() << k.p);
+    EXPECT_EQ(point_triangle_squared_distance(k.p, a, b, c), k.squared);
+    EXPECT_EQ(point_triangle_distance(k.p, a, b, c), std::sqrt(k.squared));
+  }
+  // A triangle without area (three points on a line): the nearest of its edges.
+  const Vec3 d(4, 0, 0);
+  EXPECT_EQ(point_triangle_squared_distance(Vec3(1, 3, 0), a, b, d), 9);
+  EXPECT_EQ(point_triangle_squared_distance(Vec3(6, 0, 0), a, b, d), 4);
+  EXPECT_EQ(point_segment_squared_distance(Vec3(1, 3, 0), a, b), 9);
+  EXPECT_EQ(point_segment_squared_distance(Vec3(-2, 0, 0), a, a), 4);
+}
+
 TEST(SurfaceDistance, AMeshAgainstItselfIsExactlyZero) {
   Mesh sphere;
   ASSERT_TRUE(read_mesh(test::sample_mesh_path("sphere.obj"), sphere).is_ok());

@@ -142,22 +142,27 @@ bool DroppedPointsBound::coarse(const Vec3& a, const Vec3& b, const Vec3& c, dou
   auto index = [](int i, int j) { return j * (N + 1) - j * (j - 1) / 2 + i; };
   constexpr int kMaxFan = 128;  // two rings of the collapse loop's largest valence
   if (n_fan > kMaxFan) return false;
-  double distance[kPoints * kMaxFan];  // kPoints per fan face
+  // Squared distances: their roots are taken only where they decide (the root keeps the
+  // order, so the largest square's root is the largest distance, and a square at or above
+  // the best's is a distance at or above the best).
+  double squared[kPoints * kMaxFan];  // kPoints per fan face
   for (int j = 0; j <= N; ++j)
     for (int i = 0; i + j <= N; ++i) {
       const Vec3 x = a + (b - a) * (double(i) / N) + (c - a) * (double(j) / N);
       for (int t = 0; t < n_fan; ++t)
-        distance[std::size_t{kPoints} * t + index(i, j)] =
-            point_triangle_distance(x, fan[t].a, fan[t].b, fan[t].c);
+        squared[std::size_t{kPoints} * t + index(i, j)] =
+            point_triangle_squared_distance(x, fan[t].a, fan[t].b, fan[t].c);
     }
   // Each small triangle of the grid: its best face, by its corners.
   auto piece = [&](int p, int q, int s) {
-    double best = HUGE_VAL;
+    double best = HUGE_VAL, best2 = HUGE_VAL;  // best is best2's root
     int best_at = -1;
     for (int t = 0; t < n_fan; ++t) {
-      const double* d = &distance[std::size_t{kPoints} * t];
-      const double h = std::max({d[p], d[q], d[s]});
-      if (h < best) best = h, best_at = t;
+      const double* d2 = &squared[std::size_t{kPoints} * t];
+      const double h2 = std::max({d2[p], d2[q], d2[s]});
+      if (!(h2 < best2)) continue;
+      const double h = std::sqrt(h2);
+      if (h < best) best = h, best2 = h2, best_at = t;
     }
     if (best_at >= 0) to_fan[best_at] = std::max(to_fan[best_at], r + best);
     return best_at >= 0;
@@ -261,7 +266,7 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
         // The distance to the new face itself, at most the mapped point's: convex along g
         // too, so its largest over the cell is at the cell's corners.
         const Lifted& t = new_face[j];
-        double h = 0;
+        double h2 = 0;  // the largest squared distance: its root is the largest distance
         for (int k = 0; k < cell.n; ++k) {
           // A corner at a ring vertex of both faces (clip() copies the corners it keeps, so
           // it is that vertex exactly) lifts to the vertex itself, a corner of t: at 0. Two
@@ -271,17 +276,17 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
           if ((at_ring(i) && (i == j || i == next(j))) ||
               (at_ring(next(i)) && (next(i) == j || next(i) == next(j))))
             continue;
-          h = std::max(h, point_triangle_distance(old_face[i].at(p), t.pa, t.pb, t.pc));
+          h2 = std::max(h2, point_triangle_squared_distance(old_face[i].at(p), t.pa, t.pb, t.pc));
         }
-        to_moved[j] = std::max(to_moved[j], r + h);
+        to_moved[j] = std::max(to_moved[j], r + std::sqrt(h2));
       }
       if (has_strip && !disjoint_boxes(old_face[i], strip)) {
         overlay_cell(old_face[i], strip, cell);
         const Lifted& t = new_face[edge_face];  // it holds the edge
-        double h = -1;
+        double h2 = -1;
         for (int k = 0; k < cell.n; ++k)
-          h = std::max(h, point_triangle_distance(old_face[i].at(cell.p[k]), t.pa, t.pb, t.pc));
-        if (h >= 0) to_moved[edge_face] = std::max(to_moved[edge_face], r + h);
+          h2 = std::max(h2, point_triangle_squared_distance(old_face[i].at(cell.p[k]), t.pa, t.pb, t.pc));
+        if (h2 >= 0) to_moved[edge_face] = std::max(to_moved[edge_face], r + std::sqrt(h2));
       }
     } else {
       if (!coarse(star.v, star.ring[i], star.ring[next(i)], r, fan, n_fan, to_fan)) lost = true;

@@ -22,45 +22,58 @@ inline Vec3 area_vector(const Vec3& a, const Vec3& b, const Vec3& c) {
   return (b - a) % (c - a);
 }
 
-// Distance from p to the segment [a, b]. Inline, like point_triangle_distance: the
+// Squared distance from p to the segment [a, b]. Inline, like point_triangle_distance: the
 // simplifier's innermost loops call them.
-inline double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+inline double point_segment_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double len2 = ab.sqrnorm();
-  if (len2 == 0.0) return (p - a).norm();
+  if (len2 == 0.0) return (p - a).sqrnorm();
   const double t = std::clamp(((p - a) | ab) / len2, 0.0, 1.0);
-  return (p - (a + ab * t)).norm();
+  return (p - (a + ab * t)).sqrnorm();
+}
+// Distance from p to the segment [a, b].
+inline double point_segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  return std::sqrt(point_segment_squared_distance(p, a, b));
 }
 
 // Distance from p to the line through a and b (to a when a == b).
 double point_line_distance(const Vec3& p, const Vec3& a, const Vec3& b);
 
-// Distance from p to the closed triangle (a, b, c) (Ericson 2005, "Real-Time Collision
-// Detection", §5.1.5: closest point by Voronoi regions of the triangle).
-inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+// Squared distance from p to the closed triangle (a, b, c) (Ericson 2005, "Real-Time
+// Collision Detection", §5.1.5: closest point by Voronoi regions of the triangle). Its square
+// root is point_triangle_distance() bit for bit (norm() is the square root of sqrnorm(),
+// and the square root keeps the order of the degenerate case's minimum): a search for the
+// nearest of many triangles takes the root only of one nearer than the best so far.
+inline double point_triangle_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b,
+                                              const Vec3& c) {
   // Ericson 2005, §5.1.5, ClosestPtPointTriangle.
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab | ap, d2 = ac | ap;
-  if (d1 <= 0 && d2 <= 0) return (p - a).norm();
+  if (d1 <= 0 && d2 <= 0) return (p - a).sqrnorm();
   const Vec3 bp = p - b;
   const double d3 = ab | bp, d4 = ac | bp;
-  if (d3 >= 0 && d4 <= d3) return (p - b).norm();
+  if (d3 >= 0 && d4 <= d3) return (p - b).sqrnorm();
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return point_segment_distance(p, a, b);
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return point_segment_squared_distance(p, a, b);
   const Vec3 cp = p - c;
   const double d5 = ab | cp, d6 = ac | cp;
-  if (d6 >= 0 && d5 <= d6) return (p - c).norm();
+  if (d6 >= 0 && d5 <= d6) return (p - c).sqrnorm();
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return point_segment_distance(p, a, c);
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return point_segment_squared_distance(p, a, c);
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return point_segment_distance(p, b, c);
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return point_segment_squared_distance(p, b, c);
   const double denom = va + vb + vc;
   if (denom == 0.0) {  // degenerate triangle: nearest of its edges
-    return std::min({point_segment_distance(p, a, b), point_segment_distance(p, b, c),
-                     point_segment_distance(p, a, c)});
+    return std::min({point_segment_squared_distance(p, a, b),
+                     point_segment_squared_distance(p, b, c),
+                     point_segment_squared_distance(p, a, c)});
   }
   const double v = vb / denom, w = vc / denom;
-  return (p - (a + ab * v + ac * w)).norm();
+  return (p - (a + ab * v + ac * w)).sqrnorm();
+}
+// Distance from p to the closed triangle (a, b, c).
+inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return std::sqrt(point_triangle_squared_distance(p, a, b, c));
 }
 
 }  // namespace pm

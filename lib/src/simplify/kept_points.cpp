@@ -26,10 +26,11 @@ void KeptPoints::reset(std::size_t n_faces, const float* xyz) {
 
 double KeptPoints::nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
                            int* at) {
-  double best = HUGE_VAL;
+  double best = HUGE_VAL, best2 = HUGE_VAL;  // best is the root of best2
   int best_at = -1;
   if (first >= 0) {
-    best = point_triangle_distance(x, fan[first].a, fan[first].b, fan[first].c);
+    best2 = point_triangle_squared_distance(x, fan[first].a, fan[first].b, fan[first].c);
+    best = std::sqrt(best2);
     best_at = first;
     if (best <= stop) {
       *at = best_at;
@@ -44,8 +45,13 @@ double KeptPoints::nearest(const Vec3& x, const FanFace* fan, int n_fan, double 
       const double beyond = best + std::sqrt(fan[i].radius2);
       if (to_centre2 >= beyond * beyond) continue;
     }
-    const double d = point_triangle_distance(x, fan[i].a, fan[i].b, fan[i].c);
+    // The root only when the square is below best's: the root keeps the order, so a square
+    // at or above it is a distance at or above `best`.
+    const double d2 = point_triangle_squared_distance(x, fan[i].a, fan[i].b, fan[i].c);
+    if (!(d2 < best2)) continue;
+    const double d = std::sqrt(d2);
     if (d < best) {
+      best2 = d2;
       best = d;
       best_at = i;
       if (best <= stop) break;
@@ -153,11 +159,19 @@ void KeptPoints::InputSurface::build(std::vector<uint32_t> corner_ids, std::size
 
 void KeptPoints::nearer_around(const Vec3& x, uint32_t vertex, uint32_t skip,
                                const InputSurface& input, uint32_t* f, double* d) const {
+  // Only a square below *d's (with room for the rounding of *d * *d and of the root) can
+  // have a root below *d: the others are not rooted (the root keeps the order, nearest()).
+  constexpr double kRoom = 1 + 1e-14;
+  double below = *d * *d * kRoom;
   for (uint32_t i = input.begin[vertex]; i < input.begin[vertex + 1]; ++i) {
     const uint32_t g = input.faces[i];
     if (g == skip) continue;
-    const double dg = input_face_distance(x, g, input);
-    if (dg < *d) *d = dg, *f = g;
+    const uint32_t* c = &input.corners[3 * std::size_t{g}];
+    const double dg2 =
+        point_triangle_squared_distance(x, position(c[0]), position(c[1]), position(c[2]));
+    if (!(dg2 < below)) continue;
+    const double dg = std::sqrt(dg2);
+    if (dg < *d) *d = dg, *f = g, below = *d * *d * kRoom;
   }
 }
 

@@ -207,10 +207,6 @@ class KeptPoints {
   // `searched` are not searched again; those it searches join it.
   double walk_input(const Vec3& x, uint32_t* f, double d, double stop, const InputSurface& input,
                     Searched& searched) const;
-  double input_face_distance(const Vec3& x, uint32_t f, const InputSurface& input) const {
-    const uint32_t* c = &input.corners[3 * std::size_t{f}];
-    return point_triangle_distance(x, position(c[0]), position(c[1]), position(c[2]));
-  }
   Vec3 position(uint32_t v) const {
     const float* p = xyz_ + 3 * std::size_t{v};
     return Vec3(p[0], p[1], p[2]);
