@@ -23,12 +23,8 @@ inline constexpr uint16_t kFormatMajor = 2;
 inline constexpr uint16_t kFormatMinor = 4;
 
 struct WriteOptions {
-  // 1..22. 18, not zstd's largest usual level 19: 19 (its second "btultra2" pass) made
-  // the same files within 0.03% on the shared meshes and the samples, lossless or with
-  // --quantize 14 (0.33% larger on one 54 KB sample), and took a tenth more of pmenc's CPU
-  // time (the textured 950K-face mesh, --fast: 5.7 s of CPU and 3.82 s of wall against 5.2
-  // and 3.57 at 18, medians of 7; compression runs beside the chunks' replay, so the wall
-  // gains less).
+  // 1..22. 18 by default: 19 made files no smaller (within 0.03% on the shared meshes) and
+  // took a tenth more of pmenc's time (tests/bench/README.md, "Size").
   int zstd_level = 18;
   // Quantization (lossy, by the caller's choice; 0 keeps every float bit): positions on a
   // uniform grid of 2^position_bits steps over the bounding box's longest side, texture

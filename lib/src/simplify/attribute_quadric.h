@@ -127,13 +127,13 @@ struct AttributeQuadric {
 
   // The parts of a face's quadric that do not depend on its origin, rounded to Real once
   // for the three corners it is added to (add_moved()).
-  struct Fixed {
+  struct OriginFree {
     std::array<Real, 6> geometric;
     std::array<Real, 3 * K> cross;
     Real weight;
   };
-  static Fixed fixed_part(const AttributeQuadric<K, double>& o) {
-    Fixed f;
+  static OriginFree origin_free(const AttributeQuadric<K, double>& o) {
+    OriginFree f;
     for (int i = 0; i < 6; ++i) f.geometric[i] = saturated(o.geometric[i]);
     for (int i = 0; i < 3 * K; ++i) f.cross[i] = saturated(o.cross[i]);
     f.weight = saturated(o.weight);
@@ -141,8 +141,8 @@ struct AttributeQuadric {
   }
   // *this += o.moved_origin(delta), the same sums without the moved copy (the face's
   // three corners each add it about their own vertex: CornerAttributes' construction).
-  // `fixed` is fixed_part(o).
-  void add_moved(const AttributeQuadric<K, double>& o, const Fixed& fixed, const Vec3& delta) {
+  // `fixed` is origin_free(o).
+  void add_moved(const AttributeQuadric<K, double>& o, const OriginFree& fixed, const Vec3& delta) {
     double a_delta[kDim] = {};
     for (int r = 0; r < 3; ++r) {
       for (int t = 0; t < 3; ++t)

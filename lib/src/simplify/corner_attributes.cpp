@@ -212,11 +212,11 @@ void CornerAttributes::add_face_quadrics(int kind, const float* points) {
     // Each corner's wedge keeps the face's quadric about that corner's vertex.
     if (kind == kUv) {
       const auto face = AttributeQuadric<2>::from_face(p, values, area);
-      const auto fixed = AttributeQuadric<2, float>::fixed_part(face);
+      const auto fixed = AttributeQuadric<2, float>::origin_free(face);
       for (int c = 0; c < 3; ++c) uv_quadrics_[wedge[c]].add_moved(face, fixed, p[c]);
     } else {
       const auto face = AttributeQuadric<3>::from_face(p, values, area);
-      const auto fixed = AttributeQuadric<3, float>::fixed_part(face);
+      const auto fixed = AttributeQuadric<3, float>::origin_free(face);
       for (int c = 0; c < 3; ++c) normal_quadrics_[wedge[c]].add_moved(face, fixed, p[c]);
     }
   }
