@@ -75,7 +75,8 @@ struct AttributeQuadric {
         if (g[r] == 0) continue;
         for (int s = r; s < 3; ++s) q.geometric[geometric_index(r, s)] += area * g[r] * g[s];
         // Column 3 + j alone: the other columns' terms are zeros, which would leave their
-        // sums as they are (never -0: a sum starts at +0, and +0 + -0 is +0).
+        // sums as they are (never -0: a sum starts at +0, and +0 + -0 is +0), but for an
+        // infinite gradient, whose zero terms were NaN.
         q.cross[K * r + j] += area * g[r] * -1.0;
         q.b[r] += area * d * g[r];
       }
@@ -145,8 +146,10 @@ struct AttributeQuadric {
   void add_moved(const AttributeQuadric<K, double>& o, const OriginFree& fixed, const Vec3& delta) {
     double a_delta[kDim] = {};
     for (int r = 0; r < 3; ++r) {
-      for (int t = 0; t < 3; ++t)
-        a_delta[r] += o.geometric[r <= t ? geometric_index(r, t) : geometric_index(t, r)] * delta[t];
+      for (int t = 0; t < 3; ++t) {
+        const int at = r <= t ? geometric_index(r, t) : geometric_index(t, r);
+        a_delta[r] += o.geometric[at] * delta[t];
+      }
       for (int k = 0; k < K; ++k) a_delta[3 + k] += o.cross[K * r + k] * delta[r];
     }
     double moved_c = o.c;

@@ -284,8 +284,10 @@ double DroppedPointsBound::collapse(const Star& star, const KeptPoints::FanFace*
         overlay_cell(old_face[i], strip, cell);
         const Lifted& t = new_face[edge_face];  // it holds the edge
         double h2 = -1;
-        for (int k = 0; k < cell.n; ++k)
-          h2 = std::max(h2, point_triangle_squared_distance(old_face[i].at(cell.p[k]), t.pa, t.pb, t.pc));
+        for (int k = 0; k < cell.n; ++k) {
+          const Vec3 x = old_face[i].at(cell.p[k]);
+          h2 = std::max(h2, point_triangle_squared_distance(x, t.pa, t.pb, t.pc));
+        }
         if (h2 >= 0) to_moved[edge_face] = std::max(to_moved[edge_face], r + std::sqrt(h2));
       }
     } else {

@@ -1,14 +1,14 @@
 // The collapse loop's kept points: see kept_points.h (after Klein, Liebich and Straßer 1996).
 #include "simplify/kept_points.h"
 
+#include <algorithm>
 #include <cfloat>
+#include <cmath>
+#include <limits>
+#include <utility>
 
 #include "core/huge_pages.h"
 #include "simplify/dropped_points_bound.h"
-
-#include <algorithm>
-#include <utility>
-#include <cmath>
 
 namespace pm::collapse_loop {
 
@@ -161,17 +161,23 @@ void KeptPoints::nearer_around(const Vec3& x, uint32_t vertex, uint32_t skip,
                                const InputSurface& input, uint32_t* f, double* d) const {
   // Only a square below *d's (with room for the rounding of *d * *d and of the root) can
   // have a root below *d: the others are not rooted (the root keeps the order, nearest()).
+  // Where *d * *d is below the normal doubles, its rounding has no such bound: every face is
+  // rooted (below 0).
   constexpr double kRoom = 1 + 1e-14;
-  double below = *d * *d * kRoom;
+  auto square_bound = [](double distance) {
+    const double bound = distance * distance * kRoom;
+    return bound >= std::numeric_limits<double>::min() ? bound : -1.0;
+  };
+  double below = square_bound(*d);
   for (uint32_t i = input.begin[vertex]; i < input.begin[vertex + 1]; ++i) {
     const uint32_t g = input.faces[i];
     if (g == skip) continue;
     const uint32_t* c = &input.corners[3 * std::size_t{g}];
     const double dg2 =
         point_triangle_squared_distance(x, position(c[0]), position(c[1]), position(c[2]));
-    if (!(dg2 < below)) continue;
+    if (below >= 0 && !(dg2 < below)) continue;
     const double dg = std::sqrt(dg2);
-    if (dg < *d) *d = dg, *f = g, below = *d * *d * kRoom;
+    if (dg < *d) *d = dg, *f = g, below = square_bound(*d);
   }
 }
 
