@@ -816,7 +816,8 @@ encode()'s quantize=, zstd_level=, ... ; lossless for a decoded mesh.)")
       py::arg("feature_angle") = py::none(), py::arg("max_normal_flip") = 90.0,
       py::arg("keep_corners") = false, py::arg("keep_order") = false, py::arg("drop_attributes") = false,
       py::arg("min_faces") = 0, py::arg("min_vertices") = 0, py::arg("layer_window") = 1.0 / 16,
-      py::arg("layered") = false, py::arg("chunk_splits") = 4096, py::arg("zstd_level") = 18,
+      py::arg("layered") = false, py::arg("chunk_splits") = pm::WriteOptions{}.chunk_splits,
+      py::arg("zstd_level") = pm::WriteOptions{}.zstd_level,
       py::arg("threads") = 0, py::arg("progress") = py::none(),
       R"(Encodes a mesh as a ProgressiveMesh, as pmenc does with the same options: a pmesh.Mesh,
 or positions (n, 3) float32 and faces (m, 3) uint32 with the Mesh's optional attribute arrays.

@@ -113,17 +113,27 @@ struct AttributeQuadric {
     for (int i = 0; i < 6; ++i) q.geometric[i] = geometric[i];
     for (int i = 0; i < 3 * K; ++i) q.cross[i] = cross[i];
     for (int i = 0; i < kDim; ++i) q.b[i] = b[i];
-    q.c = c;
     q.weight = weight;
-    double a_delta[kDim] = {};
-    for (int r = 0; r < 3; ++r) {
-      for (int t = 0; t < 3; ++t)
-        a_delta[r] += double(geometric[r <= t ? geometric_index(r, t) : geometric_index(t, r)]) * delta[t];
-      for (int k = 0; k < K; ++k) a_delta[3 + k] += double(cross[K * r + k]) * delta[r];
-    }
-    for (int r = 0; r < 3; ++r) q.c += (2 * q.b[r] + a_delta[r]) * delta[r];
+    double a_delta[kDim];
+    q.c = shifted(delta, a_delta);
     for (int i = 0; i < kDim; ++i) q.b[i] += a_delta[i];
     return q;
+  }
+
+  // The move to origin + delta of moved_origin() and add_moved(): a_delta = A (delta, 0),
+  // which b gains; returns c there.
+  double shifted(const Vec3& delta, double (&a_delta)[kDim]) const {
+    for (int i = 0; i < kDim; ++i) a_delta[i] = 0;
+    for (int r = 0; r < 3; ++r) {
+      for (int t = 0; t < 3; ++t) {
+        const int at = r <= t ? geometric_index(r, t) : geometric_index(t, r);
+        a_delta[r] += double(geometric[at]) * delta[t];
+      }
+      for (int k = 0; k < K; ++k) a_delta[3 + k] += double(cross[K * r + k]) * delta[r];
+    }
+    double moved_c = c;
+    for (int r = 0; r < 3; ++r) moved_c += (2 * double(b[r]) + a_delta[r]) * delta[r];
+    return moved_c;
   }
 
   // The parts of a face's quadric that do not depend on its origin, rounded to Real once
@@ -144,16 +154,8 @@ struct AttributeQuadric {
   // three corners each add it about their own vertex: CornerAttributes' construction).
   // `fixed` is origin_free(o).
   void add_moved(const AttributeQuadric<K, double>& o, const OriginFree& fixed, const Vec3& delta) {
-    double a_delta[kDim] = {};
-    for (int r = 0; r < 3; ++r) {
-      for (int t = 0; t < 3; ++t) {
-        const int at = r <= t ? geometric_index(r, t) : geometric_index(t, r);
-        a_delta[r] += o.geometric[at] * delta[t];
-      }
-      for (int k = 0; k < K; ++k) a_delta[3 + k] += o.cross[K * r + k] * delta[r];
-    }
-    double moved_c = o.c;
-    for (int r = 0; r < 3; ++r) moved_c += (2 * o.b[r] + a_delta[r]) * delta[r];
+    double a_delta[kDim];
+    const double moved_c = o.shifted(delta, a_delta);
     for (int i = 0; i < 6; ++i) geometric[i] = saturated(geometric[i] + fixed.geometric[i]);
     for (int i = 0; i < 3 * K; ++i) cross[i] = saturated(cross[i] + fixed.cross[i]);
     for (int i = 0; i < kDim; ++i) b[i] = saturated(b[i] + saturated(o.b[i] + a_delta[i]));

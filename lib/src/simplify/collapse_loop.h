@@ -232,24 +232,26 @@ class CollapseLoop {
   // are at u, and the edges whose twins it joins (the removed faces' outer edges) end there.
   // Every edge at u, whatever its valence (ring() stops at kMaxValence).
   void update_seams_at(uint32_t u) {
-    const uint32_t first = vertex_[u].outgoing;
-    if (first == kNone) return;
-    uint32_t h = first;
-    do {
-      const uint32_t incoming = prev_of(h), t = half_[h].twin, back = half_[incoming].twin;
+    for_each_leaving(u, [&](uint32_t h) {
+      const uint32_t t = half_[h].twin;
       if (t != kNone) seam_[h] = seam_[t] = seam_now(h);
-      if (back == kNone) break;  // u's other boundary edge, which no face shares
-      h = back;
-    } while (h != first);
+      return true;
+    });
   }
-
   // Whether no edge at u lies on a seam or a material border (seam_ is current).
   bool seamless_at(uint32_t u) const {
+    return for_each_leaving(u, [&](uint32_t h) { return !seam_[h]; });
+  }
+  // Calls f(h) for each half-edge h leaving u, around it from its outgoing one (u's other
+  // boundary edge, which no face shares, leaves no half-edge), while f returns true; whether
+  // it always did.
+  template <class F>
+  bool for_each_leaving(uint32_t u, F&& f) const {
     const uint32_t first = vertex_[u].outgoing;
     if (first == kNone) return true;
     uint32_t h = first;
     do {
-      if (seam_[h]) return false;
+      if (!f(h)) return false;
       const uint32_t back = half_[prev_of(h)].twin;
       if (back == kNone) break;
       h = back;
