@@ -347,7 +347,19 @@ SplitFans::Prefetch::Prefetch(const SplitFans& fans, const std::vector<uint32_t>
     : fans_(fans) {
   std::fill(vertex_, vertex_ + kAhead, kNone);
   std::fill(corner_, corner_ + kAhead, kNone);
+  std::fill(row_face_, row_face_ + kAhead, kNone);
   also_values(values, 3);
+}
+
+void SplitFans::Prefetch::fetch_units(uint32_t f) const {
+  for (int r = 0; r < n_rows_; ++r) {
+    const Rows& rows = rows_[r];
+    if (rows.units == nullptr || 3 * (std::size_t{f} + 1) > rows.ids->size()) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t at = rows.per_id * std::size_t{(*rows.ids)[3 * std::size_t{f} + k]};
+      if (at < rows.units->size()) __builtin_prefetch(rows.units->data() + at);
+    }
+  }
 }
 
 void SplitFans::Prefetch::fetch_values(uint32_t x) const {
@@ -361,6 +373,8 @@ void SplitFans::Prefetch::fetch_values(uint32_t x) const {
 void SplitFans::Prefetch::step(uint32_t u_ahead) {
   const std::size_t faces = fans_.faces_.size(), vertices = fans_.first_corner_.size();
   for (std::size_t s = 0; s < kAhead; ++s) {
+    if (row_face_[s] != kNone) fetch_units(row_face_[s]);
+    row_face_[s] = kNone;
     uint32_t corner = corner_[s];
     if (corner == kNone) continue;
     if (corner == kFirst) {  // asked for a step ago
@@ -369,8 +383,9 @@ void SplitFans::Prefetch::step(uint32_t u_ahead) {
       const Face& face = fans_.faces_[corner / 3];
       const uint32_t k = corner % 3;
       for (int r = 0; r < n_rows_; ++r)
-        if (3 * std::size_t{corner / 3} < rows_[r]->size())
-          __builtin_prefetch(rows_[r]->data() + 3 * std::size_t{corner / 3});
+        if (3 * std::size_t{corner / 3} < rows_[r].ids->size())
+          __builtin_prefetch(rows_[r].ids->data() + 3 * std::size_t{corner / 3});
+      row_face_[s] = corner / 3;
       for (const uint32_t w : {face.vertex[(k + 1) % 3], face.vertex[(k + 2) % 3]}) {
         fetch_values(w);
         // A split links its new faces into the corner lists of vl and vr, ring vertices.

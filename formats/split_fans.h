@@ -103,8 +103,11 @@ class SplitFans {
     void also_values(const std::vector<uint32_t>* values, std::size_t per_vertex) {
       if (values && n_values_ < kMost) values_[n_values_++] = {values, per_vertex};
     }
-    void also_rows(const std::vector<uint32_t>* rows) {
-      if (rows && n_rows_ < kMost) rows_[n_rows_++] = rows;
+    // `units`, when not null: `per_id` entries per id the rows hold (the coder's values),
+    // asked for a step after the row that names them.
+    void also_rows(const std::vector<uint32_t>* rows, const std::vector<uint32_t>* units = nullptr,
+                   std::size_t per_id = 0) {
+      if (rows && n_rows_ < kMost) rows_[n_rows_++] = {rows, units, per_id};
     }
 
    private:
@@ -114,15 +117,23 @@ class SplitFans {
       const std::vector<uint32_t>* values;
       std::size_t per_vertex;
     };
+    struct Rows {
+      const std::vector<uint32_t>* ids;
+      const std::vector<uint32_t>* units;
+      std::size_t per_id;
+    };
     // x's entries of each, when it has them so far.
     void fetch_values(uint32_t x) const;
+    // The units of the ids in face f's rows (fetched a step ago).
+    void fetch_units(uint32_t f) const;
     const SplitFans& fans_;
     PerVertex values_[kMost] = {};  // the positions (the constructor's), then also_values()'
     int n_values_ = 0;
-    const std::vector<uint32_t>* rows_[kMost] = {};
+    Rows rows_[kMost] = {};
     int n_rows_ = 0;
     uint32_t vertex_[kAhead];  // each walk's vertex
     uint32_t corner_[kAhead];  // the corner it reached (fetched a step ago), kFirst or kNone
+    uint32_t row_face_[kAhead];  // the face whose rows it asked for a step ago, or kNone
     std::size_t next_slot_ = 0;
   };
 

@@ -47,6 +47,14 @@ class UnknownIds {
   }
   bool known(uint32_t id) const { return known_[id] != 0; }
   uint32_t unknown() const { return unknown_; }
+  // Asks for what known(), rank() and mark_known() of `id` read first (id < n). Inlined
+  // always, as every function that only prefetches must be: GCC 12 counts a prefetch as no
+  // effect, so a call it leaves out of line (a partial inlining's clone) is found to do
+  // nothing and deleted, prefetches and all.
+  [[gnu::always_inline]] void prefetch(uint32_t id) const {
+    __builtin_prefetch(&known_[id], 1);
+    __builtin_prefetch(&tree_[id], 1);
+  }
   void mark_known(uint32_t id) {
     known_[id] = 1;
     --unknown_;
@@ -131,8 +139,25 @@ class WedgeCoder {
   bool known(uint32_t id) const { return ids_.known(id); }
   uint32_t unknown() const { return ids_.unknown(); }
   const uint32_t* units(uint32_t id) const { return units_.data() + components_ * std::size_t{id}; }
+  // Asks for what encode() of `id` reads and writes at its place (id < count): a writer
+  // knows its ids ahead, and ids are as good as random in the split order. Inlined always
+  // (UnknownIds::prefetch says why).
+  [[gnu::always_inline]] void prefetch(uint32_t id) const {
+    if (id >= count_) return;
+    __builtin_prefetch(units(id), 1);
+    ids_.prefetch(id);
+  }
+  // Asks for the wedges `vertex` remembers (what encode() reads first for a new face's
+  // corner there). Inlined always (UnknownIds::prefetch says why).
+  [[gnu::always_inline]] void prefetch_vertex(uint32_t vertex) const {
+    if (kWedgeRecent * std::size_t{vertex} < recent_.size())
+      __builtin_prefetch(&recent_[kWedgeRecent * std::size_t{vertex}], 1);
+  }
   // The current level's corner ids, 3 per face (what predict() reads of the arc's faces).
   const std::vector<uint32_t>& level_ids() const { return current_; }
+  // Every id's units, components() per id (valid when known).
+  const std::vector<uint32_t>& all_units() const { return units_; }
+  std::size_t components() const { return components_; }
 
   // A corner before the splits (base and carried faces, in corner order): its vertex's
   // wedges. `level`: the face is one of the current level's (a base face), whose corner ids

@@ -73,10 +73,15 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
     fans.add_face(pm.base_faces[3 * f], pm.base_faces[3 * f + 1], pm.base_faces[3 * f + 2]);
   }
   SplitFans::Fan fan;
+  const bool ranged = h.minor >= 1, wedged = h.minor >= 2;
+  if (wedged) start_wedges();
   SplitFans::Prefetch prefetch(fans, &positions.units);
   if (colors.components != 0) prefetch.also_values(&colors.units, colors.components);
-  for (int kind = 0; kind < 2; ++kind)
-    if (h.minor >= 2 && has_ids(kind)) prefetch.also_rows(&wedges[kind].level_ids());
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!wedged || !has_ids(kind)) continue;
+    prefetch.also_rows(&wedges[kind].level_ids(), &wedges[kind].all_units(),
+                       wedges[kind].components());
+  }
   for (std::size_t k = 0; k < SplitFans::Prefetch::kAhead; ++k)
     prefetch.step(k < pm.splits.size() ? pm.splits[k].u : SplitFans::kNone);
   std::vector<uint32_t> arc, record, sorted_arc, sorted_record, neighbours;
@@ -88,13 +93,36 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
   uint32_t next_face = static_cast<uint32_t>(pm.base_face_count());
   std::size_t i = 0;
   std::vector<uint64_t> position_codes, color_codes;
-  const bool ranged = h.minor >= 1, wedged = h.minor >= 2;
   // The moved corners' ids, when the mesh has any (2.2: their faces, for the wedges).
   const bool moved_ids = has_ids(0) || has_ids(1);
   // The models carry over from chunk to chunk (§5.10): chunks are decoded in order anyway.
   auto models = std::make_unique<ChunkModels>();
-  if (wedged) start_wedges();
   uint32_t wedge_units[3];
+  // The wedge ids of the split kValuesAhead further on are known now: their values (and the
+  // wedge coders' places of them), as good as random in the split order, are asked for then
+  // and read without waiting (their loads were half of the coding's time on a textured mesh).
+  constexpr std::size_t kValuesAhead = 16;
+  std::size_t asked = 0;  // the splits whose ids were asked for
+  uint32_t asked_face = next_face;
+  const auto ask_values = [&](std::size_t until) {
+    for (until = std::min(until, pm.splits.size()); asked < until; ++asked) {
+      const VertexSplit& split = pm.splits[asked];
+      const uint32_t new_faces = (split.vl != kNoVertex) + (split.vr != kNoVertex);
+      for (int kind = 0; kind < 2; ++kind) {
+        if (!has_ids(kind)) continue;
+        for (const uint32_t vertex : {split.u, split.vl, split.vr})
+          if (vertex != kNoVertex) wedges[kind].prefetch_vertex(vertex);
+        const std::vector<uint32_t>& moved = kind == 0 ? pm.moved_uvs : pm.moved_normals;
+        const std::vector<uint32_t>& faces = kind == 0 ? pm.face_uvs : pm.face_normals;
+        for (std::size_t k = 0; k < split.moved_count; ++k)
+          prefetch_units(kind, moved[split.moved_begin + k]);
+        for (std::size_t c = 3 * std::size_t{asked_face};
+             c < 3 * (std::size_t{asked_face} + new_faces) && c < faces.size(); ++c)
+          prefetch_units(kind, faces[c]);
+      }
+      asked_face += new_faces;
+    }
+  };
   for (uint32_t size : plan_chunks(h.split_count, options.chunk_splits)) {
     std::string streams[kChunkStreams];
     RangeEncoder u_rc(streams[kStreamU]), vl_rc(streams[kStreamVl]), vr_rc(streams[kStreamVr]),
@@ -135,6 +163,7 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
                     pm.moved_faces.begin() + split.moved_begin + split.moved_count);
       const std::size_t ahead = i + SplitFans::Prefetch::kAhead;
       prefetch.step(ahead < pm.splits.size() ? pm.splits[ahead].u : SplitFans::kNone);
+      if (wedged && moved_ids) ask_values(i + kValuesAhead);
       // One-ring coding when the moved faces are the arc from vl to vr around u.
       bool coded = false;
       std::size_t place_l = 0, place_r = 0;
@@ -425,8 +454,11 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
   const bool moved_ids = wedged ? wedge_rc[0] || wedge_rc[1] : uv_codes || normal_codes;
   SplitFans::Prefetch prefetch(fans, &positions.units);
   if (h.color_components != 0) prefetch.also_values(&colors.units, h.color_components);
-  for (int kind = 0; kind < 2; ++kind)
-    if (wedge_rc[kind]) prefetch.also_rows(&wedges[kind].level_ids());
+  for (int kind = 0; kind < 2; ++kind) {
+    if (!wedge_rc[kind]) continue;
+    prefetch.also_rows(&wedges[kind].level_ids(), &wedges[kind].all_units(),
+                       wedges[kind].components());
+  }
   constexpr std::size_t kAhead = SplitFans::Prefetch::kAhead;
   for (std::size_t k = 0; ranged && k < kAhead; ++k)
     prefetch.step(k < entry.splits ? chunk_u[k] : SplitFans::kNone);

@@ -60,6 +60,19 @@ struct Writer {
     }
   }
 
+  // Asks for entry `id`'s values as units_of() reads them, and for the wedge coder's place
+  // of it. Inlined always (UnknownIds::prefetch says why).
+  [[gnu::always_inline]] void prefetch_units(int kind, uint32_t id) const {
+    if (id == kNoAttribute) return;
+    const std::size_t at = (kind == 0 ? 2 : 3) * std::size_t{id};
+    if (table_significant[kind].digits != 0) {
+      if (at < table_numbers[kind].size()) __builtin_prefetch(&table_numbers[kind][at]);
+    } else if (at < table(kind).size()) {
+      __builtin_prefetch(&table(kind)[at]);
+    }
+    wedges[kind].prefetch(id);
+  }
+
   Writer(const ProgressiveMesh& mesh, const WriteOptions& o)
       : pm(mesh),
         options(o),
