@@ -182,8 +182,8 @@ void CollapseLoop::run_rounds() {
   constexpr std::size_t kRegionVertices = 50000;
   const std::size_t first_regions =
       measure_ ? kRegions : std::max(kRegions, (n + kRegionVertices - 1) / kRegionVertices);
-  // At the end, with the measure (below); without it, kRegions at the fewest.
-  const std::size_t fewest_regions = measure_ ? 2 : kRegions;
+  // At the end, one region per thread (below).
+  constexpr std::size_t kFewestRegions = 2;
   const std::size_t tail = std::max<std::size_t>(n / 32, 1024);
   const std::size_t min_vertices = std::max<std::size_t>(options_.min_vertices, 1);
   std::size_t n_regions = first_regions;
@@ -215,7 +215,7 @@ void CollapseLoop::run_rounds() {
     };
     // When the cuts hold a good part of what is left, the waiting vertices would hoard
     // the coarse levels' vertices (the rest simplified past them): fewer, larger regions,
-    // whose cuts hold fewer of them, down to fewest_regions; then one heap from here. With
+    // whose cuts hold fewer of them, down to kFewestRegions; then one heap from here. With
     // eight regions throughout, the rounds ended near a tenth of the vertices and the one
     // heap, on one thread, took a third of the wall time on two (the 950K-face textured
     // mesh: 3.3 s of 9.9); with four at the end, 11% and 12% less wall time on nefertiti
@@ -227,12 +227,16 @@ void CollapseLoop::run_rounds() {
     // 0.86 s, armadillo 0.49 -> 0.43, the bunny 0.69 -> 0.59, the textured mesh 9.63 -> 9.27
     // (3 runs), armadillo after two steps the same; the levels as close to the input (those
     // meshes and the 8 shared ones at 50/10/2%: Hausdorff 1.003 and 1.002, RMS 1.000 and
-    // 1.001 times). Without the measure the one heap's collapses cost little: 6% less time
-    // on armadillo, the Hausdorff distance 1.023 times what it was.
+    // 1.001 times). Without the measure too: the one heap after eight regions took the
+    // last 0.45 s of the textured mesh's encode on one thread; with two, pmenc --fast on it
+    // 3.36 -> 3.19 s (medians of 5, alternating), one thread as fast (nefertiti after two
+    // Loop steps 2.24 -> 2.20 s), the levels as close to the input (the two Loop meshes of
+    // fast_loop_meshes.md at 50, 10 and 2% the same; the 8 shared meshes: Hausdorff against
+    // meshopt's 0.917 against 0.920, RMS 0.845 against 0.843, geometric means).
     const std::size_t most_waiting = vertices_alive_ / kMostWaiting;
     mark_band();
-    while (waiting > most_waiting && n_regions > fewest_regions) {
-      n_regions = std::max(fewest_regions, n_regions / 2);
+    while (waiting > most_waiting && n_regions > kFewestRegions) {
+      n_regions = std::max(kFewestRegions, n_regions / 2);
       mark_band();
     }
     if (waiting > most_waiting) break;
