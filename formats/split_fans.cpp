@@ -351,7 +351,7 @@ SplitFans::Prefetch::Prefetch(const SplitFans& fans, const std::vector<uint32_t>
   also_values(values, 3);
 }
 
-void SplitFans::Prefetch::fetch_units(uint32_t f) const {
+inline void SplitFans::Prefetch::fetch_units(uint32_t f) const {
   for (int r = 0; r < n_rows_; ++r) {
     const Rows& rows = rows_[r];
     if (rows.units == nullptr || 3 * (std::size_t{f} + 1) > rows.ids->size()) continue;
@@ -362,7 +362,7 @@ void SplitFans::Prefetch::fetch_units(uint32_t f) const {
   }
 }
 
-void SplitFans::Prefetch::fetch_values(uint32_t x) const {
+inline void SplitFans::Prefetch::fetch_values(uint32_t x) const {
   for (int i = 0; i < n_values_; ++i) {
     const PerVertex& v = values_[i];
     if (v.per_vertex * (std::size_t{x} + 1) <= v.values->size())

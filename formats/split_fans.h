@@ -122,10 +122,11 @@ class SplitFans {
       const std::vector<uint32_t>* units;
       std::size_t per_id;
     };
-    // x's entries of each, when it has them so far.
-    void fetch_values(uint32_t x) const;
+    // x's entries of each, when it has them so far. Both inlined always, as every function
+    // that only prefetches (wedge_codes.h, UnknownIds::prefetch, says why).
+    [[gnu::always_inline]] inline void fetch_values(uint32_t x) const;
     // The units of the ids in face f's rows (fetched a step ago).
-    void fetch_units(uint32_t f) const;
+    [[gnu::always_inline]] inline void fetch_units(uint32_t f) const;
     const SplitFans& fans_;
     PerVertex values_[kMost] = {};  // the positions (the constructor's), then also_values()'
     int n_values_ = 0;

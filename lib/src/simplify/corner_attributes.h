@@ -117,8 +117,10 @@ class CornerAttributes {
   void collapse(const CollapseStar& c, CollapseAttributes& record);
 
   // Asks for face f's corners ahead of reading them (star_wedges(), collapse_cost(),
-  // collapse_keeps_attributes(): their loads of a star's faces miss the cache).
-  void prefetch(uint32_t f) const { __builtin_prefetch(&faces_[f]); }
+  // collapse_keeps_attributes(): their loads of a star's faces miss the cache). Inlined
+  // always, as every function that only prefetches (formats/wedge_codes.h,
+  // UnknownIds::prefetch, says why).
+  [[gnu::always_inline]] void prefetch(uint32_t f) const { __builtin_prefetch(&faces_[f]); }
 
   // The current corner ids of face f at the given vertices (in that order).
   void corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t (&uvs)[3],

@@ -53,8 +53,11 @@ class KeptPoints {
   // n_faces faces, none holding a point yet; xyz, the input's positions (three per vertex),
   // stays the caller's and must not change. n_faces 0: frees the memory.
   void reset(std::size_t n_faces, const float* xyz);
-  // Asks for face f's list ahead of collapse() or points_distance().
-  void prefetch(uint32_t f) const { __builtin_prefetch(&point_[kKept * std::size_t{f}]); }
+  // Asks for face f's list ahead of collapse() or points_distance(). Inlined always
+  // (CollapseLoop::fetch()).
+  [[gnu::always_inline]] void prefetch(uint32_t f) const {
+    __builtin_prefetch(&point_[kKept * std::size_t{f}]);
+  }
 
   // The most moved faces a measure looks at (the loop's largest valence, collapse_loop.h's
   // kMaxValence, asserts it): the scratch of surface_distance() and input_distance() is
