@@ -112,8 +112,8 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
         if (!has_ids(kind)) continue;
         for (const uint32_t vertex : {split.u, split.vl, split.vr})
           if (vertex != kNoVertex) wedges[kind].prefetch_vertex(vertex);
-        const std::vector<uint32_t>& moved = kind == 0 ? pm.moved_uvs : pm.moved_normals;
-        const std::vector<uint32_t>& faces = kind == 0 ? pm.face_uvs : pm.face_normals;
+        const std::vector<uint32_t>& moved = moved_corner_ids(kind);
+        const std::vector<uint32_t>& faces = face_ids(kind);
         for (std::size_t k = 0; k < split.moved_count; ++k)
           prefetch_units(kind, moved[split.moved_begin + k]);
         for (std::size_t c = 3 * std::size_t{asked_face};
@@ -276,7 +276,7 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
           const WedgeCoder::Corner at{kRoleMoved, v, v, arc_sides.data(), arc_sides.size(), m};
           for (int kind = 0; kind < 2; ++kind) {
             if (!has_ids(kind)) continue;
-            const uint32_t id = (kind == 0 ? pm.moved_uvs : pm.moved_normals)[k];
+            const uint32_t id = moved_corner_ids(kind)[k];
             if (id != kNoAttribute) units_of(kind, id, wedge_units);
             wedges[kind].encode(*wedge_rc[kind], positions.units, at, id, wedge_units);
             wedges[kind].move(f, slot, id);
@@ -299,7 +299,7 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
           const WedgeCoder::Corner at{new_face_role(c, corners[c], v), corners[c]};
           for (int kind = 0; kind < 2; ++kind) {
             if (!has_ids(kind)) continue;
-            const uint32_t id = (kind == 0 ? pm.face_uvs : pm.face_normals)[slot];
+            const uint32_t id = face_ids(kind)[slot];
             if (id != kNoAttribute) units_of(kind, id, wedge_units);
             wedges[kind].encode(*wedge_rc[kind], positions.units, at, id, wedge_units);
           }

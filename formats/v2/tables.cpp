@@ -47,8 +47,8 @@ void Writer::plan_tables() {
     const std::size_t count = kind == 0 ? pm.uv_count() : pm.normal_count();
     std::vector<uint8_t> early(count, 0), used(count, 0);
     if (has_ids(kind)) {
-      const std::vector<uint32_t>& ids = kind == 0 ? pm.face_uvs : pm.face_normals;
-      const std::vector<uint32_t>& moved = kind == 0 ? pm.moved_uvs : pm.moved_normals;
+      const std::vector<uint32_t>& ids = face_ids(kind);
+      const std::vector<uint32_t>& moved = moved_corner_ids(kind);
       for (std::size_t slot = 0; slot < ids.size(); ++slot) {
         if (ids[slot] == kNoAttribute) continue;
         used[ids[slot]] = 1;
@@ -65,7 +65,7 @@ void Writer::plan_tables() {
 
 // 2.2 (§5.4): the listed entries, each with the gap from the previous one's id.
 void Writer::put_listed(ByteWriter& out, int kind) {
-  const std::size_t components = kind == 0 ? 2 : 3;
+  const std::size_t components = Writer::components(kind);
   if (listed[kind].empty()) return;  // no table: no grid, no count
   if (grid(kind).bits != 0) put_grid(out, grid(kind));
   const SignificantDecimals& significant = table_significant[kind];
@@ -98,11 +98,10 @@ void Writer::start_wedges() {
   const std::size_t carried_first = 3 * (pm.total_face_count() - pm.carried_faces.size() / 3);
   for (int kind = 0; kind < 2; ++kind) {
     if (!has_ids(kind)) continue;
-    const std::size_t components = kind == 0 ? 2 : 3;
     const uint32_t count = static_cast<uint32_t>(kind == 0 ? pm.uv_count() : pm.normal_count());
     const uint64_t top = grid(kind).bits != 0 ? (uint64_t{1} << grid(kind).bits) - 1 : 0xFFFFFFFFull;
     WedgeCoder& coder = wedges[kind];
-    coder.reset(components, count, top, h.split_vertices(), level_faces);
+    coder.reset(components(kind), count, top, h.split_vertices(), level_faces);
     if (h.minor >= 4) {  // 2.4 (§5.11)
       coder.predict_by_values(positions.significant, in_use(table_significant[kind]));
     }
@@ -112,7 +111,7 @@ void Writer::start_wedges() {
       units_of(kind, id, units);
       coder.learn(id, units);
     }
-    const std::vector<uint32_t>& ids = kind == 0 ? pm.face_uvs : pm.face_normals;
+    const std::vector<uint32_t>& ids = face_ids(kind);
     for (std::size_t slot = 0; slot < pm.base_faces.size(); ++slot) {
       coder.pass(pm.base_faces[slot], ids[slot], true);
     }

@@ -38,7 +38,16 @@ struct Writer {
   SignificantDecimals table_significant[2];
   std::vector<uint32_t> table_numbers[2];
 
+  // Per kind (0: texture coordinates, 1: normals): its components, its table, the ids of
+  // the faces' corners and of the splits' moved corners.
+  static std::size_t components(int kind) { return kind == 0 ? 2 : 3; }
   const std::vector<float>& table(int kind) const { return kind == 0 ? pm.uvs : pm.normals; }
+  const std::vector<uint32_t>& face_ids(int kind) const {
+    return kind == 0 ? pm.face_uvs : pm.face_normals;
+  }
+  const std::vector<uint32_t>& moved_corner_ids(int kind) const {
+    return kind == 0 ? pm.moved_uvs : pm.moved_normals;
+  }
   const Grid& grid(int kind) const { return kind == 0 ? uv_grid : normal_grid; }
   bool has_ids(int kind) const { return kind == 0 ? pm.has_uvs() : pm.has_normals(); }
   // The error bound of the level before split i as stored (WriteOptions::error_bits): split
@@ -48,9 +57,8 @@ struct Writer {
   }
   // Entry `id`'s values in the integers residuals are taken in: grid indices or float bits.
   void units_of(int kind, uint32_t id, uint32_t* out) const {
-    const std::size_t components = kind == 0 ? 2 : 3;
-    for (std::size_t c = 0; c < components; ++c) {
-      const std::size_t at = components * std::size_t{id} + c;
+    for (std::size_t c = 0; c < components(kind); ++c) {
+      const std::size_t at = components(kind) * std::size_t{id} + c;
       if (table_significant[kind].digits != 0) {
         out[c] = table_numbers[kind][at];  // 2.3 (§5.4)
       } else {
@@ -64,7 +72,7 @@ struct Writer {
   // of it. Inlined always (UnknownIds::prefetch says why).
   [[gnu::always_inline]] void prefetch_units(int kind, uint32_t id) const {
     if (id == kNoAttribute) return;
-    const std::size_t at = (kind == 0 ? 2 : 3) * std::size_t{id};
+    const std::size_t at = components(kind) * std::size_t{id};
     if (table_significant[kind].digits != 0) {
       if (at < table_numbers[kind].size()) __builtin_prefetch(&table_numbers[kind][at]);
     } else if (at < table(kind).size()) {
