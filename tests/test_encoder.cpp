@@ -563,11 +563,11 @@ std::pair<std::size_t, std::vector<double>> whole_sequence(const Mesh& input,
     add(std::vector<double>{double(c.v), double(c.u), double(c.vl), double(c.vr), double(c.fl),
                             double(c.fr), double(c.moved_begin), double(c.moved_count),
                             double(c.new_faces_begin), double(c.bound)});
-  add(run.moved_faces);
-  add(run.attribute_record.moved_uvs);
-  add(run.attribute_record.moved_normals);
-  add(run.attribute_record.new_face_uvs);
-  add(run.attribute_record.new_face_normals);
+  add(run.moved_faces.entries());
+  add(run.attribute_record.moved_uvs.entries());
+  add(run.attribute_record.moved_normals.entries());
+  add(run.attribute_record.new_face_uvs.entries());
+  add(run.attribute_record.new_face_normals.entries());
   add(run.base.vertices);
   add(run.base.faces);
   add(run.base.corners);

@@ -58,9 +58,14 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   c.fr = fr == kNone ? -1 : static_cast<int>(fr);
   c.vl = vl == kNone ? kNoVertex : vl;
   c.vr = vr == kNone ? kNoVertex : vr;
-  c.moved_begin = static_cast<uint32_t>(worker.moved_faces.size());
-  c.new_faces_begin = worker.new_faces;  // merge() places it in the sequence
-  worker.new_faces += static_cast<uint32_t>(removed_faces);
+  // Room in the record lists for v's faces (at most n), and their places; merge() moves
+  // them into the sequence's.
+  worker.moved_faces.make_room(static_cast<uint32_t>(n));
+  if (attributes_)
+    worker.record.make_room(attributes_->has_uvs(), attributes_->has_normals(),
+                            static_cast<uint32_t>(n));
+  c.moved_begin = worker.moved_faces.end();
+  c.new_faces_begin = worker.record.new_faces_place();
   // Without a seam at v or at u, none is at u after the collapse: v's corners take u's one
   // wedge per kind, and the faces that meet across u's edges agreed at their other ends
   // before (the removed faces' outer edges too: each agreed with the removed face there).
@@ -105,7 +110,7 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     for (int k = 0; k < 3; ++k)
       if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
   }
-  c.moved_count = static_cast<uint32_t>(worker.moved_faces.size()) - c.moved_begin;
+  c.moved_count = worker.moved_faces.end() - c.moved_begin;
   // Its own, at least the kept points' distance; merge() makes it the running maximum.
   // At most the largest float: no distance on a mesh encode() accepts (its diagonal is
   // at most kMaxEncodeDiagonal, below that) is larger, where the key's square overflows.

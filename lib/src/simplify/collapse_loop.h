@@ -59,11 +59,10 @@ class CollapseLoop {
     uint32_t queued_count = 0;        // queue()'s ties; wraps after 2^32: still deterministic
     std::vector<Collapse> collapses;  // bound: the collapse's own cost, until merge()
     std::vector<float> recorded;      // per collapse: its own bound (apply()), until merge()
-    std::vector<uint32_t> moved_faces;
-    // With attributes: what its collapses did to them (Collapse::new_faces_begin counts
-    // this worker's removed faces until merge()).
+    // Its collapses' moved faces and, with attributes, what they did to them: places in
+    // these lists (Collapse::moved_begin, new_faces_begin) until merge() hands the blocks on.
+    RecordList moved_faces{kMovedEntriesPerBlock};
     CollapseAttributes record;
-    uint32_t new_faces = 0;
     uint32_t rank_of(uint32_t v) const { return rank ? rank[v] : v; }
     uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
     bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }
@@ -790,7 +789,6 @@ class CollapseLoop {
   std::vector<uint8_t> band_;   // per vertex: next to its region's edge (run_rounds())
   // run_rounds()'s second order: the vertex at each rank, and each vertex's rank.
   std::vector<uint32_t> order_b_, rank_b_;
-  uint32_t new_faces_recorded_ = 0;
   std::size_t faces_alive_ = 0, vertices_alive_ = 0;
   float bound_ = 0;
 };

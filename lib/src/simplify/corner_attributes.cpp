@@ -359,8 +359,10 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
   auto record_face = [&](uint32_t f, uint32_t a, uint32_t b, uint32_t d) {
     uint32_t uvs[3], normals[3];
     corner_ids(f, {a, b, d}, uvs, normals);
-    if (has_uvs()) record.new_face_uvs.insert(record.new_face_uvs.end(), uvs, uvs + 3);
-    if (has_normals()) record.new_face_normals.insert(record.new_face_normals.end(), normals, normals + 3);
+    for (int i = 0; i < 3; ++i) {
+      if (has_uvs()) record.new_face_uvs.push_back(uvs[i]);
+      if (has_normals()) record.new_face_normals.push_back(normals[i]);
+    }
   };
   if (c.fl != CollapseStar::kNoFace) record_face(c.fl, c.v, c.u, c.vl);
   if (c.fr != CollapseStar::kNoFace) record_face(c.fr, c.u, c.v, c.vr);
@@ -394,7 +396,7 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
     for (int kind = 0; kind < kKinds; ++kind) {
       Kind& k = kinds_[kind];
       if (!k.present) continue;
-      std::vector<uint32_t>& moved = kind == kUv ? record.moved_uvs : record.moved_normals;
+      RecordList& moved = kind == kUv ? record.moved_uvs : record.moved_normals;
       uint32_t& id = faces_[g].id[kind][corner];
       moved.push_back(id);
       const auto [tf, tc] = target_corner(kind, c, faces_[g].wedge[kind][corner]);

@@ -15,17 +15,31 @@
 #include <vector>
 
 #include "simplify/attribute_quadric.h"
+#include "simplify/record_list.h"
 #include "pm/mesh.h"
 
 namespace pm {
 
 // What a collapse did to the attributes, for the vertex split that undoes it.
+// Places (record_list.h): a collapse's moved ids start at its Collapse::moved_begin, as its
+// moved faces do; its removed faces' ids at 3 * Collapse::new_faces_begin.
 struct CollapseAttributes {
   // Per moved face, in the order the simplifier lists them: the corner's ids before the
-  // collapse (kNoAttribute when the kind is absent).
-  std::vector<uint32_t> moved_uvs, moved_normals;
+  // collapse (empty lists for a kind the input lacks).
+  RecordList moved_uvs{kMovedEntriesPerBlock}, moved_normals{kMovedEntriesPerBlock};
   // The removed faces' corners before the collapse: fl as (v, u, vl), then fr as (u, v, vr).
-  std::vector<uint32_t> new_face_uvs, new_face_normals;
+  RecordList new_face_uvs{kNewFaceEntriesPerBlock}, new_face_normals{kNewFaceEntriesPerBlock};
+
+  // Room for one collapse that moves at most `moved` faces, in the lists of the kinds kept
+  // (with the same `moved` as the loop's moved-face list, so that their places agree).
+  void make_room(bool uvs, bool normals, uint32_t moved) {
+    if (uvs) moved_uvs.make_room(moved), new_face_uvs.make_room(6);
+    if (normals) moved_normals.make_room(moved), new_face_normals.make_room(6);
+  }
+  // The next removed face's place, in faces (0 without texture coordinates and normals).
+  uint32_t new_faces_place() const {
+    return (!new_face_uvs.empty() ? new_face_uvs.end() : new_face_normals.end()) / 3;
+  }
 };
 
 // A half-edge collapse v -> u as a collapse loop describes it, in the face and vertex ids
@@ -112,8 +126,9 @@ class CornerAttributes {
   double collapse_cost(const CollapseStar& c, const StarWedges& wedges) const;
 
   // Applies the collapse to the corners (call before the loop changes its mesh, once the
-  // collapse is decided): appends what the split needs to `record`; the moved faces are
-  // c.faces but fl and fr, in that order.
+  // collapse is decided): appends what the split needs to `record`, which has room for it
+  // (CollapseAttributes::make_room()); the moved faces are c.faces but fl and fr, in that
+  // order.
   void collapse(const CollapseStar& c, CollapseAttributes& record);
 
   // Asks for face f's corners ahead of reading them (star_wedges(), collapse_cost(),

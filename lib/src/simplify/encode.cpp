@@ -66,7 +66,7 @@ void record_face_rotations(const Mesh& input, ProgressiveMesh& out) {
 // (the repair's half-edge mesh may be gone: simplify clears it).
 struct Simplified {
   const std::vector<Collapse>& collapses;
-  const std::vector<uint32_t>& moved_faces;
+  const RecordList& moved_faces;
   const CollapseAttributes& attribute_record;
   const CornerAttributes* attributes;  // null: geometry only
   const BaseMesh& base;
@@ -123,7 +123,7 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
 
   const auto& collapses = run.collapses;
   out.splits.reserve(collapses.size());
-  out.moved_faces.reserve(run.moved_faces.size());
+  out.moved_faces.reserve(run.moved_faces.count());
   // The collapses ahead name the vertices and faces they will look up, scattered over
   // the mesh: fetched that far ahead, the cache misses of several records overlap.
   constexpr std::size_t kFetchAhead = 16;
@@ -133,8 +133,10 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
       for (uint32_t vertex : {ahead.v, ahead.u, ahead.vl, ahead.vr}) {
         if (vertex != kNoVertex) __builtin_prefetch(vertex_id.data() + vertex);
       }
-      for (uint32_t i = 0; i < ahead.moved_count; ++i)
-        __builtin_prefetch(face_id.data() + run.moved_faces[ahead.moved_begin + i]);
+      if (ahead.moved_count > 0) {
+        const uint32_t* moved = run.moved_faces.at(ahead.moved_begin);
+        for (uint32_t i = 0; i < ahead.moved_count; ++i) __builtin_prefetch(face_id.data() + moved[i]);
+      }
       for (const int face : {ahead.fl, ahead.fr}) {
         if (face >= 0) __builtin_prefetch(face_id.data() + face, 1);
       }
@@ -150,24 +152,28 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
     split.error = c->bound;
     split.moved_begin = static_cast<uint32_t>(out.moved_faces.size());
     split.moved_count = c->moved_count;
-    for (uint32_t i = 0; i < c->moved_count; ++i)
-      out.moved_faces.push_back(face_id[run.moved_faces[c->moved_begin + i]]);
+    if (c->moved_count > 0) {
+      const uint32_t* moved = run.moved_faces.at(c->moved_begin);
+      for (uint32_t i = 0; i < c->moved_count; ++i) out.moved_faces.push_back(face_id[moved[i]]);
+    }
     if (c->fl >= 0) face_id[c->fl] = next_face++;
     if (c->fr >= 0) face_id[c->fr] = next_face++;
     out.splits.push_back(split);
     const uint32_t added = (c->fl >= 0) + (c->fr >= 0);
-    auto copy = [](const std::vector<uint32_t>& from, std::size_t begin, std::size_t count,
+    // A collapse's entries lie in one block of each list (record_list.h).
+    auto copy = [](const RecordList& from, uint32_t place, uint32_t count,
                    std::vector<uint32_t>& to) {
-      to.insert(to.end(), from.begin() + begin, from.begin() + begin + count);
+      if (count == 0) return;
+      const uint32_t* entries = from.at(place);
+      to.insert(to.end(), entries, entries + count);
     };
     if (uvs) {
       copy(record.moved_uvs, c->moved_begin, c->moved_count, out.moved_uvs);
-      copy(record.new_face_uvs, 3 * std::size_t{c->new_faces_begin}, 3 * added, out.face_uvs);
+      copy(record.new_face_uvs, 3 * c->new_faces_begin, 3 * added, out.face_uvs);
     }
     if (normals) {
       copy(record.moved_normals, c->moved_begin, c->moved_count, out.moved_normals);
-      copy(record.new_face_normals, 3 * std::size_t{c->new_faces_begin}, 3 * added,
-           out.face_normals);
+      copy(record.new_face_normals, 3 * c->new_faces_begin, 3 * added, out.face_normals);
     }
     if (materials) {
       if (c->fl >= 0) out.face_materials.push_back(attributes->material(static_cast<uint32_t>(c->fl)));

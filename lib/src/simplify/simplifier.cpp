@@ -48,24 +48,6 @@ void CollapseLoop::run() {
   faces_alive_ = half_.size() / 3;
   vertices_alive_ = n_vertices;
   out_.collapses.reserve(n_vertices);
-  // A collapse moves v's faces but two: 3.2 to 3.5 of them on average on the shared
-  // meshes (4.8 on a flat-tessellated sample). Room for four per vertex up front, rather
-  // than doubling near the end, where memory peaks.
-  out_.moved_faces.reserve(4 * n_vertices);
-  if (attributes_) {
-    // The same for the attribute record: a corner id per moved face, and three per face a
-    // collapse removes (at most two per collapse). Doubling near the end would hold both the
-    // old and the new arrays beside the worker's record, and keep up to half of them unused.
-    CollapseAttributes& record = out_.attribute_record;
-    if (attributes_->has_uvs()) {
-      record.moved_uvs.reserve(4 * n_vertices);
-      record.new_face_uvs.reserve(6 * n_vertices);
-    }
-    if (attributes_->has_normals()) {
-      record.moved_normals.reserve(4 * n_vertices);
-      record.new_face_normals.reserve(6 * n_vertices);
-    }
-  }
   if (partitioned_) run_rounds();
   // One heap for the rest (or all) of the sequence. As the former default loop: a final sweep
   // re-evaluates every vertex, so the loop ends only when no legal collapse remains.
@@ -74,9 +56,10 @@ void CollapseLoop::run() {
   w.hi = static_cast<uint32_t>(n_vertices);
   w.heap = IndexedHeap(n_vertices);
   set_budgets(w, 1);
-  // The worker's record goes into the sequence every kMergeEvery collapses: merged at the
-  // end, it would be held twice there, beside its copy in out_, where memory peaks (75 MB
-  // of the 950K-face textured mesh's 576). With one worker, merge() keeps the order, and
+  // The worker's collapses go into the sequence every kMergeEvery: merged at the end, they
+  // would be held twice there, beside their copy in out_, where memory peaks (its record
+  // lists are handed on whole, record_list.h, but the collapses are copied in the merged
+  // order). With one worker, merge() keeps the order, and
   // set_budgets() after it leaves the same room (the budgets count from what is alive).
   constexpr std::size_t kMergeEvery = 1 << 16;
   for (bool first = true;; first = false) {
@@ -293,6 +276,21 @@ void CollapseLoop::run_rounds() {
 }
 
 void CollapseLoop::merge(std::vector<Worker>& workers) {
+  // The workers' records go into the sequence's lists as they are, block by block (in
+  // worker order, which no place depends on): each collapse's places move by its worker's
+  // shift. The lists a collapse fills together share their blocks' layout, so one shift
+  // serves the moved faces and their ids, another the new faces' ids of both kinds.
+  std::vector<uint32_t> moved_shift(workers.size(), 0), new_face_shift(workers.size(), 0);
+  CollapseAttributes& to = out_.attribute_record;
+  for (std::size_t i = 0; i < workers.size(); ++i) {
+    CollapseAttributes& from = workers[i].record;
+    moved_shift[i] = out_.moved_faces.take(workers[i].moved_faces);
+    to.moved_uvs.take(from.moved_uvs);
+    to.moved_normals.take(from.moved_normals);
+    const uint32_t uv_shift = to.new_face_uvs.take(from.new_face_uvs);
+    const uint32_t normal_shift = to.new_face_normals.take(from.new_face_normals);
+    new_face_shift[i] = (to.new_face_uvs.empty() ? normal_shift : uv_shift) / 3;
+  }
   std::vector<std::size_t> next(workers.size(), 0);
   // Each worker's next collapse, the least bound first, ties to the earlier worker: a heap
   // of (bound, worker) rather than a look at every worker per collapse (16 on nefertiti
@@ -309,27 +307,8 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
     const float recorded = from.recorded[at];
     Collapse c = from.collapses[at++];
     if (at < from.collapses.size()) heads.push({from.collapses[at].bound, i});
-    const auto begin = static_cast<uint32_t>(out_.moved_faces.size());
-    out_.moved_faces.insert(out_.moved_faces.end(), from.moved_faces.begin() + c.moved_begin,
-                            from.moved_faces.begin() + c.moved_begin + c.moved_count);
-    if (attributes_) {
-      // The worker's record of this collapse, at the places the merged sequence gives it.
-      const CollapseAttributes& from_record = from.record;
-      CollapseAttributes& to = out_.attribute_record;
-      const std::size_t added = 3 * std::size_t((c.fl >= 0) + (c.fr >= 0));
-      auto copy = [](const std::vector<uint32_t>& a, std::size_t at, std::size_t count,
-                     std::vector<uint32_t>& b) {
-        if (!a.empty()) b.insert(b.end(), a.begin() + at, a.begin() + at + count);
-      };
-      copy(from_record.moved_uvs, c.moved_begin, c.moved_count, to.moved_uvs);
-      copy(from_record.moved_normals, c.moved_begin, c.moved_count, to.moved_normals);
-      copy(from_record.new_face_uvs, 3 * std::size_t{c.new_faces_begin}, added, to.new_face_uvs);
-      copy(from_record.new_face_normals, 3 * std::size_t{c.new_faces_begin}, added,
-           to.new_face_normals);
-    }
-    c.moved_begin = begin;
-    c.new_faces_begin = new_faces_recorded_;
-    new_faces_recorded_ += (c.fl >= 0) + (c.fr >= 0);
+    c.moved_begin += moved_shift[i];
+    c.new_faces_begin += new_face_shift[i];
     // The record's error: the largest so far of the collapses' own (the square root of
     // their key, quadric and kept points' distance, the kept points' distance after the
     // collapse if larger, and the slack of the points dropped: dropped_points_bound.h), so
@@ -345,9 +324,6 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
     w.removed_faces = w.removed_vertices = 0;
     w.collapses.clear();
     w.recorded.clear();
-    w.moved_faces.clear();
-    w.record = CollapseAttributes{};
-    w.new_faces = 0;
   }
 }
 
@@ -399,12 +375,12 @@ void CollapseLoop::to_given_ids() {
     if (c.fl >= 0) c.fl = static_cast<int>(face_of_[c.fl]);
     if (c.fr >= 0) c.fr = static_cast<int>(face_of_[c.fr]);
   }
-  auto& moved = out_.moved_faces;
-  for (std::size_t k = 0; k < moved.size(); ++k) {
-    if (k + kFetchAhead < moved.size())
-      __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
-    moved[k] = face_of_[moved[k]];
-  }
+  out_.moved_faces.for_each_block([&](uint32_t* moved, uint32_t count) {
+    for (uint32_t k = 0; k < count; ++k) {
+      if (k + kFetchAhead < count) __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
+      moved[k] = face_of_[moved[k]];
+    }
+  });
 }
 
 void CollapseLoop::write_base() {

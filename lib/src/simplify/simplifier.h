@@ -19,6 +19,7 @@
 #include "simplify/collapse_sequence.h"
 #include "simplify/corner_attributes.h"
 #include "simplify/manifold_repair.h"
+#include "simplify/record_list.h"
 
 namespace pm {
 
@@ -37,7 +38,7 @@ struct LoopSwitches {
 
 struct Simplification {
   std::vector<Collapse> collapses;
-  std::vector<uint32_t> moved_faces;  // half-edge-mesh face ids, Collapse::moved_begin
+  RecordList moved_faces{kMovedEntriesPerBlock};  // half-edge-mesh face ids, Collapse::moved_begin
   BaseMesh base;
   std::vector<float> points;  // three per half-edge-mesh vertex
   // With attributes kept (the input has some, and not EncodeOptions::drop_attributes): the
