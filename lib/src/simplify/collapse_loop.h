@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <deque>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -57,8 +58,10 @@ class CollapseLoop {
     const uint32_t* at = nullptr;
     IndexedHeap heap{0};              // of ranks - lo
     uint32_t queued_count = 0;        // queue()'s ties; wraps after 2^32: still deterministic
-    std::vector<Collapse> collapses;  // bound: the collapse's own cost, until merge()
-    std::vector<float> recorded;      // per collapse: its own bound (apply()), until merge()
+    // Until merge(), which takes them from the front: deques, whose blocks go as they are
+    // taken, where a vector held all of a round's (and, as it doubled, an old copy beside).
+    std::deque<Collapse> collapses;  // bound: the collapse's own cost, until merge()
+    std::deque<float> recorded;      // per collapse: its own bound (apply()), until merge()
     // Its collapses' moved faces and, with attributes, what they did to them: places in
     // these lists (Collapse::moved_begin, new_faces_begin) until merge() hands the blocks on.
     RecordList moved_faces{kMovedEntriesPerBlock};

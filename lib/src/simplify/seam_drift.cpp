@@ -26,7 +26,9 @@ SeamDrift::SeamDrift(const float* points, std::size_t n_vertices,
 
 const std::vector<uint32_t>* SeamDrift::find(uint32_t a, uint32_t b) const {
   const uint32_t other = std::max(a, b);
-  for (const Attached& e : points_[std::min(a, b)])
+  const std::unique_ptr<std::vector<Attached>>& lists = points_[std::min(a, b)];
+  if (!lists) return nullptr;
+  for (const Attached& e : *lists)
     if (e.other == other) return &e.points;
   return nullptr;
 }

@@ -223,13 +223,14 @@ void CollapseLoop::run_rounds() {
       mark_band();
     }
     if (waiting > most_waiting) break;
-    regions.clear();
-    for (std::size_t lo = 0; lo < n; lo += size) {
-      regions.emplace_back();
-      regions.back().lo = static_cast<uint32_t>(lo);
-      regions.back().hi = static_cast<uint32_t>(std::min(n, lo + size));
-      regions.back().rank = rank;
-      regions.back().at = at;
+    // Made in place: a worker cannot move without a copy (std::deque's move may throw, so a
+    // growing vector would copy them, and record lists are not copied).
+    regions = std::vector<Worker>((n + size - 1) / size);
+    for (std::size_t i = 0; i < regions.size(); ++i) {
+      regions[i].lo = static_cast<uint32_t>(i * size);
+      regions[i].hi = static_cast<uint32_t>(std::min(n, (i + 1) * size));
+      regions[i].rank = rank;
+      regions[i].at = at;
     }
     in_rounds_ = true;
     in_turn(regions, [&](Worker& w) {
@@ -291,22 +292,22 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
     const uint32_t normal_shift = to.new_face_normals.take(from.new_face_normals);
     new_face_shift[i] = (to.new_face_uvs.empty() ? normal_shift : uv_shift) / 3;
   }
-  std::vector<std::size_t> next(workers.size(), 0);
   // Each worker's next collapse, the least bound first, ties to the earlier worker: a heap
   // of (bound, worker) rather than a look at every worker per collapse (16 on nefertiti
   // after two Loop steps).
   using Head = std::pair<float, std::size_t>;
   std::priority_queue<Head, std::vector<Head>, std::greater<Head>> heads;
   for (std::size_t i = 0; i < workers.size(); ++i)
-    if (!workers[i].collapses.empty()) heads.push({workers[i].collapses[0].bound, i});
+    if (!workers[i].collapses.empty()) heads.push({workers[i].collapses.front().bound, i});
   while (!heads.empty()) {
     const std::size_t i = heads.top().second;
     heads.pop();
-    const Worker& from = workers[i];
-    std::size_t& at = next[i];
-    const float recorded = from.recorded[at];
-    Collapse c = from.collapses[at++];
-    if (at < from.collapses.size()) heads.push({from.collapses[at].bound, i});
+    Worker& from = workers[i];
+    const float recorded = from.recorded.front();
+    Collapse c = from.collapses.front();
+    from.recorded.pop_front();
+    from.collapses.pop_front();
+    if (!from.collapses.empty()) heads.push({from.collapses.front().bound, i});
     c.moved_begin += moved_shift[i];
     c.new_faces_begin += new_face_shift[i];
     // The record's error: the largest so far of the collapses' own (the square root of
