@@ -416,17 +416,28 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
   }
 }
 
+void CornerAttributes::end_collapses() {
+  std::vector<AttributeQuadric<2, float>>().swap(uv_quadrics_);
+  std::vector<AttributeQuadric<3, float>>().swap(normal_quadrics_);
+}
+
 void CornerAttributes::rename(const std::vector<uint32_t>& face_of,
                               const std::vector<uint32_t>& vertex_of) {
-  auto permute = [&](auto& per_face) {
-    if (per_face.empty()) return;
-    std::remove_reference_t<decltype(per_face)> renamed(per_face.size());
-    for (std::size_t f = 0; f < per_face.size(); ++f) renamed[face_of[f]] = per_face[f];
-    per_face.swap(renamed);
-  };
   for (FaceCorners& face : faces_)
     for (uint32_t& x : face.vertex) x = vertex_of[x];
-  permute(faces_);
+  // The permutation's cycles, each record carried to its place.
+  std::vector<bool> placed(faces_.size(), false);
+  for (std::size_t start = 0; start < faces_.size(); ++start) {
+    if (placed[start]) continue;
+    FaceCorners carried = faces_[start];
+    std::size_t at = start;
+    do {
+      const uint32_t to = face_of[at];
+      std::swap(carried, faces_[to]);
+      placed[to] = true;
+      at = to;
+    } while (at != start);
+  }
 }
 
 }  // namespace pm

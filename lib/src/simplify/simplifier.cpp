@@ -99,6 +99,7 @@ void CollapseLoop::run() {
   seam_drift_.reset();  // it reads xyz_
   std::vector<uint8_t>().swap(seam_);
   dropped_.reset(0);
+  if (attributes_) attributes_->end_collapses();
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
     for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
