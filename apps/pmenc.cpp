@@ -6,6 +6,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <utility>
 
 #include "batch_options.h"
 #include "cli_common.h"
@@ -125,9 +126,9 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
   options.progress = [&progress](double fraction) { progress.set_fraction(fraction); };
   pm::ProgressiveMesh progressive;
   pm::EncodeStats stats;
-  if (pm::Status s = pm::encode(mesh, options, settings.write, progressive, &stats); !s)
+  // The mesh is given away: encode() lets its arrays go once the collapse loop has its own.
+  if (pm::Status s = pm::encode(std::move(mesh), options, settings.write, progressive, &stats); !s)
     return failed(s);
-  mesh = pm::Mesh();
   if (stats.repair.any()) progress.note(repairs_note(input, stats.repair));
   if (stats.fast && !settings.encode.fast)  // large meshes leave out the measure (--fast-from)
     progress.note(input + ": " + std::to_string(stats.input_faces) + " faces, at least --fast-from " +

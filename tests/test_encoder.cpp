@@ -732,5 +732,72 @@ TEST(Robustness, NonFiniteCoordinatesAreAnInvalidArgument) {
   }
 }
 
+// encode(Mesh&&) lets the input's arrays go once the loop has its own copies (pmenc's way):
+// the same progressive mesh as encode(const Mesh&) makes, on the direct path and through
+// the repair (whose loose vertex and carried face assemble() still reads from the input),
+// with every option that reads the input after the loop; and the input is left empty.
+TEST(EncodeTakingTheMesh, MakesTheSameStreamAndLeavesTheInputEmpty) {
+  Mesh textured;
+  ASSERT_TRUE(read_mesh(test::sample_mesh_path("textured.obj"), textured).is_ok());
+  ASSERT_TRUE(textured.has_uvs() && textured.has_normals() && textured.has_materials());
+  // A fan with texture coordinates, a material per face and a colour per vertex, plus a
+  // vertex whose one face repeats a vertex: the repair carries that face aside and leaves
+  // the vertex without faces.
+  Mesh carried;
+  carried.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0.1f, -1, 0, 0, 0, -1, 0.1f, 5, 5, 5};
+  carried.triangles = {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1, 1, 1, 5};
+  carried.uvs = {0, 0, 1, 0, 0, 1, 1, 1};
+  carried.uv_indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 0, 1, 2, 3, 3, 0};
+  carried.face_materials = {0, 0, 1, 1, 1};
+  carried.material_names = {"a", "b"};
+  carried.color_components = 3;
+  for (int v = 0; v < 6; ++v) carried.colors.insert(carried.colors.end(), {0.1f * v, 0.5f, 1});
+  struct Case {
+    const char* name;
+    const Mesh* input;
+    bool keep_order, drop_attributes, fast;
+  };
+  const Case cases[] = {{"textured", &textured, false, false, false},
+                        {"textured, --keep-order", &textured, true, false, false},
+                        {"textured, --drop-attributes", &textured, false, true, false},
+                        {"textured, --fast", &textured, false, false, true},
+                        {"carried face and loose vertex", &carried, false, false, false},
+                        {"carried face and loose vertex, --keep-order", &carried, true, false, false}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    EncodeOptions options;
+    options.keep_order = c.keep_order;
+    options.drop_attributes = c.drop_attributes;
+    options.fast = c.fast;
+    ProgressiveMesh kept, taken;
+    EncodeStats kept_stats, taken_stats;
+    ASSERT_TRUE(encode(*c.input, options, kept, &kept_stats).is_ok());
+    Mesh given = *c.input;
+    ASSERT_TRUE(encode(std::move(given), options, taken, &taken_stats).is_ok());
+    EXPECT_TRUE(given.positions.empty() && given.triangles.empty() && given.uvs.empty() &&
+                given.uv_indices.empty() && given.colors.empty() && given.material_names.empty());
+    std::string kept_bytes, taken_bytes;
+    ASSERT_TRUE(write_pm(kept, WriteOptions{}, kept_bytes).is_ok());
+    ASSERT_TRUE(write_pm(taken, WriteOptions{}, taken_bytes).is_ok());
+    EXPECT_EQ(kept_bytes, taken_bytes);
+    EXPECT_EQ(taken_stats.input_faces, c.input->face_count());
+    EXPECT_EQ(taken_stats.repair.any(), kept_stats.repair.any());
+    // Full detail is still the input, attributes and all (unless dropped).
+    const Mesh full = extract_level(taken, taken.split_count());
+    EXPECT_TRUE(test::same_faces(*c.input, full));
+    if (!c.drop_attributes) {
+      EXPECT_TRUE(test::same_attributed_faces(*c.input, full));
+    }
+  }
+  // The input is left empty when encode() refuses it too.
+  Mesh out_of_range;
+  out_of_range.positions = {0, 0, 0};
+  out_of_range.triangles = {0, 1, 2};
+  ProgressiveMesh refused;
+  EXPECT_EQ(encode(std::move(out_of_range), EncodeOptions{}, refused).code(),
+            ErrorCode::kInvalidArgument);
+  EXPECT_TRUE(out_of_range.positions.empty() && out_of_range.triangles.empty());
+}
+
 }  // namespace
 }  // namespace pm

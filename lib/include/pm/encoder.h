@@ -141,5 +141,16 @@ inline constexpr double kMaxEncodeDiagonal = 1e38;
 [[nodiscard]] Status encode(const Mesh& input, const EncodeOptions& options,
                             const WriteOptions& stream, ProgressiveMesh& out,
                             EncodeStats* stats = nullptr);
+// The same two, taking the input: encode() lets the input's arrays go as soon as its collapse
+// loop holds its own copy of them (the triangles, positions and corner attribute indices), so
+// that the two are not held together where memory peaks (pmenc, which reads a mesh to
+// encode it, no more; on a 950K-face textured mesh 40 MB less). The progressive mesh is the
+// one the overloads above make of it; `input` is left empty (a default Mesh) whatever the
+// outcome. Errors: as above.
+[[nodiscard]] Status encode(Mesh&& input, const EncodeOptions& options, ProgressiveMesh& out,
+                            EncodeStats* stats = nullptr);
+[[nodiscard]] Status encode(Mesh&& input, const EncodeOptions& options,
+                            const WriteOptions& stream, ProgressiveMesh& out,
+                            EncodeStats* stats = nullptr);
 
 }  // namespace pm

@@ -4,10 +4,13 @@
 // the vertex splits of a progressive mesh (Hoppe 1996, "Progressive meshes", §3).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <new>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 
 #include "io/openmesh_logs.h"
 #include "pm/advanced/stream_order.h"
@@ -249,8 +252,10 @@ double effective_feature_angle(const EncodeOptions& options) {
 
 namespace {
 
+// `taken`: the input itself when encode(Mesh&&) gave it (its arrays may go as soon as nothing
+// reads them), else null.
 Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_t chunk_splits,
-                        ProgressiveMesh& out, EncodeStats* stats) {
+                        ProgressiveMesh& out, EncodeStats* stats, Mesh* taken) {
   if (!(options.feature_angle_deg <= 180))  // negative: the default; NaN fails here
     return Status(ErrorCode::kInvalidArgument, "feature angle must be within [0, 180] degrees");
   if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
@@ -271,13 +276,31 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
   // the repair's manifold mesh. Stage 2: the progressive mesh. (EncodeOptions::fast: the
   // same loop without its measured distance.)
   if (Status s = check_encodable(input); !s) return s;
+  const std::size_t input_faces = input.face_count();
   ManifoldMesh repaired;
+  // encode(Mesh&&): once the loop holds its own copies, the input's arrays that nothing reads
+  // afterwards go, so that they and the loop's state are not held together where memory
+  // peaks. assemble() still reads the triangles for --keep-order's rotations, the positions
+  // of loose vertices, the corners of carried faces, and the tables (uvs, normals, colours).
+  const auto release_input = [&] {
+    if (!taken) return;
+    const auto release = [](auto& values) { std::remove_reference_t<decltype(values)>().swap(values); };
+    if (!options.keep_order) {
+      release(taken->triangles);
+      if (repaired.loose_vertices.empty()) release(taken->positions);
+    }
+    if (repaired.carried_input_faces.empty()) {
+      release(taken->uv_indices);
+      release(taken->normal_indices);
+      release(taken->face_materials);
+    }
+  };
   {
     // The loop's state (with attributes, their quadrics: 160 MB of a 950K-face textured
     // mesh) ends here, before layer_splits() and validate() take their own memory.
     Simplification run;
     const std::size_t n_vertices = input.vertex_count(), n_faces = input.face_count();
-    if (simplify_direct(input, options, run)) {
+    if (simplify_direct(input, options, run, {}, release_input)) {
       repaired.input_vertex.resize(n_vertices);
       std::iota(repaired.input_vertex.begin(), repaired.input_vertex.end(), uint32_t{0});
       repaired.canonical = repaired.input_vertex;
@@ -286,7 +309,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
       std::iota(repaired.input_face.begin(), repaired.input_face.end(), uint32_t{0});
     } else {
       if (Status s = build_manifold_mesh(input, repaired); !s) return s;
-      if (Status s = simplify(input, repaired, options, run); !s) return s;
+      if (Status s = simplify(input, repaired, options, run, {}, release_input); !s) return s;
     }
     assemble(input, repaired,
              Simplified{run.collapses, run.moved_faces, run.attribute_record,
@@ -303,7 +326,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
 
   if (stats) {
     stats->repair = repaired.report;
-    stats->input_faces = input.face_count();
+    stats->input_faces = input_faces;
     stats->base_faces = out.base_face_count();
     stats->base_vertices = out.base_vertex_count;
     stats->collapses = out.splits.size();
@@ -320,8 +343,10 @@ Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& 
   return encode(input, options, WriteOptions{}, out, stats);
 }
 
-Status encode(const Mesh& input, const EncodeOptions& options, const WriteOptions& stream,
-              ProgressiveMesh& out, EncodeStats* stats) {
+namespace {
+
+Status encode_guarded(const Mesh& input, const EncodeOptions& options, const WriteOptions& stream,
+                      ProgressiveMesh& out, EncodeStats* stats, Mesh* taken) {
   // OpenMesh's logs are off while the repair's half-edge mesh is built and read, as the caller
   // left them afterwards; no exception leaves (status.h).
   const QuietOpenMeshLogs quiet;
@@ -330,9 +355,9 @@ Status encode(const Mesh& input, const EncodeOptions& options, const WriteOption
     if (!options.fast && options.fast_from != 0 && input.face_count() >= options.fast_from) {
       EncodeOptions fast = options;
       fast.fast = true;
-      return encode_unguarded(input, fast, stream.chunk_splits, out, stats);
+      return encode_unguarded(input, fast, stream.chunk_splits, out, stats, taken);
     }
-    return encode_unguarded(input, options, stream.chunk_splits, out, stats);
+    return encode_unguarded(input, options, stream.chunk_splits, out, stats, taken);
   } catch (const std::bad_alloc&) {
     out = ProgressiveMesh();
     return Status(ErrorCode::kResourceLimit, "out of memory");
@@ -340,6 +365,25 @@ Status encode(const Mesh& input, const EncodeOptions& options, const WriteOption
     out = ProgressiveMesh();
     return Status(ErrorCode::kResourceLimit, "out of memory");
   }
+}
+
+}  // namespace
+
+Status encode(const Mesh& input, const EncodeOptions& options, const WriteOptions& stream,
+              ProgressiveMesh& out, EncodeStats* stats) {
+  return encode_guarded(input, options, stream, out, stats, nullptr);
+}
+
+Status encode(Mesh&& input, const EncodeOptions& options, ProgressiveMesh& out,
+              EncodeStats* stats) {
+  return encode(std::move(input), options, WriteOptions{}, out, stats);
+}
+
+Status encode(Mesh&& input, const EncodeOptions& options, const WriteOptions& stream,
+              ProgressiveMesh& out, EncodeStats* stats) {
+  Mesh taken = std::move(input);
+  input = Mesh();  // empty whatever the outcome, as encoder.h says
+  return encode_guarded(taken, options, stream, out, stats, &taken);
 }
 
 }  // namespace pm

@@ -406,7 +406,8 @@ void CollapseLoop::write_base() {
 using collapse_loop::CollapseLoop;
 
 Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
-                Simplification& out, const LoopSwitches& switches) {
+                Simplification& out, const LoopSwitches& switches,
+                const std::function<void()>& loop_built) {
   // The triangles and points of the repaired mesh, then its memory goes back.
   HalfEdgeMesh& mesh = repaired.mesh;
   const std::size_t n_faces = mesh.n_faces(), n_vertices = mesh.n_vertices();
@@ -428,17 +429,19 @@ Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& 
   simplifier.attach_attributes(input, repaired.input_face.data(), repaired.input_vertex.data());
   std::vector<uint32_t>().swap(triangles);
   std::vector<float>().swap(points);
+  if (loop_built) loop_built();
   simplifier.run();
   return Status::ok();
 }
 
 bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out,
-                     const LoopSwitches& switches) {
+                     const LoopSwitches& switches, const std::function<void()>& loop_built) {
   CollapseLoop simplifier(nullptr, options, switches, out);
   if (!simplifier.build(input.triangles.data(), input.face_count(), input.positions.data(),
                         input.vertex_count(), nullptr, /*faceless_allowed=*/false))
     return false;
   simplifier.attach_attributes(input, nullptr, nullptr);
+  if (loop_built) loop_built();
   simplifier.run();
   return true;
 }

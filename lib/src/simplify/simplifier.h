@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -53,9 +54,13 @@ struct Simplification {
 // back: afterwards only repaired's per-vertex and per-face tables remain, and out.points
 // replaces its points. Either metric (Schroeder's: schroeder_costs.cpp). kInternal if the mesh
 // is not the manifold build_manifold_mesh makes.
-// `input` is the mesh repaired was built from (its attributes).
+// `input` is the mesh repaired was built from (its attributes). `loop_built`, when set, is
+// called once the loop holds its own copy of all it reads of `input` (its connectivity,
+// points and corner attributes; the attribute tables, uvs and normals, it still reads):
+// encode(Mesh&&) lets the input's other arrays go there.
 Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& options,
-                Simplification& out, const LoopSwitches& switches = {});
+                Simplification& out, const LoopSwitches& switches = {},
+                const std::function<void()>& loop_built = {});
 
 // The same on the input as it is, in its ids, when it is a manifold that needs no repair (see
 // build_manifold_mesh: no face with a repeated vertex, no vertex without faces, every edge
@@ -63,6 +68,7 @@ Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& 
 // mesh is never built. False, with nothing done, otherwise. The input must have passed
 // check_encodable.
 bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out,
-                     const LoopSwitches& switches = {});
+                     const LoopSwitches& switches = {},
+                     const std::function<void()>& loop_built = {});
 
 }  // namespace pm
