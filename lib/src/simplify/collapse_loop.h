@@ -6,9 +6,9 @@
 #pragma once
 
 #include <algorithm>
-#include <deque>
 #include <atomic>
 #include <cmath>
+#include <deque>
 #include <functional>
 #include <limits>
 #include <set>
