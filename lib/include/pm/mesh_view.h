@@ -45,8 +45,10 @@ struct MeshView {
 
 // encode() on views: the same progressive mesh as encode() on the Mesh holding the same
 // values, bit for bit. The values are gathered once into the encoder's input (as the Mesh
-// overload reads its Mesh), with no copy on the caller's side. Errors: those of encode(), and
-// kInvalidArgument for a view with rows but no data or a stride shorter than its row.
+// overload reads its Mesh), with no copy on the caller's side; that input goes to
+// encode(Mesh&&), which lets its arrays go once the collapse loop has its own. Errors: those
+// of encode(), and kInvalidArgument for a view with rows but no data or a stride shorter
+// than its row.
 [[nodiscard]] Status encode(const MeshView& input, const EncodeOptions& options,
                             ProgressiveMesh& out, EncodeStats* stats = nullptr);
 // The same, for a stream to be written with `stream` (as encode() on a Mesh with it).

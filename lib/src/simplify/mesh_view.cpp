@@ -3,6 +3,7 @@
 
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/no_throw.h"
@@ -64,7 +65,8 @@ Status encode(const MeshView& input, const EncodeOptions& options, const WriteOp
     return Status::ok();
   });
   if (!gathered) return gathered;
-  return encode(mesh, options, stream, out, stats);
+  // The gathered copy is encode()'s alone: it goes as soon as the collapse loop has its own.
+  return encode(std::move(mesh), options, stream, out, stats);
 }
 
 }  // namespace pm
