@@ -79,9 +79,10 @@ struct Simplified {
 
 // Numbers vertices and faces as the decoder will create them (base first, then one
 // vertex and one or two faces per split, coarse to fine) and turns the collapses,
-// last first, into vertex splits.
+// last first, into vertex splits. `taken`: the input itself when encode(Mesh&&) gave it, whose
+// attribute tables then move into `out` rather than being copied.
 void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified& run,
-              bool keep_attributes, bool keep_order, ProgressiveMesh& out) {
+              bool keep_attributes, bool keep_order, ProgressiveMesh& out, Mesh* taken) {
   const std::size_t n_vertices = run.n_vertices, n_faces = run.n_faces;
   std::vector<uint32_t> vertex_id(n_vertices, kNoVertex);
   std::vector<uint32_t> face_id(n_faces, kNoVertex);
@@ -219,8 +220,19 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
     }
   }
   if (keep_order) record_face_rotations(input, out);
-  if (uvs) out.uvs = input.uvs;
-  if (normals) out.normals = input.normals;
+  // Last: the loop's corner records point into these tables until here.
+  if (uvs) {
+    if (taken)
+      out.uvs = std::move(taken->uvs);
+    else
+      out.uvs = input.uvs;
+  }
+  if (normals) {
+    if (taken)
+      out.normals = std::move(taken->normals);
+    else
+      out.normals = input.normals;
+  }
   if (keep_attributes) {
     out.material_names = input.material_names;
     out.material_libraries = input.material_libraries;
@@ -315,7 +327,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
              Simplified{run.collapses, run.moved_faces, run.attribute_record,
                         run.attributes.get(), run.base, run.points.data(),
                         run.points.size() / 3, repaired.input_face.size()},
-             !options.drop_attributes, options.keep_order, out);
+             !options.drop_attributes, options.keep_order, out, taken);
   }
   // The progressive mesh, checked as a decoder would check it.
   if (options.layer_window > 0)
