@@ -40,6 +40,15 @@ struct CollapseAttributes {
   uint32_t new_faces_place() const {
     return (!new_face_uvs.empty() ? new_face_uvs.end() : new_face_normals.end()) / 3;
   }
+  // Moves from's lists after these (RecordList::take()) and returns how far its new faces'
+  // places moved, in faces; its moved ids' places move as the loop's moved-face list's do.
+  uint32_t take(CollapseAttributes& from) {
+    moved_uvs.take(from.moved_uvs);
+    moved_normals.take(from.moved_normals);
+    const uint32_t uv_shift = new_face_uvs.take(from.new_face_uvs);
+    const uint32_t normal_shift = new_face_normals.take(from.new_face_normals);
+    return (!new_face_uvs.empty() ? uv_shift : normal_shift) / 3;
+  }
 };
 
 // A half-edge collapse v -> u as a collapse loop describes it, in the face and vertex ids

@@ -221,18 +221,12 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
   }
   if (keep_order) record_face_rotations(input, out);
   // Last: the loop's corner records point into these tables until here.
-  if (uvs) {
-    if (taken)
-      out.uvs = std::move(taken->uvs);
-    else
-      out.uvs = input.uvs;
-  }
-  if (normals) {
-    if (taken)
-      out.normals = std::move(taken->normals);
-    else
-      out.normals = input.normals;
-  }
+  const auto table = [&](std::vector<float> Mesh::*values) -> std::vector<float> {
+    if (taken) return std::move(taken->*values);
+    return input.*values;
+  };
+  if (uvs) out.uvs = table(&Mesh::uvs);
+  if (normals) out.normals = table(&Mesh::normals);
   if (keep_attributes) {
     out.material_names = input.material_names;
     out.material_libraries = input.material_libraries;
@@ -311,7 +305,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
     // The loop's state (with attributes, their quadrics: 160 MB of a 950K-face textured
     // mesh) ends here, before layer_splits() and validate() take their own memory.
     Simplification run;
-    const std::size_t n_vertices = input.vertex_count(), n_faces = input.face_count();
+    const std::size_t n_vertices = input.vertex_count(), n_faces = input_faces;
     if (simplify_direct(input, options, run, {}, release_input)) {
       repaired.input_vertex.resize(n_vertices);
       std::iota(repaired.input_vertex.begin(), repaired.input_vertex.end(), uint32_t{0});

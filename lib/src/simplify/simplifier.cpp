@@ -283,15 +283,9 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
   // shift. The lists a collapse fills together share their blocks' layout, so one shift
   // serves the moved faces and their ids, another the new faces' ids of both kinds.
   std::vector<uint32_t> moved_shift(workers.size(), 0), new_face_shift(workers.size(), 0);
-  CollapseAttributes& to = out_.attribute_record;
   for (std::size_t i = 0; i < workers.size(); ++i) {
-    CollapseAttributes& from = workers[i].record;
     moved_shift[i] = out_.moved_faces.take(workers[i].moved_faces);
-    to.moved_uvs.take(from.moved_uvs);
-    to.moved_normals.take(from.moved_normals);
-    const uint32_t uv_shift = to.new_face_uvs.take(from.new_face_uvs);
-    const uint32_t normal_shift = to.new_face_normals.take(from.new_face_normals);
-    new_face_shift[i] = (to.new_face_uvs.empty() ? normal_shift : uv_shift) / 3;
+    new_face_shift[i] = out_.attribute_record.take(workers[i].record);
   }
   // Each worker's next collapse, the least bound first, ties to the earlier worker: a heap
   // of (bound, worker) rather than a look at every worker per collapse (16 on nefertiti
@@ -323,9 +317,7 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
   for (Worker& w : workers) {
     faces_alive_ -= w.removed_faces;
     vertices_alive_ -= w.removed_vertices;
-    w.removed_faces = w.removed_vertices = 0;
-    w.collapses.clear();
-    w.recorded.clear();
+    w.removed_faces = w.removed_vertices = 0;  // its collapses and records were taken above
   }
 }
 
