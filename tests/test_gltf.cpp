@@ -276,6 +276,21 @@ TEST(GltfRead, HostileFilesAreRefusedCleanly) {
          d["meshes"][0]["weights"] = {0.5};
        }, ErrorCode::kUnsupportedFormat, "morph targets"},
       {"non-unit matrix size", [](Json& d) { d["nodes"][0]["matrix"] = {1, 0, 0}; }, ErrorCode::kParseError, ""},
+      // glTF 1.0 files are refused by their version, whether tinygltf loads them (a string)
+      // or not (assimp's CesiumMilkTruck.gltf writes the number 1).
+      {"glTF 1.0", [](Json& d) { d["asset"]["version"] = "1.0"; }, ErrorCode::kUnsupportedFormat,
+       "glTF version 1.0 is not supported"},
+      {"version as a number", [](Json& d) { d["asset"]["version"] = 1; }, ErrorCode::kUnsupportedFormat,
+       "glTF version 1 is not supported"},
+      // Draco's accessors have no bufferView (the data is in the extension's): tinygltf calls the
+      // indices' invalid; the answer names the extension (assimp's 2CylinderEngine.gltf).
+      {"draco required, accessors without data", [](Json& d) {
+         d["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+         d["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+         for (Json& accessor : d["accessors"]) accessor.erase("bufferView");
+       }, ErrorCode::kUnsupportedFormat, "required extension KHR_draco_mesh_compression is not supported"},
+      {"points only", [](Json& d) { d["meshes"][0]["primitives"][0]["mode"] = 0; }, ErrorCode::kEmptyMesh,
+       "no triangles in the default scene (it holds points and lines"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
@@ -292,6 +307,16 @@ TEST(GltfRead, HostileFilesAreRefusedCleanly) {
   GltfBuilder b = one_triangle();
   b.binary[36 + 2] = 9;  // the second index (after the 36 bytes of positions): vertex 9 of 3
   EXPECT_NE(read_error(b.glb()).message().find("vertex 9 of 3"), std::string::npos);
+}
+
+TEST(GltfRead, GlbOfGltf1IsRefusedByName) {
+  std::string glb = one_triangle().glb();
+  glb[4] = 1;  // the header's version: binary glTF 1.0
+  const Status s = read_error(glb);
+  EXPECT_EQ(s.code(), ErrorCode::kUnsupportedFormat) << s.message();
+  EXPECT_NE(s.message().find("glTF 1.0"), std::string::npos) << s.message();
+  glb[4] = 3;  // no such version: malformed
+  EXPECT_EQ(read_error(glb).code(), ErrorCode::kParseError);
 }
 
 TEST(GltfRead, EveryCutOfTheSampleIsACleanAnswer) {

@@ -40,7 +40,7 @@ struct GltfReadOptions {
 // primitives", "skin on 1 node (read in its bind pose)", ...), never dropped silently, and
 // refused where dropping it would change the geometry (kUnsupportedFormat, naming it): a
 // Draco-compressed primitive, morph targets with non-zero weights, a required extension pm
-// does not know. Malformed files (bad JSON, GLB chunks past the end, accessors or strides
+// does not know, a glTF version other than 2 (asset.version). Malformed files (bad JSON, GLB chunks past the end, accessors or strides
 // past their buffers, indices out of range) are kParseError, too many faces kResourceLimit,
 // no triangle kEmptyMesh.
 [[nodiscard]] Status read_gltf(std::string_view bytes, const GltfReadOptions& options, Mesh& mesh,

@@ -39,6 +39,9 @@ Status split_glb(std::string_view bytes, GlbChunks& chunks) {
   if (bytes.size() < kHeaderBytes) return glb_error("header cut short (" + std::to_string(bytes.size()) + " bytes)");
   if (read_u32(bytes.data()) != kGlbMagic) return glb_error("no 'glTF' magic");
   const uint32_t version = read_u32(bytes.data() + 4);
+  // Version 1 is binary glTF 1.0 (another layout): refused by name, as a .gltf of 1.0 is.
+  if (version == 1)
+    return Status(ErrorCode::kUnsupportedFormat, "glb: version 1 (glTF 1.0) is not supported (pm reads glTF 2.0)");
   if (version != 2) return glb_error("version " + std::to_string(version) + ", not 2");
   const uint64_t length = read_u32(bytes.data() + 8);
   if (length > bytes.size())

@@ -306,6 +306,51 @@ bool changes_no_geometry(const std::string& extension) {
          extension == "MSFT_texture_dds" || extension == "MSFT_lod";
 }
 
+// The first of `required` (a file's extensionsRequired) that pm cannot read without, as the
+// error that names it; ok when there is none.
+Status unsupported_required_extension(const std::vector<std::string>& required) {
+  for (const std::string& extension : required)
+    if (!changes_no_geometry(extension))
+      return Status(ErrorCode::kUnsupportedFormat,
+                    "required extension " + extension + " is not supported (" +
+                        (extension == "KHR_draco_mesh_compression" || extension == "EXT_meshopt_compression"
+                             ? "compressed geometry pm does not decode"
+                             : "reading without it could change the geometry") +
+                        ")");
+  return Status::ok();
+}
+
+// A file of another major version than 2 (glTF 1.0 from 2015: its meshes, accessors and
+// scenes are laid out otherwise, so read as 2.0 it would hold no triangles, or fail
+// tinygltf's checks): refused by name. `version` is asset.version as the file writes it.
+Status unsupported_version(const std::string& version) {
+  if (version.rfind("2.", 0) == 0) return Status::ok();
+  return Status(ErrorCode::kUnsupportedFormat,
+                "glTF " + (version.empty() ? std::string("without asset.version") : "version " + version) +
+                    " is not supported (pm reads glTF 2.0)");
+}
+
+// Why tinygltf refused a document, when the reason is one pm names better than its parser
+// does: another glTF version, or a required extension pm does not read (Draco's accessors
+// have no bufferView, which tinygltf reports as invalid). Ok when neither applies.
+Status unsupported_document(std::string_view json_text) {
+  const nlohmann::json document = nlohmann::json::parse(json_text.begin(), json_text.end(), nullptr, false);
+  if (!document.is_object()) return Status::ok();
+  const auto asset = document.find("asset");
+  if (asset != document.end() && asset->is_object()) {
+    const auto version = asset->find("version");
+    if (version != asset->end() && (version->is_string() || version->is_number()))
+      if (Status s = unsupported_version(version->is_string() ? version->get<std::string>() : version->dump()); !s)
+        return s;
+  }
+  const auto required = document.find("extensionsRequired");
+  if (required == document.end() || !required->is_array()) return Status::ok();
+  std::vector<std::string> names;
+  for (const nlohmann::json& name : *required)
+    if (name.is_string()) names.push_back(name.get<std::string>());
+  return unsupported_required_extension(names);
+}
+
 // One mesh instance: a node's mesh and the node's world transform.
 struct Instance {
   int node = -1;  // -1: a mesh read without nodes
@@ -441,14 +486,8 @@ class GltfMeshBuilder {
 };
 
 Status GltfMeshBuilder::check_extensions() {
-  for (const std::string& extension : model_.extensionsRequired)
-    if (!changes_no_geometry(extension))
-      return Status(ErrorCode::kUnsupportedFormat,
-                    "required extension " + extension + " is not supported (" +
-                        (extension == "KHR_draco_mesh_compression" || extension == "EXT_meshopt_compression"
-                             ? "compressed geometry pm does not decode"
-                             : "reading without it could change the geometry") +
-                        ")");
+  if (Status s = unsupported_version(model_.asset.version); !s) return s;
+  if (Status s = unsupported_required_extension(model_.extensionsRequired); !s) return s;
   for (const std::string& extension : model_.extensionsUsed)
     if (extension == "EXT_mesh_gpu_instancing")
       not_kept_.add("EXT_mesh_gpu_instancing (one instance read)", "file");
@@ -709,7 +748,14 @@ Status GltfMeshBuilder::build() {
   // Faces of materials only: faces without one have none; no material used, no table.
   if (mesh_.material_names.empty()) mesh_.face_materials.clear();
   not_kept_.describe(report_.ignored_properties);
-  if (mesh_.face_count() == 0) return Status(ErrorCode::kEmptyMesh, "no triangles in the default scene");
+  if (mesh_.face_count() == 0) {
+    // What the scene held instead, when anything (points and lines, a primitive without
+    // positions): the reason a user looks for.
+    std::string held;
+    for (const std::string& line : report_.ignored_properties) held += (held.empty() ? "" : "; ") + line;
+    return Status(ErrorCode::kEmptyMesh,
+                  "no triangles in the default scene" + (held.empty() ? "" : " (it holds " + held + ")"));
+  }
   if (mesh_.face_count() >= (std::size_t{1} << 30) || mesh_.vertex_count() >= (std::size_t{1} << 30))
     return Status(ErrorCode::kResourceLimit, "more than 2^30 faces or vertices");
   return Status::ok();
@@ -760,9 +806,11 @@ Status read_gltf(std::string_view bytes, const GltfReadOptions& options, Mesh& m
     tinygltf::Model model;
     std::string error, warning;
     bool loaded = false;
+    std::string_view json_text = bytes;  // the document, for a refusal's reason
     if (detail::is_glb(bytes)) {
       detail::GlbChunks chunks;
       if (Status s = detail::split_glb(bytes, chunks); !s) return s;
+      json_text = chunks.json;
       // tinygltf is given a GLB rebuilt to the letter of §4.4 (padded chunks, BIN second): it
       // trusts lengths that split_glb has just checked.
       const std::string glb = detail::make_glb(chunks.json, chunks.binary);
@@ -775,7 +823,10 @@ Status read_gltf(std::string_view bytes, const GltfReadOptions& options, Mesh& m
       loaded = loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), static_cast<unsigned>(bytes.size()),
                                           options.base_directory);
     }
-    if (!loaded) return parse_error(one_line(error));
+    if (!loaded) {
+      if (Status s = unsupported_document(json_text); !s) return s;
+      return parse_error(one_line(error));
+    }
     Mesh built;
     ReadReport built_report;
     GltfMeshBuilder builder(model, options, built, built_report);
