@@ -279,9 +279,9 @@ Status write_pm_v2(const ProgressiveMesh& pm, const WriteOptions& options, std::
   if (pm.normals.empty()) w.normal_grid.bits = 0;
   // 2.3, lossless tables (§5.4): as significant decimals when they are.
   for (int kind = 0; kind < 2 && h.minor >= 3; ++kind) {
-    const std::vector<float>& values = kind == 0 ? pm.uvs : pm.normals;
+    const std::vector<float>& values = mesh_table(pm, kind);
     double gain = 0;
-    if ((kind == 0 ? options.uv_bits : options.normal_bits) == 0 && !values.empty() &&
+    if (h.table_bits(kind) == 0 && !values.empty() &&
         make_significant_decimals(values.data(), values.size(), w.table_significant[kind],
                                   w.table_numbers[kind], gain)) {
       h.options |= significant_table_option(kind);

@@ -3,6 +3,7 @@
 // materials and corners' ids (BASE: M0 of Hoppe 1996, "Progressive meshes", §3, which a
 // reader shows before any split arrives), the welds (WELD), the carried faces (CARY), the
 // loose vertices (LOOS) and the input's order (ORDR).
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -157,23 +158,22 @@ bool PmStreamReader::State::decode_base(ByteReader& in) {
       pm.face_materials.push_back(id);
     }
   }
-  if (!read_corners(in, pm.base_faces, &pm.face_uvs, &pm.face_normals)) return false;
+  if (!read_corners(in, pm.base_faces, {&pm.face_uvs, &pm.face_normals})) return false;
   decoded_faces = h.base_face_count + uint64_t{h.carried_face_count};
   return true;
 }
 
 // The corner codes of faces whose vertices are `vertices` (3 per face): all texture
-// coordinates' ids, then all normals' (§5.7), appended to the arrays the stream has.
+// coordinates' ids, then all normals' (§5.7), appended to the arrays the stream has (`ids`,
+// per kind).
 bool PmStreamReader::State::read_corners(ByteReader& in, const std::vector<uint32_t>& vertices,
-                                         std::vector<uint32_t>* uvs,
-                                         std::vector<uint32_t>* normals) {
+                                         const std::array<std::vector<uint32_t>*, 2>& ids) {
   for (int kind = 0; kind < 2; ++kind) {
-    if ((kind == 0 ? uv_codes : normal_codes) == nullptr) continue;
-    std::vector<uint32_t>& ids = *(kind == 0 ? uvs : normals);
+    if (codes(kind) == nullptr) continue;
     for (uint32_t vertex : vertices) {
       uint32_t id;
       if (!read_corner(in, kind, vertex, id)) return false;
-      ids.push_back(id);
+      ids[kind]->push_back(id);
     }
   }
   return true;
@@ -206,7 +206,7 @@ bool PmStreamReader::State::decode_carried(ByteReader& in) {
       carried_materials.push_back(id);
     }
   }
-  return read_corners(in, pm.carried_faces, &carried_uvs, &carried_normals);
+  return read_corners(in, pm.carried_faces, {&carried_uvs, &carried_normals});
 }
 
 bool PmStreamReader::State::decode_loose(ByteReader& in) {

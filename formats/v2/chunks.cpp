@@ -112,8 +112,8 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
         if (!has_ids(kind)) continue;
         for (const uint32_t vertex : {split.u, split.vl, split.vr})
           if (vertex != kNoVertex) wedges[kind].prefetch_vertex(vertex);
-        const std::vector<uint32_t>& moved = moved_corner_ids(kind);
-        const std::vector<uint32_t>& faces = face_ids(kind);
+        const std::vector<uint32_t>& moved = mesh_moved_ids(pm, kind);
+        const std::vector<uint32_t>& faces = mesh_face_ids(pm, kind);
         for (std::size_t k = 0; k < split.moved_count; ++k)
           prefetch_units(kind, moved[split.moved_begin + k]);
         for (std::size_t c = 3 * std::size_t{asked_face};
@@ -276,7 +276,7 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
           const WedgeCoder::Corner at{kRoleMoved, v, v, arc_sides.data(), arc_sides.size(), m};
           for (int kind = 0; kind < 2; ++kind) {
             if (!has_ids(kind)) continue;
-            const uint32_t id = moved_corner_ids(kind)[k];
+            const uint32_t id = mesh_moved_ids(pm, kind)[k];
             if (id != kNoAttribute) units_of(kind, id, wedge_units);
             wedges[kind].encode(*wedge_rc[kind], positions.units, at, id, wedge_units);
             wedges[kind].move(f, slot, id);
@@ -299,7 +299,7 @@ void Writer::chunks(const std::function<void(std::string&&)>& emit, std::string&
           const WedgeCoder::Corner at{new_face_role(c, corners[c], v), corners[c]};
           for (int kind = 0; kind < 2; ++kind) {
             if (!has_ids(kind)) continue;
-            const uint32_t id = face_ids(kind)[slot];
+            const uint32_t id = mesh_face_ids(pm, kind)[slot];
             if (id != kNoAttribute) units_of(kind, id, wedge_units);
             wedges[kind].encode(*wedge_rc[kind], positions.units, at, id, wedge_units);
           }
@@ -393,18 +393,17 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
     if (!wedges[kind].decode(*wedge_rc[kind], positions.units, at, id, wedge_problem) ||
         !wedge_rc[kind]->ok()) {
       return in.fail(ErrorCode::kCorruptStream,
-                     where + " (" + kStreamNames[kind == 0 ? kStreamUvCodes : kStreamNormalCodes] +
+                     where + " (" + kStreamNames[corner_code_stream(kind)] +
                          "): a corner of vertex " + std::to_string(at.vertex) + " " +
                          (wedge_problem.empty() ? "is cut short" : wedge_problem));
     }
     if (id != kNoAttribute) {
-      std::vector<float>& values = kind == 0 ? pm.uvs : pm.normals;
-      const Grid& grid = kind == 0 ? uv_grid : normal_grid;
-      const std::size_t components = kind == 0 ? 2 : 3;
+      std::vector<float>& values = mesh_table(pm, kind);
+      const std::size_t components = kind_components(kind);
       const uint32_t* units = wedges[kind].units(id);
-      const bool on_grid = (kind == 0 ? h.uv_bits : h.normal_bits) != 0;
+      const Grid* table_grid = h.table_bits(kind) != 0 ? &grid(kind) : nullptr;
       for (std::size_t c = 0; c < components; ++c) {  // 2.3's numbers too (§5.4)
-        if (!float_of_unit(on_grid ? &grid : nullptr, in_use(table_significant[kind]), units[c], c,
+        if (!float_of_unit(table_grid, in_use(table_significant[kind]), units[c], c,
                            values[components * std::size_t{id} + c])) {
           return in.fail(ErrorCode::kCorruptStream, where + ": a corner of vertex " +
                                                         std::to_string(at.vertex) +
@@ -638,7 +637,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
           if (!wedge_rc[kind]) continue;
           if (!wedge_corner(kind, at, id)) return false;
           wedges[kind].move(f, slot, id);
-          (kind == 0 ? pm.moved_uvs : pm.moved_normals).push_back(id);
+          mesh_moved_ids(pm, kind).push_back(id);
         }
         continue;
       }
@@ -661,7 +660,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
           if (!wedge_rc[kind]) continue;
           uint32_t id;
           if (!wedge_corner(kind, at, id)) return false;
-          (kind == 0 ? pm.face_uvs : pm.face_normals).push_back(id);
+          mesh_face_ids(pm, kind).push_back(id);
         }
       }
       for (uint32_t corner : corners) {
@@ -714,7 +713,7 @@ bool PmStreamReader::State::decode_chunk(ByteReader& in) {
       return in.fail(ErrorCode::kCorruptStream,
                      where + ": a corner attribute code is corrupt, ends early or has bytes left over");
     }
-    ByteReader& stream = streams[kind == 0 ? kStreamUvCodes : kStreamNormalCodes];
+    ByteReader& stream = streams[corner_code_stream(kind)];
     stream.skip(stream.remaining());
   }
   for (ByteReader& stream : streams) {

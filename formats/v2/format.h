@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -44,6 +45,35 @@ constexpr int kMinBits = 4, kMaxBits = 24;  // quantization bits, when not 0
 // A decimal grid (2.3, §5.3): at most this many bits, and places after the point.
 constexpr int kMaxDecimalBits = 30, kMaxDecimals = 15;
 
+// Corner attributes come in two kinds, 0 texture coordinates and 1 normals, each with a value
+// table and its corners' ids. Code for both loops over the kind and asks accessors for what
+// differs, each beside its data: these (the mesh's arrays), Header2's, corner_code_stream,
+// significant_table_option, the Writer's and PmStreamReader::State's.
+
+// A kind's components: an entry of its table is this many floats.
+constexpr std::size_t kind_components(int kind) {
+  return kind == 0 ? 2 : 3;
+}
+// A kind's name in messages ("a corner has texture coordinate 7").
+constexpr const char* kind_name(int kind) {
+  return kind == 0 ? "texture coordinate" : "normal";
+}
+// A mesh's arrays of a kind: its table, its faces' corners' ids (3 a face, in creation
+// order) and its splits' moved corners' ids. `Mesh` is ProgressiveMesh, const or not: the
+// array is as const as the mesh.
+template <typename Mesh>
+auto& mesh_table(Mesh& pm, int kind) {
+  return kind == 0 ? pm.uvs : pm.normals;
+}
+template <typename Mesh>
+auto& mesh_face_ids(Mesh& pm, int kind) {
+  return kind == 0 ? pm.face_uvs : pm.face_normals;
+}
+template <typename Mesh>
+auto& mesh_moved_ids(Mesh& pm, int kind) {
+  return kind == 0 ? pm.moved_uvs : pm.moved_normals;
+}
+
 constexpr uint32_t kTagTables = make_tag("TABL");
 constexpr uint32_t kTagIndex = make_tag("INDX");
 constexpr uint32_t kTagChunk = make_tag("CHNK");
@@ -68,6 +98,11 @@ struct Header2 {
   bool uv_ids() const { return (attributes & kAttributeUvIds) != 0; }
   bool normal_ids() const { return (attributes & kAttributeNormalIds) != 0; }
   bool material_ids() const { return (attributes & kAttributeMaterialIds) != 0; }
+  // Per corner-attribute kind: its table's entries, its quantization bits (0: not on a grid),
+  // whether the faces' corners have ids of it.
+  uint32_t table_count(int kind) const { return kind == 0 ? uv_count : normal_count; }
+  int table_bits(int kind) const { return kind == 0 ? uv_bits : normal_bits; }
+  bool has_ids(int kind) const { return kind == 0 ? uv_ids() : normal_ids(); }
 };
 
 void append_header2(const Header2& h, std::string& out);
@@ -227,6 +262,10 @@ enum ChunkStream {
 constexpr const char* kStreamNames[kChunkStreams] = {
     "u", "vl", "vr", "explicit splits", "errors", "positions", "colours", "materials",
     "texture coordinate ids", "normal ids"};
+// The stream of a corner-attribute kind's ids.
+constexpr ChunkStream corner_code_stream(int kind) {
+  return kind == 0 ? kStreamUvCodes : kStreamNormalCodes;
+}
 
 // The known sections of a stream with this header, in the order it must hold them (§4.3):
 // each is present exactly when it has entries.

@@ -8,6 +8,7 @@
 
 #include <zstd.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -71,6 +72,14 @@ struct PmStreamReader::State {
   std::unique_ptr<ZSTD_DCtx, size_t (*)(ZSTD_DCtx*)> dctx{nullptr, ZSTD_freeDCtx};
   std::string raw;
 
+  // Per kind (0: texture coordinates, 1: normals; the mesh's arrays are format.h's
+  // mesh_table() and the like, the header's counts and bits Header2's): the carried faces'
+  // corners' ids, the table's grid, and the coder of corner codes (§5.7: BASE, CARY and the
+  // chunks before 2.2), null when the corners have no ids of the kind.
+  std::vector<uint32_t>& carried_ids(int kind) { return kind == 0 ? carried_uvs : carried_normals; }
+  Grid& grid(int kind) { return kind == 0 ? uv_grid : normal_grid; }
+  CornerPredictor* codes(int kind) { return (kind == 0 ? uv_codes : normal_codes).get(); }
+
   Status fail(Status s) {
     if (status.is_ok()) status = std::move(s);
     return status;
@@ -119,16 +128,15 @@ struct PmStreamReader::State {
   bool read_vertex_values(ByteReader& in, uint32_t count);
   bool read_corner(ByteReader& in, int kind, uint32_t vertex, uint32_t& id);
   bool read_corners(ByteReader& in, const std::vector<uint32_t>& vertices,
-                    std::vector<uint32_t>* uvs, std::vector<uint32_t>* normals);
+                    const std::array<std::vector<uint32_t>*, 2>& ids);
 };
 
 // One corner's id of `kind` (0 texture coordinates, 1 normals), from its code (§5.7).
 inline bool PmStreamReader::State::read_corner(ByteReader& in, int kind, uint32_t vertex, uint32_t& id) {
-  CornerPredictor& codes = kind == 0 ? *uv_codes : *normal_codes;
   uint32_t code;
   std::string problem;
   if (!in.read_varint(code)) return false;
-  if (!codes.decode(code, vertex, kind == 0 ? h.uv_count : h.normal_count, id, problem)) {
+  if (!codes(kind)->decode(code, vertex, h.table_count(kind), id, problem)) {
     return in.fail(ErrorCode::kCorruptStream,
                    in.where() + ": a corner of vertex " + std::to_string(vertex) + " " + problem);
   }

@@ -44,11 +44,11 @@ void Writer::plan_tables() {
   const std::size_t base_corners = pm.base_faces.size();
   const std::size_t carried_first = 3 * (pm.total_face_count() - pm.carried_faces.size() / 3);
   for (int kind = 0; kind < 2; ++kind) {
-    const std::size_t count = kind == 0 ? pm.uv_count() : pm.normal_count();
+    const std::size_t count = table_count(kind);
     std::vector<uint8_t> early(count, 0), used(count, 0);
     if (has_ids(kind)) {
-      const std::vector<uint32_t>& ids = face_ids(kind);
-      const std::vector<uint32_t>& moved = moved_corner_ids(kind);
+      const std::vector<uint32_t>& ids = mesh_face_ids(pm, kind);
+      const std::vector<uint32_t>& moved = mesh_moved_ids(pm, kind);
       for (std::size_t slot = 0; slot < ids.size(); ++slot) {
         if (ids[slot] == kNoAttribute) continue;
         used[ids[slot]] = 1;
@@ -65,7 +65,7 @@ void Writer::plan_tables() {
 
 // 2.2 (§5.4): the listed entries, each with the gap from the previous one's id.
 void Writer::put_listed(ByteWriter& out, int kind) {
-  const std::size_t components = Writer::components(kind);
+  const std::size_t components = kind_components(kind);
   if (listed[kind].empty()) return;  // no table: no grid, no count
   if (grid(kind).bits != 0) put_grid(out, grid(kind));
   const SignificantDecimals& significant = table_significant[kind];
@@ -86,7 +86,7 @@ void Writer::put_listed(ByteWriter& out, int kind) {
       if (grid(kind).bits != 0 || significant.digits != 0) {
         out.put_varint(units[c]);
       } else {
-        out.put_f32(table(kind)[components * id + c]);
+        out.put_f32(mesh_table(pm, kind)[components * id + c]);
       }
     }
   }
@@ -98,10 +98,10 @@ void Writer::start_wedges() {
   const std::size_t carried_first = 3 * (pm.total_face_count() - pm.carried_faces.size() / 3);
   for (int kind = 0; kind < 2; ++kind) {
     if (!has_ids(kind)) continue;
-    const uint32_t count = static_cast<uint32_t>(kind == 0 ? pm.uv_count() : pm.normal_count());
+    const uint32_t count = static_cast<uint32_t>(table_count(kind));
     const uint64_t top = grid(kind).bits != 0 ? (uint64_t{1} << grid(kind).bits) - 1 : 0xFFFFFFFFull;
     WedgeCoder& coder = wedges[kind];
-    coder.reset(components(kind), count, top, h.split_vertices(), level_faces);
+    coder.reset(kind_components(kind), count, top, h.split_vertices(), level_faces);
     if (h.minor >= 4) {  // 2.4 (§5.11)
       coder.predict_by_values(positions.significant, in_use(table_significant[kind]));
     }
@@ -111,7 +111,7 @@ void Writer::start_wedges() {
       units_of(kind, id, units);
       coder.learn(id, units);
     }
-    const std::vector<uint32_t>& ids = face_ids(kind);
+    const std::vector<uint32_t>& ids = mesh_face_ids(pm, kind);
     for (std::size_t slot = 0; slot < pm.base_faces.size(); ++slot) {
       coder.pass(pm.base_faces[slot], ids[slot], true);
     }
@@ -181,9 +181,9 @@ namespace pm {
 void PmStreamReader::State::reset_wedges() {
   const uint64_t level_faces = uint64_t{h.base_face_count} + h.split_face_count;
   for (int kind = 0; kind < 2; ++kind) {
-    if (!(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
-    const int bits = kind == 0 ? h.uv_bits : h.normal_bits;
-    wedges[kind].reset(kind == 0 ? 2 : 3, kind == 0 ? h.uv_count : h.normal_count,
+    if (!h.has_ids(kind)) continue;
+    const int bits = h.table_bits(kind);
+    wedges[kind].reset(kind_components(kind), h.table_count(kind),
                        bits != 0 ? (uint64_t{1} << bits) - 1 : 0xFFFFFFFFull, h.split_vertices(),
                        level_faces);
   }
@@ -196,18 +196,18 @@ bool PmStreamReader::State::start_wedges(ByteReader& in) {
     wedges[kind].predict_by_values(positions.significant, in_use(table_significant[kind]));
   }
   for (int kind = 0; kind < 2; ++kind) {
-    if (!(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
-    const std::vector<uint32_t>& base = kind == 0 ? pm.face_uvs : pm.face_normals;
-    const std::vector<uint32_t>& carried = kind == 0 ? carried_uvs : carried_normals;
+    if (!h.has_ids(kind)) continue;
+    const std::vector<uint32_t>& base = mesh_face_ids(pm, kind);
+    const std::vector<uint32_t>& carried = carried_ids(kind);
     for (int part = 0; part < 2; ++part) {
       const std::vector<uint32_t>& vertices = part == 0 ? pm.base_faces : pm.carried_faces;
       const std::vector<uint32_t>& ids = part == 0 ? base : carried;
       for (std::size_t k = 0; k < vertices.size(); ++k) {
         if (ids[k] != kNoAttribute && !wedges[kind].known(ids[k])) {
           return in.fail(ErrorCode::kCorruptStream,
-                         in.where() + ": a " + (part == 0 ? "base" : "carried") + " face's corner has " +
-                             (kind == 0 ? "texture coordinate " : "normal ") + std::to_string(ids[k]) +
-                             ", which the table does not list");
+                         in.where() + ": a " + (part == 0 ? "base" : "carried") +
+                             " face's corner has " + kind_name(kind) + " " +
+                             std::to_string(ids[k]) + ", which the table does not list");
         }
         wedges[kind].pass(vertices[k], ids[k], part == 0);
       }
@@ -227,9 +227,9 @@ bool PmStreamReader::State::has_unknown_entries() const {
 
 void PmStreamReader::State::drop_unknown_entries(ProgressiveMesh& target) const {
   for (int kind = 0; kind < 2; ++kind) {
-    if (!wedges_ready || !(kind == 0 ? h.uv_ids() : h.normal_ids())) continue;
-    const uint32_t count = kind == 0 ? h.uv_count : h.normal_count;
-    const std::size_t components = kind == 0 ? 2 : 3;
+    if (!wedges_ready || !h.has_ids(kind)) continue;
+    const uint32_t count = h.table_count(kind);
+    const std::size_t components = kind_components(kind);
     std::vector<uint32_t> new_id(count, kNoAttribute);
     uint32_t next = 0;
     for (uint32_t id = 0; id < count; ++id) {
@@ -237,26 +237,21 @@ void PmStreamReader::State::drop_unknown_entries(ProgressiveMesh& target) const 
     }
     if (next == count) continue;
     // Every id a corner has is known.
-    if (kind == 0) {
-      renumber_entries(target.uvs, components, new_id, next, {&target.face_uvs, &target.moved_uvs});
-    } else {
-      renumber_entries(target.normals, components, new_id, next,
-                       {&target.face_normals, &target.moved_normals});
-    }
+    renumber_entries(mesh_table(target, kind), components, new_id, next,
+                     {&mesh_face_ids(target, kind), &mesh_moved_ids(target, kind)});
   }
 }
 
 // 2.2 (§5.4): the entries listed with their ids' gaps; the others are 0 until a split
 // introduces them (§5.11).
 bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
-  const uint32_t count = kind == 0 ? h.uv_count : h.normal_count;
-  const int bits = kind == 0 ? h.uv_bits : h.normal_bits;
-  const std::size_t components = kind == 0 ? 2 : 3;
-  std::vector<float>& values = kind == 0 ? pm.uvs : pm.normals;
+  const uint32_t count = h.table_count(kind);
+  const int bits = h.table_bits(kind);
+  const std::size_t components = kind_components(kind);
+  std::vector<float>& values = mesh_table(pm, kind);
   values.assign(components * std::size_t{count}, 0.0f);
   if (count == 0) return true;
-  Grid& grid = kind == 0 ? uv_grid : normal_grid;
-  if (bits != 0 && !read_grid(in, bits, components, grid)) return false;
+  if (bits != 0 && !read_grid(in, bits, components, grid(kind))) return false;
   SignificantDecimals& significant = table_significant[kind];
   if ((h.options & significant_table_option(kind)) != 0 && !read_significant(in, significant)) {
     return false;  // 2.3 (§5.4)
@@ -267,7 +262,7 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
     return in.fail(ErrorCode::kCorruptStream, in.where() + ": lists " + std::to_string(listed) +
                                                   " entries of " + std::to_string(count));
   }
-  const bool ids = kind == 0 ? h.uv_ids() : h.normal_ids();
+  const bool ids = h.has_ids(kind);
   if (!ids && listed != count) {
     return in.fail(ErrorCode::kCorruptStream, in.where() + ": a table no corner uses must list every entry");
   }
@@ -283,7 +278,7 @@ bool PmStreamReader::State::read_listed(ByteReader& in, int kind) {
     }
     previous = id;
     for (std::size_t c = 0; c < components; ++c) {
-      if (!read_table_value(in, bits != 0 ? &grid : nullptr, in_use(significant), c,
+      if (!read_table_value(in, bits != 0 ? &grid(kind) : nullptr, in_use(significant), c,
                             values[components * std::size_t(id) + c], units[c])) {
         return false;
       }

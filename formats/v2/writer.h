@@ -38,16 +38,10 @@ struct Writer {
   SignificantDecimals table_significant[2];
   std::vector<uint32_t> table_numbers[2];
 
-  // Per kind (0: texture coordinates, 1: normals): its components, its table, the ids of
-  // the faces' corners and of the splits' moved corners.
-  static std::size_t components(int kind) { return kind == 0 ? 2 : 3; }
-  const std::vector<float>& table(int kind) const { return kind == 0 ? pm.uvs : pm.normals; }
-  const std::vector<uint32_t>& face_ids(int kind) const {
-    return kind == 0 ? pm.face_uvs : pm.face_normals;
-  }
-  const std::vector<uint32_t>& moved_corner_ids(int kind) const {
-    return kind == 0 ? pm.moved_uvs : pm.moved_normals;
-  }
+  // Per kind (0: texture coordinates, 1: normals; the mesh's arrays are format.h's
+  // mesh_table() and the like): its table's entries, its grid, whether corners have its ids.
+  // table_count() and has_ids() ask the mesh, not h: plan_tables() runs before h has them.
+  std::size_t table_count(int kind) const { return kind == 0 ? pm.uv_count() : pm.normal_count(); }
   const Grid& grid(int kind) const { return kind == 0 ? uv_grid : normal_grid; }
   bool has_ids(int kind) const { return kind == 0 ? pm.has_uvs() : pm.has_normals(); }
   // The error bound of the level before split i as stored (WriteOptions::error_bits): split
@@ -57,13 +51,14 @@ struct Writer {
   }
   // Entry `id`'s values in the integers residuals are taken in: grid indices or float bits.
   void units_of(int kind, uint32_t id, uint32_t* out) const {
-    for (std::size_t c = 0; c < components(kind); ++c) {
-      const std::size_t at = components(kind) * std::size_t{id} + c;
+    const std::vector<float>& table = mesh_table(pm, kind);
+    for (std::size_t c = 0; c < kind_components(kind); ++c) {
+      const std::size_t at = kind_components(kind) * std::size_t{id} + c;
       if (table_significant[kind].digits != 0) {
         out[c] = table_numbers[kind][at];  // 2.3 (§5.4)
       } else {
-        out[c] = grid(kind).bits != 0 ? quantize(grid(kind), table(kind)[at], c)
-                                      : ordered_from_float(table(kind)[at]);
+        out[c] = grid(kind).bits != 0 ? quantize(grid(kind), table[at], c)
+                                      : ordered_from_float(table[at]);
       }
     }
   }
@@ -72,11 +67,12 @@ struct Writer {
   // of it. Inlined always (UnknownIds::prefetch says why).
   [[gnu::always_inline]] void prefetch_units(int kind, uint32_t id) const {
     if (id == kNoAttribute) return;
-    const std::size_t at = components(kind) * std::size_t{id};
+    const std::size_t at = kind_components(kind) * std::size_t{id};
+    const std::vector<float>& table = mesh_table(pm, kind);
     if (table_significant[kind].digits != 0) {
       if (at < table_numbers[kind].size()) __builtin_prefetch(&table_numbers[kind][at]);
-    } else if (at < table(kind).size()) {
-      __builtin_prefetch(&table(kind)[at]);
+    } else if (at < table.size()) {
+      __builtin_prefetch(&table[at]);
     }
     wedges[kind].prefetch(id);
   }
