@@ -22,7 +22,6 @@
 namespace pm::detail::v2 {
 namespace {
 
-// A value table (UVs or normals), f32 or on a grid (§5.4).
 // One table value, component c: f32, or its grid index (§5.4).
 void put_table_value(ByteWriter& out, const Grid* grid, float x, std::size_t c) {
   if (grid == nullptr) {
@@ -32,6 +31,7 @@ void put_table_value(ByteWriter& out, const Grid* grid, float x, std::size_t c) 
   }
 }
 
+// A value table (UVs or normals), f32 or on a grid (§5.4).
 void put_table(ByteWriter& out, const std::vector<float>& values, std::size_t components,
                const Grid* grid) {
   if (grid != nullptr) put_grid(out, *grid);
@@ -222,7 +222,9 @@ bool PmStreamReader::State::start_wedges(ByteReader& in) {
 // ids, so decoding can go on after a copy is trimmed.
 bool PmStreamReader::State::has_unknown_entries() const {
   if (!wedges_ready) return false;
-  return (h.uv_ids() && wedges[0].unknown() > 0) || (h.normal_ids() && wedges[1].unknown() > 0);
+  for (int kind = 0; kind < 2; ++kind)
+    if (h.has_ids(kind) && wedges[kind].unknown() > 0) return true;
+  return false;
 }
 
 void PmStreamReader::State::drop_unknown_entries(ProgressiveMesh& target) const {
