@@ -1,6 +1,7 @@
 // The collapse loop's step (collapse_loop.h): the collapse at the top of a heap, if it is still
 // legal, with its record (Hoppe 1996, §3: the vertex split that undoes it), its measure
-// (collapse_measure.cpp) and the bound it records (kept_points.h, dropped_points_bound.h), then
+// (collapse_measure.cpp) and the bound it records (kept_points.h, and tracked_points.h with the
+// measure, dropped_points_bound.h without it), then
 // the quadrics' sum (Garland and Heckbert 1997, §4) and the neighbours' candidates found again.
 // Internal to simplify/.
 #include "simplify/collapse_loop.h"
@@ -25,7 +26,12 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     // And v's faces' kept points and slack, which the collapse reads (a third of the
     // kept points' time went to waiting for their lists).
     const uint32_t e = ring_v[i].edge;
-    if (half_[e].vertex == v) kept_.prefetch(e / 3), dropped_.prefetch(e / 3);
+    if (half_[e].vertex != v) continue;
+    kept_.prefetch(e / 3);
+    if (measure_)
+      tracked_.prefetch(e / 3);
+    else
+      dropped_.prefetch(e / 3);
   }
   // With attributes, v's star, aimed at u: legality, the seam drift and the record read it.
   Star star;
@@ -77,10 +83,12 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     if (seam_drift_) seam_drift_->collapse(star.c);
     attributes_->collapse(star.c, worker.record);
   }
-  // The slack of the points dropped on v's faces moves onto the new fan, then the points
-  // kept there move, and those left off lists join the slack (dropped_points_bound.h).
-  double inherited;
-  {
+  // The record's points. With the measure, every removed point moves to its nearest face
+  // of the new fan (tracked_points.h). Without it, the slack of the points dropped on v's
+  // faces moves onto the new fan, then the points kept there move, and those left off lists
+  // join the slack (dropped_points_bound.h).
+  double inherited = 0;
+  if (!measure_) {
     Vec3 ring_points[kMaxValence];
     int u_at = -1;
     for (int i = 0; i < n; ++i) {
@@ -101,6 +109,12 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   const double farthest =
       kept_.collapse(v, old_faces, n_old, fan, n_fan, dropped_, /*nearest_face=*/measure_,
                      /*settled=*/std::min(key_distance(worker.key(v)), inherited));
+  // With the measure, the kept points' largest distance is exact (each went to its nearest
+  // face), and the record holds it: every other point within it of the face it was on stays
+  // there.
+  if (measure_)
+    inherited = tracked_.collapse(v, old_faces, n_old, fan, n_fan, /*settled=*/farthest,
+                                  worker.tracked_scratch);
   for (int i = 0; i < n; ++i) {
     const uint32_t e = ring_v[i].edge;
     if (half_[e].vertex != v) continue;

@@ -22,6 +22,7 @@
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
 #include "simplify/kept_points.h"
+#include "simplify/tracked_points.h"
 #include "simplify/local_quadric.h"
 #include "simplify/seam_drift.h"
 #include "simplify/simplifier.h"
@@ -66,6 +67,7 @@ class CollapseLoop {
     // these lists (Collapse::moved_begin, new_faces_begin) until merge() hands the blocks on.
     RecordList moved_faces{kMovedEntriesPerBlock};
     CollapseAttributes record;
+    std::vector<uint32_t> tracked_scratch;  // TrackedPoints::collapse()'s
     uint32_t rank_of(uint32_t v) const { return rank ? rank[v] : v; }
     uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
     bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }
@@ -786,7 +788,10 @@ class CollapseLoop {
   // date at each collapse (update_seams_at()) so that classifying a vertex, which the loop
   // does at every evaluation, reads one byte per edge instead of comparing corners.
   std::vector<uint8_t> seam_;
-  DroppedPointsBound dropped_;  // the slack of the points kept_ leaves off (the record)
+  // The record: with the measure, every removed point (exact); without it, the slack of the
+  // points kept_ leaves off lists (a looser bound, cheaper: tracked_points.h says why).
+  TrackedPoints tracked_;
+  DroppedPointsBound dropped_;
   bool partitioned_ = false;    // rounds first (run_rounds())
   bool in_rounds_ = false;      // regions at once (run_rounds()), else one heap
   std::vector<uint8_t> band_;   // per vertex: next to its region's edge (run_rounds())

@@ -1,7 +1,12 @@
-// The collapse loop's recorded error as a true bound (issue 25): a face keeps only its kKept
-// farthest removed input vertices (kept_points.h), so the others, dropped, are no longer
-// measured; here each face f carries instead a slack r_f, at least the distance to f of
-// every point dropped onto it. Internal to simplify/.
+// The collapse loop's recorded error as a true bound without the measure (issue 25;
+// EncodeOptions::fast: with the measure, tracked_points.h tracks every point, exactly, for a
+// few percent more time): a face keeps only its kKept farthest removed input vertices
+// (kept_points.h), so the others, dropped, are no longer measured; here each face f carries
+// instead a slack r_f, at least the distance to f of every point dropped onto it. The slack
+// grows by the gap between the surfaces at every later collapse of its face, so the records
+// are loose: 1.0 to 8.7 times the largest distance of an input vertex to the level on the
+// shared meshes at 50/10/2% (tests/bench/bound.md at c0f33ce, with the measure then).
+// Internal to simplify/.
 //
 // Why the record then bounds the distance of every input vertex to the level's surface.
 // Invariant: every removed input vertex p lies on one alive face f, either kept there (its

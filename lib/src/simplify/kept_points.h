@@ -14,7 +14,8 @@
 //
 // What it measures is a lower bound of the distance of the removed input vertices to the
 // surface (the dropped points are not counted): it orders the collapses. The record of a
-// collapse is an upper bound: the points left off a list hand their distance to a slack
+// collapse is an upper bound: with the measure, every removed point is tracked besides
+// (tracked_points.h); without it, the points left off a list hand their distance to a slack
 // per face, dropped_points_bound.h, which bounds them from then on without measuring them.
 #pragma once
 
@@ -172,6 +173,12 @@ class KeptPoints {
   double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
                   int n_fan, DroppedPointsBound& dropped, bool nearest_face, double settled);
 
+  // The nearest fan face to x and its distance; stops at the first face within `stop`
+  // (then the distance is at most stop). `first`: a face to try first, or -1. *at: the
+  // face's index, -1 when no distance compares (non-finite input). Also tracked_points.h's.
+  static double nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
+                        int* at);
+
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
   struct Moving {
@@ -179,10 +186,6 @@ class KeptPoints {
     int hint;  // the fan index of the face it was on, or -1
   };
   static constexpr int kMaxMoving = 1 + 64 * kKept;  // v and the points of 64 faces
-  // The nearest fan face to x and its distance; stops at the first face within `stop`
-  // (then the distance is at most stop). `first`: a face to try first, or -1.
-  static double nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
-                        int* at);
   // Gathers v and the points of old_faces into `moving` (room for kMaxMoving), emptying
   // those faces when `take`. Returns their count.
   int gather(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan,

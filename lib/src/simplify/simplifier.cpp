@@ -43,6 +43,7 @@ void CollapseLoop::run() {
     std::vector<uint32_t> corners(half_.size());
     for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
     input_.build(std::move(corners), n_vertices);
+    tracked_.reset(half_.size() / 3, n_vertices, xyz_.data());
   }
   dropped_.reset(half_.size() / 3);
   faces_alive_ = half_.size() / 3;
@@ -95,6 +96,7 @@ void CollapseLoop::run() {
   std::vector<uint8_t>().swap(measured_);
   std::vector<double>().swap(measured_worst_);
   kept_.reset(0, nullptr);
+  tracked_.reset(0, 0, nullptr);
   input_.clear();
   seam_drift_.reset();  // it reads xyz_
   std::vector<uint8_t>().swap(seam_);

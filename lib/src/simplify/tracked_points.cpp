@@ -1,0 +1,68 @@
+// The measured loop's tracked points: see tracked_points.h (after Klein, Liebich and Straßer
+// 1996).
+#include "simplify/tracked_points.h"
+
+#include <cmath>
+
+#include "core/huge_pages.h"
+
+namespace pm::collapse_loop {
+
+void TrackedPoints::reset(std::size_t n_faces, std::size_t n_vertices, const float* xyz) {
+  if (n_faces == 0) {  // the loop is over: the memory goes back
+    std::vector<uint32_t>().swap(head_);
+    std::vector<uint32_t>().swap(next_);
+    xyz_ = nullptr;
+    return;
+  }
+  xyz_ = xyz;
+  detail::assign_preferring_huge_pages(head_, n_faces, kNone);
+  detail::assign_preferring_huge_pages(next_, n_vertices, kNone);
+}
+
+double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
+                               const KeptPoints::FanFace* fan, int n_fan, double settled,
+                               std::vector<uint32_t>& scratch) {
+  // v and the points of v's faces, each with the fan index of the face it was on (a moved
+  // face keeps its id; the fan lists v's faces first, in the order of old_faces, but the two
+  // at v-u), which it tries first: most stay where they were. Pairs (point, fan index or
+  // kNone) in scratch.
+  scratch.clear();
+  scratch.push_back(v);
+  scratch.push_back(kNone);
+  for (int i = 0, j = 0; i < n_old; ++i) {
+    const uint32_t f = old_faces[i];
+    const uint32_t hint = j < n_fan && fan[j].face == f ? static_cast<uint32_t>(j++) : kNone;
+    for (uint32_t x = head_[f]; x != kNone; x = next_[x]) {
+      scratch.push_back(x);
+      scratch.push_back(hint);
+    }
+    head_[f] = kNone;
+  }
+  if (n_fan == 0) return HUGE_VAL;  // nowhere to go: no finite record bounds them
+  const std::size_t n = scratch.size() / 2;
+  // Their positions, asked for all at once: the points of a face are far apart in memory.
+  for (std::size_t i = 0; i < n; ++i) __builtin_prefetch(xyz_ + 3 * std::size_t{scratch[2 * i]});
+  double farthest = 0;
+  bool lost = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint32_t x = scratch[2 * i];
+    const float* p = xyz_ + 3 * std::size_t{x};
+    const int hint = scratch[2 * i + 1] == kNone ? -1 : static_cast<int>(scratch[2 * i + 1]);
+    int at;
+    // The first face within `settled` (the one it was on tried first) keeps it: a bound of
+    // its distance that the record holds anyway.
+    const double d = KeptPoints::nearest(Vec3(p[0], p[1], p[2]), fan, n_fan, settled, hint, &at);
+    if (at < 0) {  // no distance compares (non-finite input): no finite record bounds it
+      lost = true;
+      continue;
+    }
+    if (d > farthest) farthest = d;
+    const uint32_t f = fan[at].face;
+    next_[x] = head_[f];
+    head_[f] = x;
+  }
+  return lost ? HUGE_VAL : farthest;
+}
+
+}  // namespace pm::collapse_loop
