@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # How tight the recorded errors are, in one command (issue 25): builds pm_bench_bound in
 # build-bench/, runs it on ../shared/meshes (or $PM_BENCH_MESHES) and writes
-# tests/bench/bound.md (the one collapse loop's recorded error at 50/10/2% of the faces
-# against the exact largest distance of an input vertex to the level, and the encode's time
-# on one thread, median of 5 runs), then prints it. Extra arguments go to pm_bench_bound (e.g.
-# --runs 9). See tests/bench/README.md.
+# tests/bench/bound.md (the one collapse loop's recorded error at 50/10/2% of the faces, with
+# its measure and without it, against the exact largest distance of an input vertex to the
+# level, and the encode's time on one thread, median of 5 runs), then prints it. Extra
+# arguments go to pm_bench_bound (e.g. --runs 9). See tests/bench/README.md.
 set -euo pipefail
 
 # shellcheck source=bench_setup.sh
