@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <system_error>
 #include <thread>
 
 namespace pm::cli {
@@ -180,17 +181,25 @@ void install_cleanup_handlers() {
   sigemptyset(&waited);
   for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&waited, s);
   pthread_sigmask(SIG_BLOCK, &waited, nullptr);
-  std::thread([waited] {
-    int signal_number = 0;
-    while (sigwait(&waited, &signal_number) != 0) {
-    }
-    g_temporaries_mutex.lock();
-    remove_live_temporaries();
-    _exit(128 + signal_number);
-  }).detach();
   struct sigaction action {};
   action.sa_handler = remove_temporaries_and_exit;
   sigemptyset(&action.sa_mask);
+  try {
+    std::thread([waited] {
+      int signal_number = 0;
+      while (sigwait(&waited, &signal_number) != 0) {
+      }
+      g_temporaries_mutex.lock();
+      remove_live_temporaries();
+      _exit(128 + signal_number);
+    }).detach();
+  } catch (const std::system_error&) {
+    // No thread to be had (a process or thread limit): the signals unblocked again, each
+    // with the handler SIGPIPE has below, which removes the temporaries as well as a handler
+    // can (it may interrupt a writer between two steps).
+    pthread_sigmask(SIG_UNBLOCK, &waited, nullptr);
+    for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &action, nullptr);
+  }
   // SIGPIPE too: a reader that goes away (pmenc --json | head -1) ends the run, and the
   // temporaries with it.
   sigaction(SIGPIPE, &action, nullptr);

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <new>
 #include <numeric>
+#include <system_error>
 #include <thread>
 
 #include "batch.h"
@@ -283,19 +284,30 @@ int run_batch(const std::vector<Task>& tasks, const RunOptions& options, const J
   bool finished = false;
   std::thread ticker;
   if (options.progress_bar && !options.quiet) {
-    ticker = std::thread([&] {
-      std::unique_lock<std::mutex> lock(ticker_mutex);
-      while (!finished) {
-        board.draw_bar();
-        ticker_wake.wait_for(lock, std::chrono::milliseconds(200));
-      }
-    });
+    try {
+      ticker = std::thread([&] {
+        std::unique_lock<std::mutex> lock(ticker_mutex);
+        while (!finished) {
+          board.draw_bar();
+          ticker_wake.wait_for(lock, std::chrono::milliseconds(200));
+        }
+      });
+    } catch (const std::system_error&) {
+      // No thread to be had: no bar (the totals still close the batch).
+    }
   }
   if (threads == 1) {
     work(0);
   } else {
     std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, t);
+    pool.reserve(threads);  // so that only a thread's start can throw below
+    try {
+      for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, t);
+    } catch (const std::system_error&) {
+      // No more threads to be had (a process or thread limit): those started take every
+      // file, or this one when none did.
+      if (pool.empty()) work(0);
+    }
     for (std::thread& thread : pool) thread.join();
   }
   if (ticker.joinable()) {

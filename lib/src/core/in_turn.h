@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -21,7 +22,8 @@ inline unsigned thread_count(unsigned requested) {
 // Runs f(task, caller) for every task in [0, tasks), on this thread and up to threads - 1
 // more; `caller` tells whether this thread runs it (the one that may report progress).
 // With one thread, all here, in order. The first exception from f is rethrown here once
-// every thread is done; the others stop taking tasks.
+// every thread is done; the others stop taking tasks. A thread that cannot be started leaves
+// its share to the others (never an exception of its own).
 template <typename F>
 void run_in_turn(std::size_t tasks, unsigned threads, F&& f) {
   std::atomic<std::size_t> next{0};
@@ -42,8 +44,13 @@ void run_in_turn(std::size_t tasks, unsigned threads, F&& f) {
     }
   };
   std::vector<std::thread> others;
-  others.reserve(helpers);
-  for (std::size_t t = 0; t < helpers; ++t) others.emplace_back(guarded, false);
+  others.reserve(helpers);  // so that only a thread's start can throw below
+  try {
+    for (std::size_t t = 0; t < helpers; ++t) others.emplace_back(guarded, false);
+  } catch (const std::system_error&) {
+    // No more threads to be had (pthread_create's EAGAIN, under a process or thread limit):
+    // those started and this one take every task, as build() and layer_splits() do.
+  }
   guarded(true);
   for (std::thread& t : others) t.join();
   if (failure) std::rethrow_exception(failure);
