@@ -22,10 +22,10 @@
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
 #include "simplify/kept_points.h"
-#include "simplify/tracked_points.h"
 #include "simplify/local_quadric.h"
 #include "simplify/seam_drift.h"
 #include "simplify/simplifier.h"
+#include "simplify/tracked_points.h"
 #include "simplify/vertex_classification.h"
 
 namespace pm::collapse_loop {
