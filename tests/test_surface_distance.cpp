@@ -94,7 +94,7 @@ Mesh one_triangle(float apex_height) {
 
 // Each Voronoi region of a triangle (Ericson 2005, §5.1.5) at a point whose squared distance
 // is exact, and the distance as its root, bit for bit (the searches compare squares and
-// take the root of the best alone: kept_points.cpp, dropped_points_bound.cpp).
+// take the root of the best alone: kept_points.cpp).
 TEST(PointTriangleDistance, EachRegionSquaredAndItsRoot) {
   const Vec3 a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
   const struct {

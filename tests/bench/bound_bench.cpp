@@ -1,7 +1,7 @@
 // How tight the recorded errors are (issue 25): for each mesh, the levels of at most 50%, 10%
 // and 2% of the faces, by the one collapse loop (since issue 25) with its measure (its record
-// tracks every removed point: tracked_points.h) and without it (EncodeOptions::fast: the
-// slack of the points the kept lists drop, dropped_points_bound.h), the recorded error
+// tracks every removed point: tracked_points.h) and without it (EncodeOptions::fast, which
+// tracks them too, settling a point within the records so far), the recorded error
 // against the exact largest distance of an input vertex to the level's faces (what the
 // record bounds: pm::measure_surface_distance from the input's vertices alone). A ratio below
 // 1 would be a record that is not a bound. Then the encode's time on one thread, median of
@@ -139,10 +139,11 @@ int main(int argc, char** argv) {
         "percent of the bounding-box diagonal. The record must be at least the distance "
         "(recorded/exact >= 1); the nearer 1, the tighter. `pm::encode`, the one collapse loop "
         "(since issue 25), geometry only: with its measured distance (pmenc's default below a "
-        "million faces), which tracks every removed point for the record "
-        "(lib/src/simplify/tracked_points.h), and without it (`EncodeOptions::fast`, pmenc "
-        "`--fast`; its levels differ), which keeps four points per face and carries the slack of "
-        "the others (lib/src/simplify/dropped_points_bound.h).\n\n"
+        "million faces) and without it (`EncodeOptions::fast`, pmenc `--fast`; its levels "
+        "differ), both tracking every removed point on a face of the level for the record "
+        "(lib/src/simplify/tracked_points.h). With the measure a point that moves goes to its "
+        "nearest face unless it is within the kept points' distance of the one it was on; "
+        "without it, unless it is within the largest record so far.\n\n"
      << "## Tightness\n\n"
      << table.str() << "\n## Time\n\n"
      << "The whole `pm::encode` with the measure on one thread, median of " << runs

@@ -1,7 +1,7 @@
 // The collapse loop's step (collapse_loop.h): the collapse at the top of a heap, if it is still
 // legal, with its record (Hoppe 1996, §3: the vertex split that undoes it), its measure
-// (collapse_measure.cpp) and the bound it records (kept_points.h, and tracked_points.h with the
-// measure, dropped_points_bound.h without it), then
+// (collapse_measure.cpp) and the bound it records (tracked_points.h, and kept_points.h with
+// the measure), then
 // the quadrics' sum (Garland and Heckbert 1997, §4) and the neighbours' candidates found again.
 // Internal to simplify/.
 #include "simplify/collapse_loop.h"
@@ -23,15 +23,12 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   // now, they arrive while legality is decided.
   for (int i = 0; i < n; ++i) {
     __builtin_prefetch(&vertex_[ring_v[i].vertex]);
-    // And v's faces' kept points and slack, which the collapse reads (a third of the
+    // And v's faces' kept and tracked points, which the collapse reads (a third of the
     // kept points' time went to waiting for their lists).
     const uint32_t e = ring_v[i].edge;
     if (half_[e].vertex != v) continue;
-    kept_.prefetch(e / 3);
-    if (measure_)
-      tracked_.prefetch(e / 3);
-    else
-      dropped_.prefetch(e / 3);
+    if (measure_) kept_.prefetch(e / 3);
+    tracked_.prefetch(e / 3);
   }
   // With attributes, v's star, aimed at u: legality, the seam drift and the record read it.
   Star star;
@@ -83,38 +80,23 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     if (seam_drift_) seam_drift_->collapse(star.c);
     attributes_->collapse(star.c, worker.record);
   }
-  // The record's points. With the measure, every removed point moves to its nearest face
-  // of the new fan (tracked_points.h). Without it, the slack of the points dropped on v's
-  // faces moves onto the new fan, then the points kept there move, and those left off lists
-  // join the slack (dropped_points_bound.h).
-  double inherited = 0;
-  if (!measure_) {
-    Vec3 ring_points[kMaxValence];
-    int u_at = -1;
-    for (int i = 0; i < n; ++i) {
-      ring_points[i] = point(ring_v[i].vertex);
-      if (ring_v[i].vertex == u) u_at = i;
-    }
-    inherited = dropped_.collapse(
-        {point(v), ring_points, n, !boundary_v, u_at, old_faces, fl, fr}, fan, n_fan);
-  }
-  // With the measure, which reads the kept points, each goes to its nearest face: a
-  // point resting elsewhere changed the sequence (on the 8 shared meshes at 50/10/2%,
-  // 3% less time and the levels' distance as close, but other points above 1.05x).
-  // Without it, `farthest` goes into the collapse's own bound (max with the key's
-  // distance) and its record (max with `inherited`): a point within the smaller of those
-  // two of some face changes neither, and stays on the first such face found. Nefertiti
-  // after two Loop steps, one thread, medians of 10 alternating runs: 1974 -> 1913 ms; the
-  // records' sum 0.05% smaller (the points rest elsewhere, and later records differ).
-  const double farthest =
-      kept_.collapse(v, old_faces, n_old, fan, n_fan, dropped_, /*nearest_face=*/measure_,
-                     /*settled=*/std::min(key_distance(worker.key(v)), inherited));
-  // With the measure, the kept points' largest distance is exact (each went to its nearest
-  // face), and the record holds it: every other point within it of the face it was on stays
-  // there.
-  if (measure_)
-    inherited = tracked_.collapse(v, old_faces, n_old, fan, n_fan, /*settled=*/farthest,
-                                  worker.tracked_scratch);
+  // The record's points. With the measure, which reads the kept points, each goes to its
+  // nearest face (kept_points.h), and their largest distance is exact. Then every removed
+  // point moves onto the new fan (tracked_points.h): one within `settled` of the face it was
+  // on stays there, else it goes to its nearest. `settled` is a distance the sequence records
+  // anyway at this collapse: the kept points' (this record holds it) with the measure;
+  // without it, the largest record this worker knows of (Worker::record_floor; merge() makes
+  // the records a running maximum). With the measure, the floor instead of the kept points'
+  // distance: 1% less time on nefertiti, within the noise, and other records. Without the
+  // measure no kept point is read: tracking alone is the record, and the cheaper. Nefertiti,
+  // one thread, CPU time, medians of 5 alternating runs: 0.148 -> 0.137 s against the kept
+  // points and a slack per face for those they dropped (dropped_points_bound.cpp, deleted
+  // after 4db28b0: records 1.0 to 5.8 times the exact distance, tests/bench/bound.md then).
+  const double farthest = measure_ ? kept_.collapse(v, old_faces, n_old, fan, n_fan) : 0;
+  const double inherited =
+      tracked_.collapse(v, old_faces, n_old, fan, n_fan,
+                        /*settled=*/measure_ ? farthest : double{worker.record_floor},
+                        worker.tracked_scratch);
   for (int i = 0; i < n; ++i) {
     const uint32_t e = ring_v[i].edge;
     if (half_[e].vertex != v) continue;
@@ -125,25 +107,26 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
       if (half_[3 * f + k].vertex == v) half_[3 * f + k].vertex = u;
   }
   c.moved_count = worker.moved_faces.end() - c.moved_begin;
-  // Its own, at least the kept points' distance; merge() makes it the running maximum.
+  // Its own key, at least the kept points' distance (with the measure); merge() orders the
+  // workers' collapses by it.
   // At most the largest float: no distance on a mesh encode() accepts (its diagonal is
   // at most kMaxEncodeDiagonal, below that) is larger, where the key's square overflows.
   c.bound =
       static_cast<float>(std::min<double>(std::max<double>(key_distance(worker.key(v)), farthest),
                                           std::numeric_limits<float>::max()));
   worker.collapses.push_back(c);
-  // What the record claims: the same, and the slack this collapse set, rounded up to a
-  // float (at most the largest, as above). Infinite where a point found no face: then no
-  // finite record bounds it (an empty fan, or non-finite input).
+  // What the record claims: the largest distance of a point it moved to its new face,
+  // rounded up to a float (at most the largest, as above; the largest where a point found
+  // no face, an empty fan or non-finite input: then no finite record bounds it).
   {
     // Not the key: its quadric, attribute and surface terms are no distance of an input
     // vertex, and only loosened the record (sqrt of the key: 1.3-9.4x the exact distance).
-    double own = std::max(farthest, inherited);
-    if (n_fan == 0 || dropped_.take_lost()) own = HUGE_VAL;
-    own = std::min<double>(own, std::numeric_limits<float>::max());
+    const double own =
+        std::min<double>(std::max(farthest, inherited), std::numeric_limits<float>::max());
     float recorded = static_cast<float>(own);
     if (double(recorded) < own) recorded = std::nextafter(recorded, HUGE_VALF);
     worker.recorded.push_back(recorded);
+    worker.record_floor = std::max(worker.record_floor, recorded);
   }
 
   // Who is on a boundary now stays so, and u becomes so if v was: their walks must start

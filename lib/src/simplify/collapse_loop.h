@@ -18,7 +18,6 @@
 #include "core/in_turn.h"
 #include "simplify/collapse_legality.h"
 #include "simplify/corner_attributes.h"
-#include "simplify/dropped_points_bound.h"
 #include "simplify/geometry.h"
 #include "simplify/indexed_heap.h"
 #include "simplify/kept_points.h"
@@ -68,6 +67,10 @@ class CollapseLoop {
     RecordList moved_faces{kMovedEntriesPerBlock};
     CollapseAttributes record;
     std::vector<uint32_t> tracked_scratch;  // TrackedPoints::collapse()'s
+    // A record that merge() gives every later collapse of this worker at least: the running
+    // maximum when it was made, then its own records' (apply()'s tracked points settle within
+    // it).
+    float record_floor = 0;
     uint32_t rank_of(uint32_t v) const { return rank ? rank[v] : v; }
     uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
     bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }
@@ -788,10 +791,8 @@ class CollapseLoop {
   // date at each collapse (update_seams_at()) so that classifying a vertex, which the loop
   // does at every evaluation, reads one byte per edge instead of comparing corners.
   std::vector<uint8_t> seam_;
-  // The record: with the measure, every removed point (exact); without it, the slack of the
-  // points kept_ leaves off lists (a looser bound, cheaper: tracked_points.h says why).
+  // The record: every removed point, on a face of the level (tracked_points.h).
   TrackedPoints tracked_;
-  DroppedPointsBound dropped_;
   bool partitioned_ = false;    // rounds first (run_rounds())
   bool in_rounds_ = false;      // regions at once (run_rounds()), else one heap
   std::vector<uint8_t> band_;   // per vertex: next to its region's edge (run_rounds())

@@ -25,7 +25,7 @@ bool CollapseLoop::measured_at_top(Worker& worker, uint32_t v, uint32_t u, const
   // 3.7 times faster on nefertiti (100K faces: 0.35 s against 1.28 s), the levels'
   // Hausdorff distance twice as far from the input and the RMS 1.2 times (geometric means
   // on the shared meshes at 50, 10 and 2%). The records are the same bound either way
-  // (kept_.collapse() and dropped_, apply()).
+  // (the tracked points, apply()).
   if (!measure_) {
     if (seam_drift_ && measured_[v] != kMeasuredWhole) {
       measured_[v] = kMeasuredWhole;

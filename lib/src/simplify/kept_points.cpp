@@ -8,7 +8,6 @@
 #include <utility>
 
 #include "core/huge_pages.h"
-#include "simplify/dropped_points_bound.h"
 
 namespace pm::collapse_loop {
 
@@ -341,21 +340,15 @@ double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_
 }
 
 double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
-                            int n_fan, DroppedPointsBound& dropped, bool nearest_face,
-                            double settled) {
+                            int n_fan) {
   if (n_fan == 0) return 0;
   Moving moving[kMaxMoving];
   const int n_moving = gather(v, old_faces, n_old, fan, n_fan, true, moving);
   double farthest = 0;
   for (int i = 0; i < n_moving; ++i) {
     int at;
-    const double d = nearest(position(moving[i].point), fan, n_fan,
-                             nearest_face ? 0.0 : std::max(farthest, settled), moving[i].hint,
-                             &at);
-    if (at < 0) {  // no distance compares (not on finite input)
-      dropped.lose();
-      continue;
-    }
+    const double d = nearest(position(moving[i].point), fan, n_fan, 0.0, moving[i].hint, &at);
+    if (at < 0) continue;  // no distance compares (not on finite input): the record's
     farthest = std::max(farthest, d);
     // Into the face's list, in place of its nearest point when the list is full.
     uint32_t* kept = &point_[kKept * std::size_t{fan[at].face}];
@@ -368,13 +361,7 @@ double KeptPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old, co
       }
       if (kept_distance[k] < kept_distance[slot]) slot = k;
     }
-    if (kept[slot] != kNone && !(float(d) > kept_distance[slot])) {
-      dropped.drop(fan[at].face, d);
-      continue;
-    }
-    // The point it pushes off: its distance, stored to the nearest float, rounded up.
-    if (kept[slot] != kNone)
-      dropped.drop(fan[at].face, std::nextafter(kept_distance[slot], FLT_MAX));
+    if (kept[slot] != kNone && !(float(d) > kept_distance[slot])) continue;
     kept[slot] = moving[i].point;
     kept_distance[slot] = float(d);
   }

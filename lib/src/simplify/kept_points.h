@@ -14,9 +14,8 @@
 //
 // What it measures is a lower bound of the distance of the removed input vertices to the
 // surface (the dropped points are not counted): it orders the collapses. The record of a
-// collapse is an upper bound: with the measure, every removed point is tracked besides
-// (tracked_points.h); without it, the points left off a list hand their distance to a slack
-// per face, dropped_points_bound.h, which bounds them from then on without measuring them.
+// collapse is an upper bound: every removed point is tracked besides (tracked_points.h).
+// Without the measure (EncodeOptions::fast) no point is kept.
 #pragma once
 
 #include <algorithm>
@@ -26,8 +25,6 @@
 #include "simplify/geometry.h"
 
 namespace pm::collapse_loop {
-
-class DroppedPointsBound;
 
 class KeptPoints {
  public:
@@ -129,8 +126,8 @@ class KeptPoints {
   // whose input faces are tried first (at most kMaxInputFaces); a point farther than
   // `worst` from all of them then tries the input faces around the point kept on old_faces
   // (v's faces) nearest to it, and walks from the nearest face found. What it measures
-  // orders the collapses (it joins the key); the record stays the kept points' and the
-  // slack's.
+  // orders the collapses (it joins the key); the record stays the kept and tracked
+  // points'.
   //
   // The faces around every kept point, gathered once for all such points and searched
   // whole by each, cost more: at the end of the textured 950K-face mesh's sequence nearly
@@ -150,28 +147,11 @@ class KeptPoints {
                         const InputSurface& input, double worst) const;
 
   // Hands v and the points of old_faces to their nearest fan face, each keeping its kKept
-  // farthest, and returns the largest distance of a point to its new face. The points
-  // left off a face's list go to `dropped` with their distance (dropped_points_bound.h).
-  // Call before the collapse changes the faces (old_faces lose their points first: some
-  // are in the fan).
-  //
-  // `nearest_face`: each point goes to its nearest face. False (the loop without its
-  // measure, which reads no kept point): a point within the largest distance of the points
-  // placed before it stays on the first face found that near (the face it was on, or the
-  // fan in order), without the search for its nearest. The return value is the same either
-  // way (a point nearer than the largest so far cannot change it; one farther is placed on
-  // its nearest face, as no face is that near), but a point may rest on a face farther than
-  // its nearest, with that face's distance: still a bound of its distance to the surface,
-  // so the later records stay bounds (none looser on the shared meshes: pmdec --error
-  // --estimate picks the same levels). Nefertiti after two Loop steps, one thread, the loop
-  // without its measure: 9% less time.
-  //
-  // `settled` (without nearest_face): a distance the caller's record already holds, below
-  // which the return value does not matter to it; a point within the larger of it and the
-  // largest so far of some face stays there. The return value is then at least the exact
-  // largest distance and at most the larger of that and `settled`. 0: none.
+  // farthest, and returns the largest distance of a point to its new face. The points left
+  // off a face's list are forgotten (tracked_points.h has them all). Call before the collapse
+  // changes the faces (old_faces lose their points first: some are in the fan).
   double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
-                  int n_fan, DroppedPointsBound& dropped, bool nearest_face, double settled);
+                  int n_fan);
 
   // The nearest fan face to x and its distance; stops at the first face within `stop`
   // (then the distance is at most stop). `first`: a face to try first, or -1. *at: the

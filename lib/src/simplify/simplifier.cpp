@@ -36,16 +36,15 @@ void CollapseLoop::run() {
   detail::assign_preferring_huge_pages(best_, n_vertices, Best{kNone, kNone, 0});
   detail::assign_preferring_huge_pages(dead_vertex_, n_vertices, 0);
   if (keyed_by_measure()) detail::assign_preferring_huge_pages(measured_, n_vertices, kNotMeasured);
-  kept_.reset(half_.size() / 3, xyz_.data());  // the records' bound, with or without fast
-  // The input's faces, before any collapse (kept_.input_distance()): only for the measure.
+  // The measure's points, and the input's faces before any collapse (kept_.input_distance()).
   if (measure_) {
+    kept_.reset(half_.size() / 3, xyz_.data());
     detail::assign_preferring_huge_pages(measured_worst_, n_vertices, 0.0);
     std::vector<uint32_t> corners(half_.size());
     for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
     input_.build(std::move(corners), n_vertices);
-    tracked_.reset(half_.size() / 3, n_vertices, xyz_.data());
   }
-  dropped_.reset(half_.size() / 3);
+  tracked_.reset(half_.size() / 3, n_vertices, xyz_.data());
   faces_alive_ = half_.size() / 3;
   vertices_alive_ = n_vertices;
   out_.collapses.reserve(n_vertices);
@@ -56,6 +55,7 @@ void CollapseLoop::run() {
   Worker& w = one[0];
   w.hi = static_cast<uint32_t>(n_vertices);
   w.heap = IndexedHeap(n_vertices);
+  w.record_floor = bound_;
   set_budgets(w, 1);
   // The worker's collapses go into the sequence every kMergeEvery: merged at the end, they
   // would be held twice there, beside their copy in out_, where memory peaks (its record
@@ -100,7 +100,6 @@ void CollapseLoop::run() {
   input_.clear();
   seam_drift_.reset();  // it reads xyz_
   std::vector<uint8_t>().swap(seam_);
-  dropped_.reset(0);
   if (attributes_) attributes_->end_collapses();
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
@@ -154,7 +153,7 @@ void CollapseLoop::run_rounds() {
   const std::size_t n = vertex_.size();
   // Without the measure, more regions on large meshes: at most kRegionVertices each, so
   // that the state a region's collapses read and write (its vertex records, half-edges,
-  // positions, kept points and slack: about 10 MB) stays in the cache while the region
+  // positions and tracked points: about 10 MB) stays in the cache while the region
   // runs. The loop without the measure waits on memory (find_best()'s ring walks, each
   // load a miss once a region is larger than the cache). One thread, medians of 5
   // alternating runs: the bunny after three Loop steps (2.2M vertices, 45 regions instead
@@ -234,6 +233,7 @@ void CollapseLoop::run_rounds() {
       regions[i].hi = static_cast<uint32_t>(std::min(n, (i + 1) * size));
       regions[i].rank = rank;
       regions[i].at = at;
+      regions[i].record_floor = bound_;
     }
     in_rounds_ = true;
     in_turn(regions, [&](Worker& w) {
@@ -307,11 +307,10 @@ void CollapseLoop::merge(std::vector<Worker>& workers) {
     if (!from.collapses.empty()) heads.push({from.collapses.front().bound, i});
     c.moved_begin += moved_shift[i];
     c.new_faces_begin += new_face_shift[i];
-    // The record's error: the largest so far of the collapses' own (the square root of
-    // their key, quadric and kept points' distance, the kept points' distance after the
-    // collapse if larger, and the slack of the points dropped: dropped_points_bound.h), so
-    // non-increasing from the base to full detail, and at least the distance of every input
-    // vertex to the level's surface. The order above stays the keys' alone.
+    // The record's error: the largest so far of the collapses' own (the largest distance of
+    // a point each moved to its new face: tracked_points.h), so non-increasing from the base
+    // to full detail, and at least the distance of every input vertex to the level's
+    // surface. The order above stays the keys' (and kept points' distance) alone.
     bound_ = std::max(bound_, recorded);
     c.bound = bound_;
     out_.collapses.push_back(c);

@@ -1,23 +1,26 @@
-// The measured loop's recorded error: every removed input vertex carried on the face of the
-// simplified surface nearest to it, as the former default loop's RemovedPoints carried them
-// (Klein, Liebich and Straßer 1996, "Mesh reduction with error control": the correspondence
-// between the input's vertices and the reduced mesh bounds their distance), so that a
-// collapse records the exact largest distance of the points it moves. Internal to simplify/.
+// The collapse loop's recorded error: every removed input vertex carried on a face of the
+// simplified surface, as the former default loop's RemovedPoints carried them (Klein, Liebich
+// and Straßer 1996, "Mesh reduction with error control": the correspondence between the
+// input's vertices and the reduced mesh bounds their distance), so that a collapse records
+// the largest distance of the points it moves, and every point rests within the records so
+// far of its face. Internal to simplify/.
 //
 // Why beside kept_points.h: the measure that orders the collapses reads only a face's few
-// farthest points, to stay bounded per collapse, and the points it leaves off a list are
-// bounded by a slack (dropped_points_bound.h) that grows by the gap between the surfaces at
-// every later collapse of their face. That bound is true but loose: on the shared meshes at
-// 50/10/2% of the faces the records were 1.0 to 8.7 times the largest distance of an input
-// vertex to the level (tests/bench/bound.md at c0f33ce), where the kept points alone came
+// farthest points, to stay bounded per collapse. The points it leaves off a list were first
+// bounded by a slack per face (dropped_points_bound.h, deleted) that grew by the gap between
+// the surfaces at every later collapse of their face: a true bound but loose, the records 1.0
+// to 8.7 times the largest distance of an input vertex to the level on the shared meshes at
+// 50/10/2% of the faces (tests/bench/bound.md at c0f33ce), where the kept points alone came
 // within 0.94 to 1.02 times of it and 16 kept points a face still 4 to 6 times: any point
-// dropped early carries its slack's growth into the coarse levels. `pmdec --error` and
+// dropped early carried its slack's growth into the coarse levels. `pmdec --error` and
 // view-dependent refinement choose levels by the records, so a loose record buys faces that
-// the requested error does not need. Tracking every point costs what it moves: each
-// collapse measures all the points of v's faces against the new fan, more the more a face
-// has absorbed (about N log N moves over the sequence: the points of a face double as the
-// faces halve), which is why the measure does not read them; it is the record only, with the
-// measure (EncodeOptions::fast keeps the slack, for speed).
+// the requested error does not need. Tracking every point costs what it moves: each collapse
+// measures all the points of v's faces against the new fan, more the more a face has absorbed
+// (about N log N moves over the sequence: the points of a face double as the faces halve),
+// which is why the measure does not read them; they are the record only. Most stay on the
+// face they were on at one distance: within the kept points' largest (with the measure) or
+// the records so far (without it, EncodeOptions::fast, which keeps no points else: cheaper
+// than the kept lists and their slack were).
 //
 // Per face a singly linked list of its points (head per face, next per vertex: 4 bytes each),
 // so that moving them costs no allocation. Safe on several threads for collapses whose faces
@@ -47,11 +50,12 @@ class TrackedPoints {
   // on tried first, when in the fan), else its nearest. Returns the largest distance of
   // a moved point to its new face (at least the exact largest distance to the fan, at most
   // the larger of that and `settled`); infinity when a point is nearer to no face (non-finite
-  // input, or an empty fan). `settled`: a distance the collapse records anyway (the kept
-  // points' exact largest, kept_points.h), below which a point's own does not change the
-  // record; most points are that near the face they were on, and take one distance instead
-  // of a search. One thread, alternating runs against the slack alone: nefertiti 0.95 ->
-  // 0.99 s, armadillo 0.42 -> 0.44 s; with every point's nearest face searched, 11% slower.
+  // input, or an empty fan). `settled`: a distance the sequence records anyway at this
+  // collapse (the kept points' exact largest, kept_points.h, or a record before it), below
+  // which a point's own does not change the record; most points are that near the face they
+  // were on, and take one distance instead of a search. With the measure, one thread,
+  // alternating runs against the slack alone: nefertiti 0.95 -> 0.99 s, armadillo 0.42 ->
+  // 0.44 s; with every point's nearest face searched, 11% slower.
   // `scratch` holds the moving points.
   double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const KeptPoints::FanFace* fan,
                   int n_fan, double settled, std::vector<uint32_t>& scratch);
