@@ -46,8 +46,9 @@ class TrackedPoints {
 
   // The collapse v -> u (before the faces change): v and every point on old_faces (v's
   // faces, those at v-u among them) go to a face of `fan` (the faces around u after it, v's
-  // moved faces among them with their ids): the first within `settled` of it (the face it was
-  // on tried first, when in the fan), else its nearest. Returns the largest distance of
+  // moved faces among them with their ids): the first within `settled` of it, or within the
+  // largest distance of a point moved before it (the face it was on tried first, when in the
+  // fan), else its nearest. Returns the largest distance of
   // a moved point to its new face (at least the exact largest distance to the fan, at most
   // the larger of that and `settled`); infinity when a point is nearer to no face (non-finite
   // input, or an empty fan). `settled`: a distance the sequence records anyway at this
