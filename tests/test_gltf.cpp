@@ -282,6 +282,10 @@ TEST(GltfRead, HostileFilesAreRefusedCleanly) {
        "glTF version 1.0 is not supported"},
       {"version as a number", [](Json& d) { d["asset"]["version"] = 1; }, ErrorCode::kUnsupportedFormat,
        "glTF version 1 is not supported"},
+      // tinygltf's own words for these two are "asset object not found".
+      {"asset without a version", [](Json& d) { d["asset"].erase("version"); }, ErrorCode::kParseError,
+       "asset.version is missing"},
+      {"no asset", [](Json& d) { d.erase("asset"); }, ErrorCode::kParseError, "asset"},
       // Draco's accessors have no bufferView (the data is in the extension's): tinygltf calls the
       // indices' invalid; the answer names the extension (assimp's 2CylinderEngine.gltf).
       {"draco required, accessors without data", [](Json& d) {

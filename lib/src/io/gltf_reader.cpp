@@ -331,15 +331,19 @@ Status unsupported_version(const std::string& version) {
 }
 
 // Why tinygltf refused a document, when the reason is one pm names better than its parser
-// does: another glTF version, or a required extension pm does not read (Draco's accessors
-// have no bufferView, which tinygltf reports as invalid). Ok when neither applies.
+// does: another glTF version, an asset without its required version (tinygltf says "asset
+// object not found" of an asset that is there), or a required extension pm does not read
+// (Draco's accessors have no bufferView, which tinygltf reports as invalid). Ok when none
+// applies.
 Status unsupported_document(std::string_view json_text) {
   const nlohmann::json document = nlohmann::json::parse(json_text.begin(), json_text.end(), nullptr, false);
   if (!document.is_object()) return Status::ok();
   const auto asset = document.find("asset");
   if (asset != document.end() && asset->is_object()) {
     const auto version = asset->find("version");
-    if (version != asset->end() && (version->is_string() || version->is_number()))
+    if (version == asset->end())  // §3.2: asset.version is required
+      return Status(ErrorCode::kParseError, "asset.version is missing (glTF 2.0 requires it)");
+    if (version->is_string() || version->is_number())
       if (Status s = unsupported_version(version->is_string() ? version->get<std::string>() : version->dump()); !s)
         return s;
   }
