@@ -8,6 +8,8 @@
 
 namespace pm::collapse_loop {
 
+static_assert(TrackedPoints::kMaxOldFaces >= kMaxValence, "v's faces fit TrackedPoints::collapse()");
+
 void CollapseLoop::apply(Worker& worker, uint32_t v) {
   const uint32_t edge = best_[v].edge;
   // The candidate's edge may have gone, or changed, since it was queued.

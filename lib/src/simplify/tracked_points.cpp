@@ -30,9 +30,21 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
   scratch.clear();
   scratch.push_back(v);
   scratch.push_back(kNone);
-  for (int i = 0, j = 0; i < n_old; ++i) {
+  // A removed face (at v-u) has no fan index: its points try first the face after it
+  // around v, or before it (the faces that shared its edges at v, moved onto u), instead of
+  // searching the fan. Nefertiti after two Loop steps without the measure, one thread,
+  // medians of 5 alternating runs: 2.50 -> 2.36 s (6.6M of the 22.9M points moved had no
+  // face to try first, v among them); the records at bound.md's points the same.
+  uint32_t hints[kMaxOldFaces];
+  for (int i = 0, j = 0; i < n_old; ++i)
+    hints[i] = j < n_fan && fan[j].face == old_faces[i] ? static_cast<uint32_t>(j++) : kNone;
+  for (int i = 0; i < n_old; ++i) {
     const uint32_t f = old_faces[i];
-    const uint32_t hint = j < n_fan && fan[j].face == f ? static_cast<uint32_t>(j++) : kNone;
+    uint32_t hint = hints[i];
+    if (hint == kNone) {
+      hint = hints[i + 1 < n_old ? i + 1 : 0];
+      if (hint == kNone) hint = hints[i > 0 ? i - 1 : n_old - 1];
+    }
     for (uint32_t x = head_[f]; x != kNone; x = next_[x]) {
       scratch.push_back(x);
       scratch.push_back(hint);

@@ -38,6 +38,7 @@ namespace pm::collapse_loop {
 
 class TrackedPoints {
  public:
+  static constexpr int kMaxOldFaces = 64;  // collapse()'s n_old at most
   // n_faces faces, none holding a point; n_vertices input vertices at xyz (three floats each,
   // the caller's, unchanged while the points are tracked). n_faces 0: frees the memory.
   void reset(std::size_t n_faces, std::size_t n_vertices, const float* xyz);
@@ -48,7 +49,7 @@ class TrackedPoints {
   // faces, those at v-u among them) go to a face of `fan` (the faces around u after it, v's
   // moved faces among them with their ids): the first within `settled` of it, or within the
   // largest distance of a point moved before it (the face it was on tried first, when in the
-  // fan), else its nearest. Returns the largest distance of
+  // fan, else a moved face next to it around v), else its nearest. Returns the largest distance of
   // a moved point to its new face (at least the exact largest distance to the fan, at most
   // the larger of that and `settled`); infinity when a point is nearer to no face (non-finite
   // input, or an empty fan). `settled`: a distance the sequence records anyway at this
