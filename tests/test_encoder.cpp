@@ -542,6 +542,27 @@ TEST(FastLoop, RegionsMakeTheSameSequenceEveryTime) {
   EXPECT_EQ(encoded(0, 0, never), encoded(input.vertex_count() + 1, 0, one_heap));
 }
 
+// After the rounds, with more than one thread, the moved points are tracked on a thread of
+// their own (tracking_thread.h), a collapse behind the loop: the records must be those made
+// in turn, with the measure and without it (whose points settle within the records so far).
+TEST(FastLoop, TrackingThreadRecordsAsInTurn) {
+  const Mesh input = bumpy_grid(160);  // 25,600 vertices: rounds first, then one heap
+  for (const bool fast : {false, true}) {
+    auto encoded = [&](unsigned threads) {
+      EncodeOptions options;
+      options.fast = fast;
+      options.threads = threads;
+      ProgressiveMesh pm;
+      EXPECT_TRUE(encode(input, options, pm).is_ok());
+      std::string bytes;
+      EXPECT_TRUE(write_pm(pm, WriteOptions{}, bytes).is_ok());
+      return bytes;
+    };
+    const std::string in_turn = encoded(1);
+    EXPECT_EQ(encoded(2), in_turn) << (fast ? "fast" : "measured");
+  }
+}
+
 // The whole collapse sequence as encode() runs it (on the input, or on its repair) with
 // the loop's test switches, written out: every collapse with its record and moved faces,
 // the attribute record and the base mesh; and the number of collapses.

@@ -30,7 +30,7 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     const uint32_t e = ring_v[i].edge;
     if (half_[e].vertex != v) continue;
     if (measure_) kept_.prefetch(e / 3);
-    tracked_.prefetch(e / 3);
+    if (!worker.tracking) tracked_.prefetch(e / 3);  // else the tracking thread reads them
   }
   // With attributes, v's star, aimed at u: legality, the seam drift and the record read it.
   Star star;
@@ -95,10 +95,24 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   // points and a slack per face for those they dropped (dropped_points_bound.cpp, deleted
   // after 4db28b0: records 1.0 to 5.8 times the exact distance, tests/bench/bound.md then).
   const double farthest = measure_ ? kept_.collapse(v, old_faces, n_old, fan, n_fan) : 0;
-  const double inherited =
-      tracked_.collapse(v, old_faces, n_old, fan, n_fan,
-                        /*settled=*/measure_ ? farthest : double{worker.record_floor},
-                        worker.tracked_scratch);
+  // What the record claims: the largest distance of a point it moved to its new face
+  // (TrackedPoints::record()). On the tracking thread when there is one (tracking_thread.h),
+  // which writes it before merge() reads it.
+  if (worker.tracking) {
+    worker.recorded.push_back(0);
+    worker.tracking->push(v, old_faces, n_old, fan, n_fan, measure_, farthest,
+                          &worker.recorded.back());
+  } else {
+    const double moved =
+        tracked_.collapse(v, old_faces, n_old, fan, n_fan,
+                          /*settled=*/measure_ ? farthest : double{worker.record_floor},
+                          worker.tracked_scratch);
+    // Not the key: its quadric, attribute and surface terms are no distance of an input
+    // vertex, and only loosened the record (sqrt of the key: 1.3-9.4x the exact distance).
+    const float recorded = TrackedPoints::record(farthest, moved);
+    worker.recorded.push_back(recorded);
+    worker.record_floor = std::max(worker.record_floor, recorded);
+  }
   for (int i = 0; i < n; ++i) {
     const uint32_t e = ring_v[i].edge;
     if (half_[e].vertex != v) continue;
@@ -117,19 +131,6 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
       static_cast<float>(std::min<double>(std::max<double>(key_distance(worker.key(v)), farthest),
                                           std::numeric_limits<float>::max()));
   worker.collapses.push_back(c);
-  // What the record claims: the largest distance of a point it moved to its new face,
-  // rounded up to a float (at most the largest, as above; the largest where a point found
-  // no face, an empty fan or non-finite input: then no finite record bounds it).
-  {
-    // Not the key: its quadric, attribute and surface terms are no distance of an input
-    // vertex, and only loosened the record (sqrt of the key: 1.3-9.4x the exact distance).
-    const double own =
-        std::min<double>(std::max(farthest, inherited), std::numeric_limits<float>::max());
-    float recorded = static_cast<float>(own);
-    if (double(recorded) < own) recorded = std::nextafter(recorded, HUGE_VALF);
-    worker.recorded.push_back(recorded);
-    worker.record_floor = std::max(worker.record_floor, recorded);
-  }
 
   // Who is on a boundary now stays so, and u becomes so if v was: their walks must start
   // at their boundary half-edge again (start_at_boundary), the others' anywhere.

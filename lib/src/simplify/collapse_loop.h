@@ -25,6 +25,7 @@
 #include "simplify/seam_drift.h"
 #include "simplify/simplifier.h"
 #include "simplify/tracked_points.h"
+#include "simplify/tracking_thread.h"
 #include "simplify/vertex_classification.h"
 
 namespace pm::collapse_loop {
@@ -71,6 +72,7 @@ class CollapseLoop {
     // maximum when it was made, then its own records' (apply()'s tracked points settle within
     // it).
     float record_floor = 0;
+    TrackingThread* tracking = nullptr;  // tracks its collapses' points when set (run())
     uint32_t rank_of(uint32_t v) const { return rank ? rank[v] : v; }
     uint32_t vertex_at(uint32_t r) const { return at ? at[r] : r; }
     bool holds(uint32_t v) const { return rank_of(v) - lo < hi - lo; }

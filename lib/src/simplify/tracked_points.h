@@ -28,7 +28,10 @@
 // moves only the points of its own faces; the scratch is the caller's.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "simplify/geometry.h"
@@ -61,6 +64,17 @@ class TrackedPoints {
   // `scratch` holds the moving points.
   double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const KeptPoints::FanFace* fan,
                   int n_fan, double settled, std::vector<uint32_t>& scratch);
+
+  // A collapse's record: the larger of the kept points' distance `farthest` (0 without the
+  // measure) and the moved points' (collapse()'s), rounded up to a float; the largest float
+  // where a point found no face (then no finite record bounds it). At most the largest
+  // float: no distance on a mesh encode() accepts is larger (its diagonal is at most
+  // kMaxEncodeDiagonal, below that).
+  static float record(double farthest, double moved) {
+    const double own = std::min<double>(std::max(farthest, moved), std::numeric_limits<float>::max());
+    const float recorded = static_cast<float>(own);
+    return double(recorded) < own ? std::nextafter(recorded, HUGE_VALF) : recorded;
+  }
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;

@@ -1,0 +1,100 @@
+// The tracked points on a thread of their own: see tracking_thread.h.
+#include "simplify/tracking_thread.h"
+
+#include <algorithm>
+#include <system_error>
+
+namespace pm::collapse_loop {
+namespace {
+
+// Waits for `ready` to hold: a short spin (a collapse takes microseconds), then yields.
+template <typename Ready>
+void wait_until(Ready ready) {
+  for (int spins = 0; !ready(); ++spins) {
+    if (spins >= 256) {
+      std::this_thread::yield();
+      continue;
+    }
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+  }
+}
+
+}  // namespace
+
+bool TrackingThread::start(TrackedPoints& tracked, float record_floor) {
+  tracked_ = &tracked;
+  floor_ = record_floor;
+  failure_ = nullptr;
+  stopping_ = false;
+  pushed_ = 0;
+  done_ = 0;
+  if (!slots_) slots_.reset(new Task[kSlots]);
+  try {
+    thread_ = std::thread([this] { run(); });
+  } catch (const std::system_error&) {  // no thread to be had: the caller tracks in turn
+    return false;
+  }
+  return true;
+}
+
+void TrackingThread::push(uint32_t v, const uint32_t* old_faces, int n_old,
+                          const KeptPoints::FanFace* fan, int n_fan, bool measured,
+                          double farthest, float* record) {
+  const uint64_t at = pushed_.load(std::memory_order_relaxed);
+  wait_until([&] { return at - done_.load(std::memory_order_acquire) < kSlots; });
+  Task& task = slots_[at % kSlots];
+  task.v = v;
+  task.n_old = n_old;
+  task.n_fan = n_fan;
+  task.measured = measured;
+  task.farthest = farthest;
+  task.record = record;
+  std::copy(old_faces, old_faces + n_old, task.old_faces);
+  std::copy(fan, fan + n_fan, task.fan);
+  pushed_.store(at + 1, std::memory_order_release);
+}
+
+void TrackingThread::run() {
+  for (uint64_t next = 0;; ++next) {
+    wait_until([&] {
+      return pushed_.load(std::memory_order_acquire) > next ||
+             stopping_.load(std::memory_order_acquire);
+    });
+    if (pushed_.load(std::memory_order_acquire) <= next) return;  // stopping, none left
+    if (!failure_) {
+      try {
+        track(slots_[next % kSlots]);
+      } catch (...) {  // scratch_'s growth: drain() rethrows it; the rest only count
+        failure_ = std::current_exception();
+      }
+    }
+    done_.store(next + 1, std::memory_order_release);
+  }
+}
+
+// As CollapseLoop::apply() does in turn.
+void TrackingThread::track(const Task& task) {
+  const double inherited =
+      tracked_->collapse(task.v, task.old_faces, task.n_old, task.fan, task.n_fan,
+                         task.measured ? task.farthest : double{floor_}, scratch_);
+  const float recorded = TrackedPoints::record(task.farthest, inherited);
+  *task.record = recorded;
+  floor_ = std::max(floor_, recorded);
+}
+
+float TrackingThread::drain() {
+  const uint64_t all = pushed_.load(std::memory_order_relaxed);
+  wait_until([&] { return done_.load(std::memory_order_acquire) >= all; });
+  if (failure_) std::rethrow_exception(failure_);
+  return floor_;
+}
+
+void TrackingThread::stop() {
+  if (!thread_.joinable()) return;
+  stopping_.store(true, std::memory_order_release);
+  thread_.join();
+}
+
+}  // namespace pm::collapse_loop

@@ -1,0 +1,80 @@
+// The collapse loop's tracked points (tracked_points.h) on a thread of their own, one collapse
+// behind the other: a pipeline of two stages. Internal to simplify/.
+//
+// Why: the points a collapse moves are all the points of v's faces, and a face holds more the
+// coarser the level (about 3 N ln k moves to go from k faces to none, for N points), so most
+// of the moving happens in the last percent of the collapses, which the loop makes in one heap
+// on one thread after its rounds (simplifier.cpp). Nefertiti after two Loop steps without the
+// measure: most of its 22.9 million moves, and pmenc's wall time on two threads 11% above the
+// former kept lists and slack (the bunny after three: 18%). The moves need only what the collapse hands them (v, its
+// faces, the fan's corners, and the kept points' distance with the measure), not the loop's
+// state, so the loop goes on while they are made.
+//
+// The same records as TrackedPoints::collapse() called in order: the collapses are tracked in
+// their order, each with a copy of its fan, and the floor of the loop without the measure
+// (CollapseLoop::Worker::record_floor) is kept here from the records as they are made. So the
+// .pm is the same for any thread count.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "simplify/kept_points.h"
+#include "simplify/tracked_points.h"
+
+namespace pm::collapse_loop {
+
+class TrackingThread {
+ public:
+  TrackingThread() = default;
+  TrackingThread(const TrackingThread&) = delete;
+  TrackingThread& operator=(const TrackingThread&) = delete;
+  ~TrackingThread() { stop(); }
+
+  // Starts tracking into `tracked` (which the caller no longer touches until stop()), with
+  // `record_floor` the largest record so far. False when no thread can be had: the caller
+  // tracks in turn then.
+  bool start(TrackedPoints& tracked, float record_floor);
+  bool running() const { return thread_.joinable(); }
+
+  // Queues the collapse v -> u (TrackedPoints::collapse()'s arguments, copied): `farthest`,
+  // with the measure, the kept points' exact largest distance (the record holds it and points
+  // settle within it; else the floor does); its record goes to *record when it is tracked
+  // (drain()). Waits while the queue is full.
+  void push(uint32_t v, const uint32_t* old_faces, int n_old, const KeptPoints::FanFace* fan,
+            int n_fan, bool measured, double farthest, float* record);
+  // Waits until every queued collapse is tracked and returns the floor (the largest record
+  // so far); rethrows what the tracking threw.
+  float drain();
+  // drain(), without rethrowing, and the thread ends.
+  void stop();
+
+ private:
+  static constexpr int kSlots = 32;
+  struct Task {
+    uint32_t v;
+    int n_old, n_fan;
+    bool measured;
+    double farthest;
+    float* record;
+    uint32_t old_faces[TrackedPoints::kMaxOldFaces];
+    KeptPoints::FanFace fan[2 * TrackedPoints::kMaxOldFaces];
+  };
+  void run();
+  void track(const Task& task);
+
+  TrackedPoints* tracked_ = nullptr;
+  std::unique_ptr<Task[]> slots_;
+  std::atomic<uint64_t> pushed_{0}, done_{0};
+  std::atomic<bool> stopping_{false};
+  float floor_ = 0;  // the tracking thread's until drain()
+  std::exception_ptr failure_;
+  std::vector<uint32_t> scratch_;
+  std::thread thread_;
+};
+
+}  // namespace pm::collapse_loop
