@@ -56,8 +56,8 @@ void CollapseLoop::run() {
   w.hi = static_cast<uint32_t>(n_vertices);
   w.heap = IndexedHeap(n_vertices);
   w.record_floor = bound_;
-  // Its points tracked on a thread of their own, beside it (tracking_thread.h): most of the
-  // moving is in these last collapses (tracking_thread.h). pmenc without the measure on two
+  // Its points tracked on a thread of their own, beside it: most of the moving is in these
+  // last collapses (tracking_thread.h). pmenc without the measure on two
   // threads, alternating runs against the tracking in turn: nefertiti after two Loop steps
   // 2.71 -> 2.28 s (the kept lists and slack before: 2.45 and 2.22 s in the same runs), the
   // bunny after three 7.81 -> 7.54 s (6.60 and 6.86).

@@ -24,6 +24,7 @@ void wait_until(Ready ready) {
 }  // namespace
 
 bool TrackingThread::start(TrackedPoints& tracked, float record_floor) {
+  stop();  // a thread of an earlier start, if any
   tracked_ = &tracked;
   floor_ = record_floor;
   failure_ = nullptr;
