@@ -16,7 +16,7 @@ namespace {
 // 2.35 (medians of 4 alternating runs).
 template <typename Ready>
 void wait_until(Ready ready, bool may_sleep) {
-  for (int spins = 0; !ready(); ++spins) {
+  for (uint64_t spins = 0; !ready(); ++spins) {  // unsigned: a long wait wraps, harmlessly
     if (may_sleep && spins >= 4096) {
       std::this_thread::sleep_for(std::chrono::microseconds(50));
     } else if (spins >= 256) {
