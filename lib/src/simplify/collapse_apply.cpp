@@ -100,18 +100,12 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
   // which writes it before merge() reads it.
   if (worker.tracking) {
     worker.recorded.push_back(0);
-    worker.tracking->push(v, old_faces, n_old, fan, n_fan, measure_, farthest,
-                          &worker.recorded.back());
+    worker.tracking->push(v, old_faces, n_old, fan, n_fan, farthest, &worker.recorded.back());
   } else {
-    const double moved =
-        tracked_.collapse(v, old_faces, n_old, fan, n_fan,
-                          /*settled=*/measure_ ? farthest : double{worker.record_floor},
-                          worker.tracked_scratch);
     // Not the key: its quadric, attribute and surface terms are no distance of an input
     // vertex, and only loosened the record (sqrt of the key: 1.3-9.4x the exact distance).
-    const float recorded = TrackedPoints::record(farthest, moved);
-    worker.recorded.push_back(recorded);
-    worker.record_floor = std::max(worker.record_floor, recorded);
+    worker.recorded.push_back(tracked_.track(v, old_faces, n_old, fan, n_fan, measure_, farthest,
+                                             &worker.record_floor, worker.tracked_scratch));
   }
   for (int i = 0; i < n; ++i) {
     const uint32_t e = ring_v[i].edge;

@@ -62,7 +62,7 @@ void CollapseLoop::run() {
   // 2.71 -> 2.28 s (the kept lists and slack before: 2.45 and 2.22 s in the same runs), the
   // bunny after three 7.81 -> 7.54 s (6.60 and 6.86).
   TrackingThread tracking;
-  if (threads_ > 1 && tracking.start(tracked_, bound_)) w.tracking = &tracking;
+  if (threads_ > 1 && tracking.start(tracked_, measure_, bound_)) w.tracking = &tracking;
   set_budgets(w, 1);
   // The worker's collapses go into the sequence every kMergeEvery: merged at the end, they
   // would be held twice there, beside their copy in out_, where memory peaks (its record

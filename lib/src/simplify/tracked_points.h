@@ -65,6 +65,19 @@ class TrackedPoints {
   double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const KeptPoints::FanFace* fan,
                   int n_fan, double settled, std::vector<uint32_t>& scratch);
 
+  // The collapse's tracking and its record, as the loop makes them: the points settle within
+  // the kept points' exact largest distance `farthest` with the measure, else within *floor
+  // (the largest record so far), which then takes the record.
+  float track(uint32_t v, const uint32_t* old_faces, int n_old, const KeptPoints::FanFace* fan,
+              int n_fan, bool measured, double farthest, float* floor,
+              std::vector<uint32_t>& scratch) {
+    const double moved = collapse(v, old_faces, n_old, fan, n_fan,
+                                  measured ? farthest : double{*floor}, scratch);
+    const float recorded = record(farthest, moved);
+    *floor = std::max(*floor, recorded);
+    return recorded;
+  }
+
   // A collapse's record: the larger of the kept points' distance `farthest` (0 without the
   // measure) and the moved points' (collapse()'s), rounded up to a float; the largest float
   // where a point found no face (then no finite record bounds it). At most the largest

@@ -31,9 +31,10 @@ void wait_until(Ready ready, bool may_sleep) {
 
 }  // namespace
 
-bool TrackingThread::start(TrackedPoints& tracked, float record_floor) {
+bool TrackingThread::start(TrackedPoints& tracked, bool measured, float record_floor) {
   stop();  // a thread of an earlier start, if any
   tracked_ = &tracked;
+  measured_ = measured;
   floor_ = record_floor;
   failure_ = nullptr;
   stopping_ = false;
@@ -49,15 +50,14 @@ bool TrackingThread::start(TrackedPoints& tracked, float record_floor) {
 }
 
 void TrackingThread::push(uint32_t v, const uint32_t* old_faces, int n_old,
-                          const KeptPoints::FanFace* fan, int n_fan, bool measured,
-                          double farthest, float* record) {
+                          const KeptPoints::FanFace* fan, int n_fan, double farthest,
+                          float* record) {
   const uint64_t at = pushed_.load(std::memory_order_relaxed);
   wait_until([&] { return at - done_.load(std::memory_order_acquire) < kSlots; }, false);
   Task& task = slots_[at % kSlots];
   task.v = v;
   task.n_old = n_old;
   task.n_fan = n_fan;
-  task.measured = measured;
   task.farthest = farthest;
   task.record = record;
   std::copy(old_faces, old_faces + n_old, task.old_faces);
@@ -87,12 +87,8 @@ void TrackingThread::run() {
 
 // As CollapseLoop::apply() does in turn.
 void TrackingThread::track(const Task& task) {
-  const double inherited =
-      tracked_->collapse(task.v, task.old_faces, task.n_old, task.fan, task.n_fan,
-                         task.measured ? task.farthest : double{floor_}, scratch_);
-  const float recorded = TrackedPoints::record(task.farthest, inherited);
-  *task.record = recorded;
-  floor_ = std::max(floor_, recorded);
+  *task.record = tracked_->track(task.v, task.old_faces, task.n_old, task.fan, task.n_fan,
+                                 measured_, task.farthest, &floor_, scratch_);
 }
 
 float TrackingThread::drain() {

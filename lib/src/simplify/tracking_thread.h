@@ -36,9 +36,9 @@ class TrackingThread {
   ~TrackingThread() { stop(); }
 
   // Starts tracking into `tracked` (which the caller no longer touches until stop()), with
-  // `record_floor` the largest record so far. False when no thread can be had: the caller
-  // tracks in turn then.
-  bool start(TrackedPoints& tracked, float record_floor);
+  // the measure or not (`measured`), and `record_floor` the largest record so far. False
+  // when no thread can be had: the caller tracks in turn then.
+  bool start(TrackedPoints& tracked, bool measured, float record_floor);
   bool running() const { return thread_.joinable(); }
 
   // Queues the collapse v -> u (TrackedPoints::collapse()'s arguments, copied): `farthest`,
@@ -46,7 +46,7 @@ class TrackingThread {
   // settle within it; else the floor does); its record goes to *record when it is tracked
   // (drain()). Waits while the queue is full.
   void push(uint32_t v, const uint32_t* old_faces, int n_old, const KeptPoints::FanFace* fan,
-            int n_fan, bool measured, double farthest, float* record);
+            int n_fan, double farthest, float* record);
   // Waits until every queued collapse is tracked and returns the floor (the largest record
   // so far); rethrows what the tracking threw.
   float drain();
@@ -58,7 +58,6 @@ class TrackingThread {
   struct Task {
     uint32_t v;
     int n_old, n_fan;
-    bool measured;
     double farthest;
     float* record;
     uint32_t old_faces[TrackedPoints::kMaxOldFaces];
@@ -68,6 +67,7 @@ class TrackingThread {
   void track(const Task& task);
 
   TrackedPoints* tracked_ = nullptr;
+  bool measured_ = false;
   std::unique_ptr<Task[]> slots_;
   std::atomic<uint64_t> pushed_{0}, done_{0};
   std::atomic<bool> stopping_{false};
