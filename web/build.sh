@@ -15,13 +15,36 @@ if [[ ! -d "$zstd_src/lib/decompress" ]]; then
   version=$(dpkg-query -W -f='${source:Version}' libzstd-dev)
   apt_dir="$build/apt"
   mkdir -p "$apt_dir/lists/partial" "$apt_dir/cache/archives/partial" "$build/zstd-package"
-  echo "deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian bookworm main" \
-    > "$apt_dir/sources.list"
+  # The release, its updates and its security updates: the zstd installed may come from any
+  # (libzstd 1.5.4+dfsg2-5+deb12u1 is a security update, which bookworm's own list lacks).
+  keyring=/usr/share/keyrings/debian-archive-keyring.gpg
+  {
+    echo "deb-src [signed-by=$keyring] http://deb.debian.org/debian bookworm main"
+    echo "deb-src [signed-by=$keyring] http://deb.debian.org/debian bookworm-updates main"
+    echo "deb-src [signed-by=$keyring] http://deb.debian.org/debian-security bookworm-security main"
+  } > "$apt_dir/sources.list"
   apt_options=(-o Dir::Etc::SourceList="$apt_dir/sources.list" -o Dir::Etc::SourceParts=/nonexistent
                -o Dir::State::Lists="$apt_dir/lists" -o Dir::Cache="$apt_dir/cache"
                -o Debug::NoLocking=1 -o APT::Sandbox::User=root -qq)
   apt-get "${apt_options[@]}" update >&2
-  (cd "$build/zstd-package" && apt-get "${apt_options[@]}" source --download-only "libzstd=$version" >&2)
+  if ! (cd "$build/zstd-package" && apt-get "${apt_options[@]}" source --download-only \
+          "libzstd=$version" >&2 2>/dev/null); then
+    # The installed version's source is not reachable (a security update whose source pool
+    # this machine's mirror does not serve): the newest source of the same upstream release
+    # that is, said loudly, since its decoder lacks the Debian patches after it.
+    upstream=${version%-*}
+    fallback=$(apt-cache "${apt_options[@]}" showsrc libzstd | awk '/^Version:/ {print $2}' |
+               grep -F "$upstream-" | grep -vxF "$version" | sort -V | tail -n 1)
+    if [[ -z "$fallback" ]]; then
+      echo "web/build.sh: no source of libzstd $upstream is reachable (installed: $version)" >&2
+      exit 1
+    fi
+    echo "web/build.sh: WARNING: libzstd $version's source is not reachable; the decoder is" \
+         "built from libzstd $fallback's, without the Debian patches after it" >&2
+    rm -f "$build/zstd-package"/*
+    (cd "$build/zstd-package" && apt-get "${apt_options[@]}" source --download-only \
+       "libzstd=$fallback" >&2)
+  fi
   rm -rf "$zstd_src"
   dpkg-source --no-check -x "$build/zstd-package"/libzstd_*.dsc "$zstd_src" >/dev/null
 fi
