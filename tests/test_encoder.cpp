@@ -563,6 +563,35 @@ TEST(FastLoop, TrackingThreadRecordsAsInTurn) {
   }
 }
 
+// Without its measure, geometry only, the loop adds to the quadric's cost the largest squared
+// distance from u to the planes of v's faces (collapse_loop.h, FanPlanes): the quadric is a
+// mean, in which one face tilted far off its plane hides. On a bumpy height field the levels
+// come closer to the input than on the quadric alone, at 10% and 2% of the faces; and the
+// switch that turns it off does (CollapseLoop.ApexesKeepingTheirCandidate... relies on it).
+TEST(FastLoop, ThePlaneTermBringsTheLevelsCloserToTheInput) {
+  const Mesh input = bumpy_grid(120);
+  EncodeOptions options;
+  options.fast = true;
+  auto distance_at = [&](bool plane_term, double ratio) {
+    LoopSwitches switches;
+    switches.plane_term = plane_term;
+    ProgressiveMesh pm;
+    EXPECT_TRUE(encode_with_switches(input, options, switches, pm).is_ok());
+    const auto faces = static_cast<std::size_t>(ratio * double(input.face_count()));
+    SurfaceDistance d;
+    EXPECT_TRUE(measure_surface_distance(input, extract_level(pm, level_for_faces(pm, faces)),
+                                         DistanceOptions{}, d)
+                    .is_ok());
+    return d;
+  };
+  for (const double ratio : {0.1, 0.02}) {
+    const SurfaceDistance with = distance_at(true, ratio), without = distance_at(false, ratio);
+    // Measured: Hausdorff 0.68 and 0.61 times, RMS 0.88 and 0.89 times the quadric's alone.
+    EXPECT_LT(with.hausdorff, 0.8 * without.hausdorff) << "at " << ratio << " of the faces";
+    EXPECT_LT(with.rms, 0.95 * without.rms) << "at " << ratio << " of the faces";
+  }
+}
+
 // The whole collapse sequence as encode() runs it (on the input, or on its repair) with
 // the loop's test switches, written out: every collapse with its record and moved faces,
 // the attribute record and the base mesh; and the number of collapses.
@@ -643,7 +672,9 @@ TEST(MeasuredLoop, KeepingTheFansPartOfAMeasureChangesNoCollapse) {
 // same one (their other options cost what they did, and ties go by the neighbour's id, not
 // by the ring walk's start, which the collapse moves). So the sequence is the one that
 // evaluates them again, with and without the measure, in one heap and in regions, on a mesh
-// of flat parts full of ties (fandisk) and on curved ones.
+// of flat parts full of ties (fandisk) and on curved ones. Without the measure, on the
+// quadric alone: the plane term of an apex's options moves with its faces at v, which the
+// shortcut leaves as they were (collapse_apply.cpp; FastLoop.ThePlaneTerm... below).
 TEST(CollapseLoop, ApexesKeepingTheirCandidateChangesNoCollapse) {
   std::vector<std::string> paths = {test::sample_mesh_path("textured.obj")};
   for (const char* name : {"fandisk.obj", "homer.obj", "rocker-arm.obj", "spot.obj"}) {
@@ -654,8 +685,6 @@ TEST(CollapseLoop, ApexesKeepingTheirCandidateChangesNoCollapse) {
     }
     paths.push_back(path);
   }
-  LoopSwitches evaluate_again;
-  evaluate_again.keep_apex_candidates = false;
   for (const std::string& path : paths) {
     Mesh input;
     ASSERT_TRUE(read_mesh(path, input).is_ok()) << path;
@@ -666,7 +695,10 @@ TEST(CollapseLoop, ApexesKeepingTheirCandidateChangesNoCollapse) {
         SCOPED_TRACE(path + (fast ? ", fast" : ", measured") + (regions ? ", regions" : ", one heap"));
         options.fast = fast;
         options.fast_partition_vertices = regions ? 1 : 0;
-        const auto kept = whole_sequence(input, options, LoopSwitches{});
+        LoopSwitches keep, evaluate_again;
+        keep.plane_term = evaluate_again.plane_term = false;
+        evaluate_again.keep_apex_candidates = false;
+        const auto kept = whole_sequence(input, options, keep);
         const auto evaluated = whole_sequence(input, options, evaluate_again);
         EXPECT_GT(kept.first, 0u);
         EXPECT_TRUE(kept == evaluated) << "the sequences differ: " << kept.first << " and "

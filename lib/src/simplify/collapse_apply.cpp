@@ -227,6 +227,11 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     const bool apex = w == vl || w == vr;
     const bool may_keep = apex ? keep_apex_candidates_ && !attributes_ && vertex_[w].cheapest
                                : !attributes_ || vertex_[w].cheapest;
+    // Without the measure, w's plane term (collapse_loop.h, FanPlanes) moved with its faces
+    // at v, and its queued key keeps the one it had: evaluating every such w again took the
+    // shared meshes' levels from 0.746 to 0.721 times the Hausdorff distance of the quadric
+    // alone (RMS 0.966 to 0.952, geometric means), for 54% more evaluations (nefertiti:
+    // 385K against 250K, 232K without the plane term).
     if (!schroeder_ && !angle_features_ && vertex_[w].simple && may_keep && worker.queued(w) &&
         best_[w].target != v) {
       if (keeps_best(worker, w, u)) {  // its measure was reset above

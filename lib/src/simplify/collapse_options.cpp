@@ -116,10 +116,19 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
     make_star(v, ring_v, n, star);
     attributes_->star_wedges(star.c, wedges);
   }
+  // The plane term (collapse_loop.h, FanPlanes), never negative, joins the quadric's cost.
+  Vec3 to_ring[kMaxValence];
+  for (int i = 0; i < n; ++i) to_ring[i] = point(ring_v[i].vertex) - pv;
+  FanPlanes planes;
+  if (plane_term_ && !attributes_) fan_planes(to_ring, n, boundary_v, planes);
   for (int i = 0; i < count; ++i) {
     const Neighbour& to = ring_v[options[i].index];
-    options[i].length = (point(to.vertex) - pv).sqrnorm();
-    if (!schroeder_) options[i].cost = options[i].rank = geometric_cost(v, to.vertex);
+    const Vec3& d = to_ring[options[i].index];
+    options[i].length = d.sqrnorm();
+    if (schroeder_) continue;
+    options[i].cost = geometric_cost(v, to.vertex);
+    if (planes.count > 0) options[i].cost += kPlaneWeight * planes.worst(d);
+    options[i].rank = options[i].cost;
   }
   // Schroeder's, with their attribute costs.
   if (schroeder_) schroeder_costs(v, kind, ring_v, n, options, count, star, wedges);

@@ -261,7 +261,8 @@ namespace {
 // `taken`: the input itself when encode(Mesh&&) gave it (its arrays may go as soon as nothing
 // reads them), else null.
 Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_t chunk_splits,
-                        ProgressiveMesh& out, EncodeStats* stats, Mesh* taken) {
+                        ProgressiveMesh& out, EncodeStats* stats, Mesh* taken,
+                        const LoopSwitches& switches = {}) {
   if (!(options.feature_angle_deg <= 180))  // negative: the default; NaN fails here
     return Status(ErrorCode::kInvalidArgument, "feature angle must be within [0, 180] degrees");
   if (!(options.max_normal_flip_deg >= 0 && options.max_normal_flip_deg <= 180))
@@ -306,7 +307,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
     // mesh) ends here, before layer_splits() and validate() take their own memory.
     Simplification run;
     const std::size_t n_vertices = input.vertex_count(), n_faces = input_faces;
-    if (simplify_direct(input, options, run, {}, release_input)) {
+    if (simplify_direct(input, options, run, switches, release_input)) {
       repaired.input_vertex.resize(n_vertices);
       std::iota(repaired.input_vertex.begin(), repaired.input_vertex.end(), uint32_t{0});
       repaired.canonical = repaired.input_vertex;
@@ -315,7 +316,8 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
       std::iota(repaired.input_face.begin(), repaired.input_face.end(), uint32_t{0});
     } else {
       if (Status s = build_manifold_mesh(input, repaired); !s) return s;
-      if (Status s = simplify(input, repaired, options, run, {}, release_input); !s) return s;
+      if (Status s = simplify(input, repaired, options, run, switches, release_input); !s)
+        return s;
     }
     assemble(input, repaired,
              Simplified{run.collapses, run.moved_faces, run.attribute_record,
@@ -343,6 +345,12 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
 }
 
 }  // namespace
+
+Status encode_with_switches(const Mesh& input, const EncodeOptions& options,
+                            const LoopSwitches& switches, ProgressiveMesh& out) {
+  return encode_unguarded(input, options, WriteOptions{}.chunk_splits, out, nullptr, nullptr,
+                          switches);
+}
 
 Status encode(const Mesh& input, const EncodeOptions& options, ProgressiveMesh& out,
               EncodeStats* stats) {

@@ -35,6 +35,10 @@ struct LoopSwitches {
   // is still their cheapest (collapse_apply.cpp's apply()), instead of being evaluated again.
   // The same sequence with fewer evaluations: test_encoder.cpp compares.
   bool keep_apex_candidates = true;
+  // Whether the loop without its measure, geometry only, adds the plane term to the
+  // quadric's cost (collapse_loop.h, FanPlanes). Off: the quadric alone, whose shortcuts
+  // (keep_apex_candidates) leave the sequence as it was; test_encoder.cpp compares the levels.
+  bool plane_term = true;
 };
 
 struct Simplification {
@@ -70,5 +74,9 @@ Status simplify(const Mesh& input, ManifoldMesh& repaired, const EncodeOptions& 
 bool simplify_direct(const Mesh& input, const EncodeOptions& options, Simplification& out,
                      const LoopSwitches& switches = {},
                      const std::function<void()>& loop_built = {});
+
+// pm::encode() with the loop's test switches (encode.cpp).
+Status encode_with_switches(const Mesh& input, const EncodeOptions& options,
+                            const LoopSwitches& switches, ProgressiveMesh& out);
 
 }  // namespace pm

@@ -39,7 +39,6 @@ class TrackingThread {
   // the measure or not (`measured`), and `record_floor` the largest record so far. False
   // when no thread can be had: the caller tracks in turn then.
   bool start(TrackedPoints& tracked, bool measured, float record_floor);
-  bool running() const { return thread_.joinable(); }
 
   // Queues the collapse v -> u (TrackedPoints::collapse()'s arguments, copied): `farthest`,
   // with the measure, the kept points' exact largest distance (the record holds it and points
