@@ -60,11 +60,12 @@ struct EncodeOptions {
   // texture coordinates, normals, colours and materials kept with their seams. By default
   // its key adds a measured distance: a few removed input vertices kept per face, and the
   // faces that change measured against the input (tests/bench/fast.md, quality.md).
-  // fast: the same loop without that measure, its key the metric's cost alone: 3.7 times
-  // faster on nefertiti (100K faces), 3.2 times on a 1.6M-face mesh (tests/bench/scale.md),
-  // levels about as close to the input as meshoptimizer's, the Hausdorff distance twice the
-  // measured loop's and the RMS 1.2 times. Either way the recorded errors bound every input
-  // vertex's distance to the level (tests/bench/bound.md). pmenc --fast.
+  // fast: the same loop without that measure, its key the metric's cost alone (on the
+  // geometry alone, the quadric's with a plane term): 3.7 times faster on nefertiti (100K
+  // faces), 3.2 times on a 1.6M-face mesh (tests/bench/scale.md), levels a little closer to
+  // the input than meshoptimizer's (tests/bench/fast_unmeasured.md), the Hausdorff distance
+  // 1.6 times the measured loop's and the RMS 1.2 times. Either way the recorded errors bound
+  // every input vertex's distance to the level (tests/bench/bound.md). pmenc --fast.
   bool fast = false;
   // Meshes of at least this many input faces take `fast` whatever it says: the measure costs
   // 3.2 times the time on 1.6 million faces, 16.4 s against 5.1 s (tests/bench/scale.md). 0:
