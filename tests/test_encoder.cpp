@@ -674,7 +674,7 @@ TEST(MeasuredLoop, KeepingTheFansPartOfAMeasureChangesNoCollapse) {
 // evaluates them again, with and without the measure, in one heap and in regions, on a mesh
 // of flat parts full of ties (fandisk) and on curved ones. Without the measure, on the
 // quadric alone: the plane term of an apex's options moves with its faces at v, which the
-// shortcut leaves as they were (collapse_apply.cpp; FastLoop.ThePlaneTerm... below).
+// shortcut leaves as they were (collapse_apply.cpp; FastLoop.ThePlaneTerm... above).
 TEST(CollapseLoop, ApexesKeepingTheirCandidateChangesNoCollapse) {
   std::vector<std::string> paths = {test::sample_mesh_path("textured.obj")};
   for (const char* name : {"fandisk.obj", "homer.obj", "rocker-arm.obj", "spot.obj"}) {

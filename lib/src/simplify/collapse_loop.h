@@ -492,7 +492,7 @@ class CollapseLoop {
   // planes of v's faces (FanPlanes): the quadric is a mean over every plane v stands for, and
   // a collapse that tilts one face far off its plane while the others stay hides in it; the
   // largest is Ronfard and Rossignac 1996's error (the largest distance of the new position
-  // to the planes of the faces around it, §3), here over v's faces of the moment, no set
+  // to the planes of the faces around it), here over v's faces of the moment, no set
   // carried along. Never negative: geometric_cost() stays a lower bound of an option's cost
   // (keeps_best()). The levels' Hausdorff distance 0.75 times the quadric's alone and RMS
   // 0.97 times (the 8 shared meshes at 50/10/2%, geometric means; nefertiti after two Loop
