@@ -28,10 +28,11 @@ if [[ ! -d "$zstd_src/lib/decompress" ]]; then
                -o Debug::NoLocking=1 -o APT::Sandbox::User=root -qq)
   apt-get "${apt_options[@]}" update >&2
   if ! (cd "$build/zstd-package" && apt-get "${apt_options[@]}" source --download-only \
-          "libzstd=$version" >&2 2>/dev/null); then
+          "libzstd=$version" >/dev/null 2>&1); then
     # The installed version's source is not reachable (a security update whose source pool
-    # this machine's mirror does not serve): the newest source of the same upstream release
-    # that is, said loudly, since its decoder lacks the Debian patches after it.
+    # this machine's mirror does not serve; apt's own errors for it are left out, the warning
+    # below says it): the newest source of the same upstream release that is, said loudly,
+    # since its decoder lacks the Debian patches after it.
     upstream=${version%-*}
     fallback=$(apt-cache "${apt_options[@]}" showsrc libzstd | awk '/^Version:/ {print $2}' |
                grep -F "$upstream-" | grep -vxF "$version" | sort -V | tail -n 1)

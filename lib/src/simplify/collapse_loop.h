@@ -487,7 +487,7 @@ class CollapseLoop {
     const LocalQuadric& q = vertex_[v].quadric;
     return q.weight > 0 ? q.error_at(point(u) - point(v)) / q.weight : 0.0;
   }
-  // Without the measure, on the geometry alone (plane_term_, and no attributes), find_best()
+  // Without the measure, on the geometry alone (plane_term_), find_best()
   // adds to an option's cost kPlaneWeight times the largest squared distance from u to the
   // planes of v's faces (FanPlanes): the quadric is a mean over every plane v stands for, and
   // a collapse that tilts one face far off its plane while the others stay hides in it; the
@@ -743,8 +743,9 @@ class CollapseLoop {
   const bool angle_features_;  // the angle is below 180 degrees
   const bool schroeder_;       // Schroeder's metric (schroeder_costs.cpp), else quadrics
   const bool measure_;         // the measured distance joins the key (EncodeOptions::fast: no)
-  // Without the measure, the quadric metric's cost has its plane term (FanPlanes).
-  const bool plane_term_;
+  // Without the measure, the quadric metric's cost has its plane term (FanPlanes); not with
+  // attributes (attach_attributes() turns it off).
+  bool plane_term_;
   const bool reuse_fan_part_, keep_apex_candidates_;  // LoopSwitches' (simplifier.h), for tests
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one

@@ -120,7 +120,7 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
   Vec3 to_ring[kMaxValence];
   for (int i = 0; i < n; ++i) to_ring[i] = point(ring_v[i].vertex) - pv;
   FanPlanes planes;
-  if (plane_term_ && !attributes_) fan_planes(to_ring, n, boundary_v, planes);
+  if (plane_term_) fan_planes(to_ring, n, boundary_v, planes);
   for (int i = 0; i < count; ++i) {
     const Neighbour& to = ring_v[options[i].index];
     const Vec3& d = to_ring[options[i].index];

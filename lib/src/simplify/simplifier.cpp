@@ -146,6 +146,7 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
   if (attributes_->has_uvs())
     seam_drift_ = std::make_unique<SeamDrift>(xyz_.data(), n_vertices, *attributes_);
   features_ = true;  // seams and material borders are feature edges
+  plane_term_ = false;  // it moved the levels away from the input there (FanPlanes)
   detail::assign_preferring_huge_pages(seam_, half_.size(), 0);
   // Each interior edge by its lower half-edge: no byte is written twice.
   run_in_slices(half_.size(), threads_, [&](std::size_t lo, std::size_t hi) {
