@@ -10,6 +10,7 @@
 #include <mutex>
 #include <system_error>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace pm {
@@ -17,6 +18,20 @@ namespace pm {
 // `requested` threads, or the machine's cores when 0; at least 1.
 inline unsigned thread_count(unsigned requested) {
   return requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Starts f on a thread of its own in `thread` (empty before); false, with `thread` left empty,
+// when the system has none to give (std::thread's std::system_error: pthread_create's EAGAIN
+// under a process or thread limit). The caller then does that work itself: the library never
+// fails for want of a thread. Every thread the library starts goes through here.
+template <typename F>
+bool try_start_thread(std::thread& thread, F&& f) {
+  try {
+    thread = std::thread(std::forward<F>(f));
+    return true;
+  } catch (const std::system_error&) {
+    return false;
+  }
 }
 
 // Runs f(task, caller) for every task in [0, tasks), on this thread and up to threads - 1
@@ -44,12 +59,12 @@ void run_in_turn(std::size_t tasks, unsigned threads, F&& f) {
     }
   };
   std::vector<std::thread> others;
-  others.reserve(helpers);  // so that only a thread's start can throw below
-  try {
-    for (std::size_t t = 0; t < helpers; ++t) others.emplace_back(guarded, false);
-  } catch (const std::system_error&) {
-    // No more threads to be had (pthread_create's EAGAIN, under a process or thread limit):
-    // those started and this one take every task, as build() and layer_splits() do.
+  others.reserve(helpers);  // so that push_back() below cannot throw
+  // No more threads to be had: those started and this one take every task.
+  for (std::size_t t = 0; t < helpers; ++t) {
+    std::thread helper;
+    if (!try_start_thread(helper, [&] { guarded(false); })) break;
+    others.push_back(std::move(helper));
   }
   guarded(true);
   for (std::thread& t : others) t.join();

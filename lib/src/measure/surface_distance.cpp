@@ -35,10 +35,10 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <system_error>
 #include <thread>
 #include <vector>
 
+#include "core/in_turn.h"
 #include "measure/triangle_bvh.h"
 #include "simplify/geometry.h"
 
@@ -487,14 +487,19 @@ Status measure_surface_distance(const Mesh& reference, const Mesh& other,
       if (backward_pass) guarded([&] { backward_pass->work(); });
     } else {
       std::vector<std::thread> workers;
-      try {
-        workers.emplace_back([&] {
-          prepare_backward();
-          measure();
-        });
-        for (unsigned i = 2; i < threads; ++i) workers.emplace_back(measure);
-      } catch (const std::system_error&) {
-        // No more threads to be had: the ones running and this one share the work.
+      workers.reserve(threads - 1);  // so that push_back() below cannot throw
+      // The first worker prepares the backward pass; no more threads to be had: the ones
+      // running and this one share the work.
+      for (unsigned i = 1; i < threads; ++i) {
+        std::thread worker;
+        const bool started = i == 1 ? try_start_thread(worker,
+                                                       [&] {
+                                                         prepare_backward();
+                                                         measure();
+                                                       })
+                                    : try_start_thread(worker, measure);
+        if (!started) break;
+        workers.push_back(std::move(worker));
       }
       prepare_forward();
       if (workers.empty()) prepare_backward();

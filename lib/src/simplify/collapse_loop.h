@@ -12,7 +12,6 @@
 #include <functional>
 #include <limits>
 #include <set>
-#include <system_error>
 #include <thread>
 
 #include "core/in_turn.h"

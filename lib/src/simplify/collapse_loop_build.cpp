@@ -87,15 +87,8 @@ bool CollapseLoop::build(const uint32_t* tri, std::size_t n_faces, const float* 
       morton_order(points, n_vertices, low, high, 0.37, local_vertex_.data(), keys, order_b_,
                    rank_b_);
     };
-    if (threads_ < 2) {
-      order();
-    } else {
-      try {
-        second_order = std::thread(order);
-      } catch (const std::system_error&) {  // no thread to be had: here, then
-        order();
-      }
-    }
+    // With one thread, or no thread to be had: here.
+    if (threads_ < 2 || !try_start_thread(second_order, order)) order();
   }
 
   // Faces by their first local vertex (a counting sort); a face with a repeated vertex,

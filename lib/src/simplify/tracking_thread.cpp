@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <system_error>
+
+#include "core/in_turn.h"
 
 namespace pm::collapse_loop {
 namespace {
@@ -41,12 +42,8 @@ bool TrackingThread::start(TrackedPoints& tracked, bool measured, float record_f
   pushed_ = 0;
   done_ = 0;
   if (!slots_) slots_.reset(new Task[kSlots]);
-  try {
-    thread_ = std::thread([this] { run(); });
-  } catch (const std::system_error&) {  // no thread to be had: the caller tracks in turn
-    return false;
-  }
-  return true;
+  // No thread to be had: the caller tracks in turn.
+  return try_start_thread(thread_, [this] { run(); });
 }
 
 void TrackingThread::push(uint32_t v, const uint32_t* old_faces, int n_old,

@@ -26,7 +26,6 @@
 #include <exception>
 #include <mutex>
 #include <numeric>
-#include <system_error>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -288,25 +287,22 @@ void layer_splits(ProgressiveMesh& pm, uint32_t largest_chunk, double share, uns
     std::exception_ptr first_failure, second_failure;
     bool stop = false;  // stage 2 failed: stage 1 need not go on
     std::thread first_stage;
-    try {
-      first_stage = std::thread([&] {
-        try {
-          for (std::size_t w = 0; w < windows.size(); ++w) {
-            layer_window(w);
-            const std::lock_guard<std::mutex> lock(mutex);
-            windows_layered = w + 1;
-            layered.notify_one();
-            if (stop) return;
-          }
-        } catch (...) {
+    const bool started = try_start_thread(first_stage, [&] {
+      try {
+        for (std::size_t w = 0; w < windows.size(); ++w) {
+          layer_window(w);
           const std::lock_guard<std::mutex> lock(mutex);
-          first_failure = std::current_exception();
+          windows_layered = w + 1;
           layered.notify_one();
+          if (stop) return;
         }
-      });
-    } catch (const std::system_error&) {  // no thread to be had: both stages here
-    }
-    if (!first_stage.joinable()) in_order();
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        first_failure = std::current_exception();
+        layered.notify_one();
+      }
+    });
+    if (!started) in_order();  // no thread to be had: both stages here
     try {
       for (std::size_t w = 0; first_stage.joinable() && w < windows.size(); ++w) {
         {
