@@ -113,6 +113,7 @@ class CollapseLoop {
         plane_term_(!measure_ && !schroeder_ && switches.plane_term),
         reuse_fan_part_(switches.reuse_fan_part),
         keep_apex_candidates_(switches.keep_apex_candidates),
+        compact_wedges_(switches.compact_wedges),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -120,8 +121,12 @@ class CollapseLoop {
   // Keeps the input's texture coordinates, normals and materials through the loop (unless
   // options.drop_attributes): call after build(). input_face[f] is the input triangle of
   // given face f, input_vertex[x] the input vertex of given vertex x (null: the identity).
+  // `input_read` (when set) is called once, as soon as the loop holds all it reads of the
+  // input but its uvs and normals tables (simplifier.h, loop_built): with attributes, before
+  // their wedges' quadrics are made, so that the input's arrays that go then are not held
+  // beside them (the 950K-face textured mesh: 34 MiB of its triangles and corner indices).
   void attach_attributes(const Mesh& input, const uint32_t* input_face,
-                         const uint32_t* input_vertex);
+                         const uint32_t* input_vertex, const std::function<void()>& input_read);
 
   // Rounds of collapses in regions of the mesh at once, two threads taking the regions in
   // turn (fast_partition_vertices in encoder.h). A collapse v -> u rewrites only faces
@@ -745,7 +750,8 @@ class CollapseLoop {
   // Without the measure, the quadric metric's cost has its plane term (FanPlanes); not with
   // attributes (attach_attributes() turns it off).
   bool plane_term_;
-  const bool reuse_fan_part_, keep_apex_candidates_;  // LoopSwitches' (simplifier.h), for tests
+  // LoopSwitches' (simplifier.h), for tests.
+  const bool reuse_fan_part_, keep_apex_candidates_, compact_wedges_;
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one

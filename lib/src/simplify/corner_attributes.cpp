@@ -63,7 +63,8 @@ int sign(double x) { return (x > 0) - (x < 0); }
 CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
                                    std::size_t faces, const float* points,
                                    std::size_t n_vertices, const uint32_t* input_face,
-                                   const uint32_t* input_vertex, unsigned threads) {
+                                   const uint32_t* input_vertex, unsigned threads,
+                                   const std::function<void()>& inputs_read) {
   auto input_face_of = [&](std::size_t f) {
     return input_face ? input_face[f] : static_cast<uint32_t>(f);
   };
@@ -107,6 +108,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
       face.material = has_materials_ ? input.face_materials[input_face_of(f)] : kNoAttribute;
     }
   });
+  if (inputs_read) inputs_read();
 
   // Scales that make an attribute deviation comparable to a distance. Texture: the
   // surface's model units per texture unit, the square root of the ratio of the surface's
@@ -413,6 +415,57 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
     const int c = corner_of(f, at[i]);
     uvs[i] = has_uvs() ? faces_[f].id[kUv][c] : kNoAttribute;
     normals[i] = has_normals() ? faces_[f].id[kNormal][c] : kNoAttribute;
+  }
+}
+
+void CornerAttributes::compact_wedges(const std::vector<uint8_t>& face_dead) {
+  // Worth a pass over the live faces' corners only once a good part of the wedges is gone.
+  constexpr std::size_t kLeastShare = 4;  // a quarter
+  std::vector<uint32_t> slot[kKinds];      // per wedge: its new place, or kNoWedge
+  bool any = false;
+  for (int kind = 0; kind < kKinds; ++kind) {
+    if (!kinds_[kind].present) continue;
+    slot[kind].assign(kind == kUv ? uv_quadrics_.size() : normal_quadrics_.size(), kNoWedge);
+    any = true;
+  }
+  if (!any) return;
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    if (face_dead[f]) continue;
+    for (int kind = 0; kind < kKinds; ++kind)
+      for (const uint32_t w : faces_[f].wedge[kind])
+        if (w != kNoWedge) slot[kind][w] = 0;  // used
+  }
+  bool moved = false;
+  for (int kind = 0; kind < kKinds; ++kind) {
+    std::vector<uint32_t>& places = slot[kind];
+    uint32_t used = 0;
+    for (uint32_t& place : places)
+      if (place != kNoWedge) place = used++;
+    if (places.size() - used < places.size() / kLeastShare) {
+      places.clear();  // kept as they are
+      continue;
+    }
+    // In order: a wedge's new place is never after its old one.
+    auto compact = [&](auto& quadrics) {
+      for (std::size_t w = 0; w < places.size(); ++w)
+        if (places[w] != kNoWedge) quadrics[places[w]] = quadrics[w];
+      detail::shrink_in_place(quadrics, used);
+    };
+    if (kind == kUv)
+      compact(uv_quadrics_);
+    else
+      compact(normal_quadrics_);
+    moved = true;
+  }
+  if (!moved) return;
+  ++compactions_;
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    if (face_dead[f]) continue;
+    for (int kind = 0; kind < kKinds; ++kind) {
+      if (slot[kind].empty()) continue;
+      for (uint32_t& w : faces_[f].wedge[kind])
+        if (w != kNoWedge) w = slot[kind][w];
+    }
   }
 }
 

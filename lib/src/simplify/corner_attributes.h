@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "simplify/attribute_quadric.h"
@@ -83,10 +84,14 @@ class CornerAttributes {
   // corners[3f..3f+2] (distinct), at points (three floats per vertex); input_face[f] is its
   // input triangle and input_vertex[x] the input vertex of x (null: the identity). The
   // texture coordinates' and the normals' quadrics are summed on two threads when `threads`
-  // allows (each in face order: the same sums).
+  // allows (each in face order: the same sums). `inputs_read`, when set, is called once the
+  // faces' records are made: afterwards neither corners, input_face and input_vertex nor the
+  // input's triangles, corner indices and materials are read (only its uvs and normals), so
+  // that the caller may let them go before the wedges and their quadrics take their memory.
   CornerAttributes(const Mesh& input, const uint32_t* corners, std::size_t n_faces,
                    const float* points, std::size_t n_vertices, const uint32_t* input_face,
-                   const uint32_t* input_vertex, unsigned threads = 1);
+                   const uint32_t* input_vertex, unsigned threads = 1,
+                   const std::function<void()>& inputs_read = {});
 
   bool has_uvs() const { return kinds_[kUv].present; }
   bool has_normals() const { return kinds_[kNormal].present; }
@@ -150,6 +155,18 @@ class CornerAttributes {
   void corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t (&uvs)[3],
                   uint32_t (&normals)[3]) const;
   uint32_t material(uint32_t f) const { return faces_[f].material; }
+
+  // Lets the quadrics of the wedges that no live face uses any more go (v's, merged into u's
+  // by its collapse): the others move down in their order, the corners are renumbered, and
+  // the memory past them goes back to the system (core/huge_pages.h, shrink_in_place()). The
+  // loop calls it between its rounds, on one thread, so that the quadrics shrink as the mesh
+  // does, where they were held whole to the last collapse, when memory peaks (the collapse
+  // record is largest then). The same costs and merges after as before: wedges keep their
+  // order and values, and the rules only compare them. face_dead[f]: face f is gone (its
+  // corners are left as they were, never read again).
+  void compact_wedges(const std::vector<uint8_t>& face_dead);
+  // How many of those calls moved some wedge (tests).
+  std::size_t compactions() const { return compactions_; }
 
   // After the last collapse: the wedges' quadrics go (80 MB of the 950K-face textured mesh's
   // encode, held through the assembly for nothing); the corners stay for it. No cost may be
@@ -215,6 +232,7 @@ class CornerAttributes {
   std::vector<FaceCorners> faces_;
   Kind kinds_[kKinds];
   bool has_materials_ = false;
+  std::size_t compactions_ = 0;
   // Per wedge, about its vertex's position (attribute_quadric.h: float is exact enough there).
   std::vector<AttributeQuadric<2, float>> uv_quadrics_;
   std::vector<AttributeQuadric<3, float>> normal_quadrics_;

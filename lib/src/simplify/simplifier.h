@@ -39,6 +39,10 @@ struct LoopSwitches {
   // quadric's cost (collapse_loop.h, FanPlanes). Off: the quadric alone, whose shortcuts
   // (keep_apex_candidates) leave the sequence as it was; test_encoder.cpp compares the levels.
   bool plane_term = true;
+  // Whether the wedges' quadrics are compacted between the rounds (CornerAttributes::
+  // compact_wedges()), to lower the memory peak. The same stream either way: test_attributes.cpp
+  // compares.
+  bool compact_wedges = true;
 };
 
 struct Simplification {
