@@ -40,7 +40,7 @@ struct LoopSwitches {
   // (keep_apex_candidates) leave the sequence as it was; test_encoder.cpp compares the levels.
   bool plane_term = true;
   // Whether the wedges' quadrics are compacted between the rounds (CornerAttributes::
-  // compact_wedges()), to lower the memory peak. The same stream either way: test_attributes.cpp
+  // compact_wedges()), to lower the memory peak. The same stream either way: test_encoder.cpp
   // compares.
   bool compact_wedges = true;
 };
