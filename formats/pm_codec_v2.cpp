@@ -53,7 +53,6 @@
 #include <new>
 #include <string>
 #include <string_view>
-#include <system_error>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -126,11 +125,12 @@ class SectionCompressor {
  public:
   SectionCompressor(std::size_t slots, unsigned threads, int zstd_level)
       : raws_(slots), tags_(slots, 0), compressed_(slots), statuses_(slots), level_(zstd_level) {
-    helpers_.reserve(threads);  // so that only a thread's start can throw below
-    try {
-      for (unsigned t = 1; t < threads; ++t) helpers_.emplace_back([this] { work(); });
-    } catch (const std::system_error&) {
-      // No more threads to be had: those started, and finish() on the caller's, do the rest.
+    helpers_.reserve(threads);  // so that push_back() below cannot throw
+    // No more threads to be had: those started, and finish() on the caller's, do the rest.
+    for (unsigned t = 1; t < threads; ++t) {
+      std::thread helper;
+      if (!try_start_thread(helper, [this] { work(); })) break;
+      helpers_.push_back(std::move(helper));
     }
   }
   SectionCompressor(const SectionCompressor&) = delete;
