@@ -125,13 +125,8 @@ class SectionCompressor {
  public:
   SectionCompressor(std::size_t slots, unsigned threads, int zstd_level)
       : raws_(slots), tags_(slots, 0), compressed_(slots), statuses_(slots), level_(zstd_level) {
-    helpers_.reserve(threads);  // so that push_back() below cannot throw
     // No more threads to be had: those started, and finish() on the caller's, do the rest.
-    for (unsigned t = 1; t < threads; ++t) {
-      std::thread helper;
-      if (!try_start_thread(helper, [this] { work(); })) break;
-      helpers_.push_back(std::move(helper));
-    }
+    if (threads > 1) start_threads(helpers_, threads - 1, [this] { work(); });
   }
   SectionCompressor(const SectionCompressor&) = delete;
   SectionCompressor& operator=(const SectionCompressor&) = delete;

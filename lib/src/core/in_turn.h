@@ -34,6 +34,21 @@ bool try_start_thread(std::thread& thread, F&& f) {
   }
 }
 
+// Starts up to `count` more threads, each running f, into `threads`, and stops at the first
+// the system refuses (try_start_thread()); returns how many started. The callers share their
+// work among those and their own thread, so fewer than asked is never an error.
+template <typename F>
+std::size_t start_threads(std::vector<std::thread>& threads, std::size_t count, const F& f) {
+  threads.reserve(threads.size() + count);  // so that push_back() below cannot throw
+  std::size_t started = 0;
+  for (; started < count; ++started) {
+    std::thread thread;
+    if (!try_start_thread(thread, f)) break;
+    threads.push_back(std::move(thread));
+  }
+  return started;
+}
+
 // Runs f(task, caller) for every task in [0, tasks), on this thread and up to threads - 1
 // more; `caller` tells whether this thread runs it (the one that may report progress).
 // With one thread, all here, in order. The first exception from f is rethrown here once
@@ -58,14 +73,9 @@ void run_in_turn(std::size_t tasks, unsigned threads, F&& f) {
       if (!failure) failure = std::current_exception();
     }
   };
-  std::vector<std::thread> others;
-  others.reserve(helpers);  // so that push_back() below cannot throw
   // No more threads to be had: those started and this one take every task.
-  for (std::size_t t = 0; t < helpers; ++t) {
-    std::thread helper;
-    if (!try_start_thread(helper, [&] { guarded(false); })) break;
-    others.push_back(std::move(helper));
-  }
+  std::vector<std::thread> others;
+  start_threads(others, helpers, [&] { guarded(false); });
   guarded(true);
   for (std::thread& t : others) t.join();
   if (failure) std::rethrow_exception(failure);

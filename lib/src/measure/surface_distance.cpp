@@ -486,21 +486,14 @@ Status measure_surface_distance(const Mesh& reference, const Mesh& other,
       prepare_backward();
       if (backward_pass) guarded([&] { backward_pass->work(); });
     } else {
-      std::vector<std::thread> workers;
-      workers.reserve(threads - 1);  // so that push_back() below cannot throw
       // The first worker prepares the backward pass; no more threads to be had: the ones
       // running and this one share the work.
-      for (unsigned i = 1; i < threads; ++i) {
-        std::thread worker;
-        const bool started = i == 1 ? try_start_thread(worker,
-                                                       [&] {
-                                                         prepare_backward();
-                                                         measure();
-                                                       })
-                                    : try_start_thread(worker, measure);
-        if (!started) break;
-        workers.push_back(std::move(worker));
-      }
+      std::vector<std::thread> workers;
+      if (start_threads(workers, 1, [&] {
+            prepare_backward();
+            measure();
+          }) == 1)
+        start_threads(workers, threads - 2, measure);
       prepare_forward();
       if (workers.empty()) prepare_backward();
       measure();
