@@ -1,12 +1,10 @@
-// Transparent huge pages for large random-access arrays, and giving back the unused end of a
-// shrunk one (see huge_pages.h).
+// Transparent huge pages for large random-access arrays (see huge_pages.h).
 #include "core/huge_pages.h"
 
 #include <cstdint>
 
 #if defined(__linux__)
 #include <sys/mman.h>
-#include <unistd.h>
 #endif
 
 namespace pm::detail {
@@ -36,17 +34,6 @@ void prefer_huge_pages(const void* data, std::size_t bytes) {
   constexpr std::size_t kLeast = 4 * kHugePage;
   // A hint: an old kernel, or huge pages disabled, leaves the pages as they were.
   if (bytes >= kLeast) advise_inner_pages(data, bytes, kHugePage, MADV_HUGEPAGE);
-#else
-  (void)data;
-  (void)bytes;
-#endif
-}
-
-void release_pages(const void* data, std::size_t bytes) {
-#if defined(__linux__) && defined(MADV_DONTNEED)
-  static const long page_size = sysconf(_SC_PAGESIZE);  // a huge page in the range is split
-  if (page_size > 0)
-    advise_inner_pages(data, bytes, static_cast<std::uintptr_t>(page_size), MADV_DONTNEED);
 #else
   (void)data;
   (void)bytes;

@@ -31,6 +31,8 @@ namespace pm::collapse_loop {
 
 constexpr uint32_t kNone = 0xffffffffu;
 constexpr int kMaxValence = 64;  // as the former default loop: a vertex of larger valence stays
+static_assert(kMaxValence <= CornerAttributes::StarFields::kMostFaces,
+              "a star's faces all have their attribute function");
 static_assert(kMaxValence <= KeptPoints::kMaxMoved, "KeptPoints' scratch holds a whole fan");
 
 inline uint32_t next_of(uint32_t h) {
@@ -113,7 +115,6 @@ class CollapseLoop {
         plane_term_(!measure_ && !schroeder_ && switches.plane_term),
         reuse_fan_part_(switches.reuse_fan_part),
         keep_apex_candidates_(switches.keep_apex_candidates),
-        compact_wedges_(switches.compact_wedges),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -122,9 +123,9 @@ class CollapseLoop {
   // options.drop_attributes): call after build(). input_face[f] is the input triangle of
   // given face f, input_vertex[x] the input vertex of given vertex x (null: the identity).
   // `input_read` (when set) is called once, as soon as the loop holds all it reads of the
-  // input but its uvs and normals tables (simplifier.h, loop_built): with attributes, before
-  // their wedges' quadrics are made, so that the input's arrays that go then are not held
-  // beside them (the 950K-face textured mesh: 34 MiB of its triangles and corner indices).
+  // input but its uvs and normals tables (simplifier.h, loop_built): with attributes, once
+  // the faces' corner records are made, before the wedges are numbered (the 950K-face
+  // textured mesh: 34 MiB of its triangles and corner indices go then).
   void attach_attributes(const Mesh& input, const uint32_t* input_face,
                          const uint32_t* input_vertex, const std::function<void()>& input_read);
 
@@ -478,11 +479,11 @@ class CollapseLoop {
   // The cost of v's collapse onto its neighbour u (through `edge`, a half-edge on v-u) as
   // find_best() ranks it: v's planes at u as a mean over their area (u stays where it is;
   // Garland and Heckbert 1997, §4), plus, with attributes, their error in the same units
-  // (Hoppe 1999, §4), as the former default loop: `star` is v's, `wedges` its star_wedges().
+  // (Hoppe 1999, §4), as the former default loop: `star` is v's, `fields` its star_fields().
   double cost_of(uint32_t v, uint32_t u, uint32_t edge, Star& star,
-                 const CornerAttributes::StarWedges& wedges) const {
+                 const CornerAttributes::StarFields& fields) const {
     const double cost = geometric_cost(v, u);
-    return attributes_ ? cost + attribute_cost(u, edge, star, wedges) : cost;
+    return attributes_ ? cost + attribute_cost(u, edge, star, fields) : cost;
   }
   // cost_of()'s two terms. The attribute term is never negative, so the geometric one
   // alone is a lower bound of the sum (rounding is monotone): an option whose geometric
@@ -535,9 +536,9 @@ class CollapseLoop {
     planes.count = faces > 0 ? faces : 0;
   }
   double attribute_cost(uint32_t u, uint32_t edge, Star& star,
-                        const CornerAttributes::StarWedges& wedges) const {
+                        const CornerAttributes::StarFields& fields) const {
     aim(star, u, edge);
-    return attributes_->collapse_cost(star.c, wedges);
+    return attributes_->collapse_cost(star.c, fields);
   }
   // The key of a candidate of this cost before its measure: the cost alone, a lower bound,
   // so the order stays greedy (a guess of the measure cost Hausdorff: kept_points.h's grids).
@@ -572,9 +573,9 @@ class CollapseLoop {
   };
   static bool ranks_before(const Option& a, const Option& b);
   // Schroeder's metric (schroeder_costs.cpp): each of the `count` options' cost and rank
-  // for v of this kind (ring_v its n neighbours; star and wedges v's, with attributes).
+  // for v of this kind (ring_v its n neighbours; star and fields v's, with attributes).
   void schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n, Option* options,
-                       int count, Star& star, const CornerAttributes::StarWedges& wedges) const;
+                       int count, Star& star, const CornerAttributes::StarFields& fields) const;
   // Marks the input corners with an edge sharper than kSharpCornerDeg (schroeder_costs.cpp).
   void mark_sharp_corners();
 
@@ -751,7 +752,7 @@ class CollapseLoop {
   // attributes (attach_attributes() turns it off).
   bool plane_term_;
   // LoopSwitches' (simplifier.h), for tests.
-  const bool reuse_fan_part_, keep_apex_candidates_, compact_wedges_;
+  const bool reuse_fan_part_, keep_apex_candidates_;
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one

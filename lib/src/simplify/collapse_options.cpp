@@ -111,11 +111,8 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
         std::remove_if(options, options + n, [](const Option& o) { return !o.special; }) - options);
   const Vec3 pv = point(v);
   Star star;
-  CornerAttributes::StarWedges wedges;  // v's, the same for every target
-  if (attributes_) {
-    make_star(v, ring_v, n, star);
-    attributes_->star_wedges(star.c, wedges);
-  }
+  CornerAttributes::StarFields fields;  // v's, the same for every target
+  if (attributes_) make_star(v, ring_v, n, star);
   // The plane term (collapse_loop.h, FanPlanes), never negative, joins the quadric's cost.
   Vec3 to_ring[kMaxValence];
   for (int i = 0; i < n; ++i) to_ring[i] = point(ring_v[i].vertex) - pv;
@@ -130,8 +127,12 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
     if (planes.count > 0) options[i].cost += kPlaneWeight * planes.worst(d);
     options[i].rank = options[i].cost;
   }
+  // v's faces' attribute functions once the geometric costs are known: make_star() asked
+  // for the faces' records, which have come meanwhile (textured 950K-face mesh without the
+  // measure, one thread: 3.61 -> 3.43 s, medians of 3 alternating runs).
+  if (attributes_) attributes_->star_fields(star.c, fields);
   // Schroeder's, with their attribute costs.
-  if (schroeder_) schroeder_costs(v, kind, ring_v, n, options, count, star, wedges);
+  if (schroeder_) schroeder_costs(v, kind, ring_v, n, options, count, star, fields);
   auto queue = [&](const Option& o, bool cheapest) {
     if (!owns(worker, ring_v[o.index].vertex)) return false;
     best_[v] = {ring_v[o.index].vertex, ring_v[o.index].edge, static_cast<float>(o.cost)};
@@ -144,7 +145,7 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
   if (attributes_ && !schroeder_) {
     auto price = [&](Option& o) {
       const Neighbour& to = ring_v[o.index];
-      o.cost += attribute_cost(to.vertex, to.edge, star, wedges);
+      o.cost += attribute_cost(to.vertex, to.edge, star, fields);
       o.rank = o.cost;
     };
     InOrderOfWholeCost order(options, count, price, ranks_before);
@@ -175,7 +176,7 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
 bool CollapseLoop::keeps_best_with_attributes(Worker& worker, uint32_t v, uint32_t u,
                                               double geometric) {
   Star star;
-  CornerAttributes::StarWedges wedges;
+  CornerAttributes::StarFields fields;
   Neighbour ring_v[kMaxValence];
   bool boundary_v;
   const int n = ring(v, ring_v, kMaxValence, &boundary_v);
@@ -183,13 +184,13 @@ bool CollapseLoop::keeps_best_with_attributes(Worker& worker, uint32_t v, uint32
                                      [&](const Neighbour& x) { return x.vertex == u; });
   if (to == ring_v + std::max(n, 0)) return false;
   make_star(v, ring_v, n, star);
-  attributes_->star_wedges(star.c, wedges);
+  attributes_->star_fields(star.c, fields);
   // The geometric cost alone already above the key: so is the sum (attribute_cost() >= 0).
   if (!(static_cast<float>(geometric) > best_[v].key) &&
-      !(static_cast<float>(geometric + attribute_cost(u, to->edge, star, wedges)) > best_[v].key))
+      !(static_cast<float>(geometric + attribute_cost(u, to->edge, star, fields)) > best_[v].key))
     return false;
   const Best& best = best_[v];
-  worker.queue(v, queued_key(cost_of(v, best.target, best.edge, star, wedges)));
+  worker.queue(v, queued_key(cost_of(v, best.target, best.edge, star, fields)));
   return true;
 }
 

@@ -1,5 +1,6 @@
 // Wedges on the half-edge mesh (Hoppe 1996, §3), seams kept as discontinuities
-// (Garland and Heckbert 1998, §4), attribute error by quadrics (Hoppe 1999, §4).
+// (Garland and Heckbert 1998, §4), attribute error as Hoppe 1999, §4 measures it, over the
+// current faces (memoryless: Lindstrom and Turk 1998, §3).
 #include "simplify/corner_attributes.h"
 
 #include <algorithm>
@@ -93,6 +94,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     k.values = tables[kind];
   }
   has_materials_ = !input.face_materials.empty();
+  points_ = points;
   // Each face's record on its own: in slices, on `threads`.
   detail::assign_preferring_huge_pages(faces_, faces, {});
   run_in_slices(faces, threads, [&](std::size_t lo, std::size_t hi) {
@@ -149,10 +151,6 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   for (int kind = 0; kind < kKinds; ++kind)
     if (kinds_[kind].present)
       number_wedges(kind, value_classes(*tables[kind], dims[kind]), begin, vertex_corners);
-  // The kinds' quadrics apart, each on a thread of its own: they only read faces_.
-  run_in_turn(kKinds, threads, [&](std::size_t kind, bool) {
-    if (kinds_[kind].present) add_face_quadrics(static_cast<int>(kind), points);
-  });
 }
 
 // One wedge per vertex and value.
@@ -173,53 +171,6 @@ void CornerAttributes::number_wedges(int kind, const std::vector<uint32_t>& valu
       auto it = std::find_if(seen.begin(), seen.end(), [&](auto& s) { return s.first == cls; });
       if (it == seen.end()) it = seen.insert(seen.end(), {cls, wedges++});
       faces_[f].wedge[kind][c] = it->second;
-    }
-  }
-  if (kind == kUv)
-    detail::assign_preferring_huge_pages(uv_quadrics_, wedges, {});
-  else
-    detail::assign_preferring_huge_pages(normal_quadrics_, wedges, {});
-}
-
-// Each face adds its quadric to its three corners' wedges, in face order.
-void CornerAttributes::add_face_quadrics(int kind, const float* points) {
-  const Kind& k = kinds_[kind];
-  const char* quadrics = kind == kUv ? reinterpret_cast<const char*>(uv_quadrics_.data())
-                                     : reinterpret_cast<const char*>(normal_quadrics_.data());
-  const std::size_t quadric_bytes =
-      kind == kUv ? sizeof(uv_quadrics_[0]) : sizeof(normal_quadrics_[0]);
-  // The wedges' quadrics a face adds to are scattered: asked for a few faces ahead, their
-  // cache misses overlap (most of the time went to waiting for them).
-  constexpr std::size_t kFetchAhead = 8;
-  for (std::size_t f = 0; f < faces_.size(); ++f) {
-    if (f + kFetchAhead < faces_.size()) {
-      for (const uint32_t w : faces_[f + kFetchAhead].wedge[kind]) {
-        if (w == kNoWedge) continue;
-        const char* at = quadrics + std::size_t{w} * quadric_bytes;
-        __builtin_prefetch(at, 1);
-        __builtin_prefetch(at + quadric_bytes - 1, 1);
-      }
-    }
-    const auto& ids = faces_[f].id[kind];
-    const auto& wedge = faces_[f].wedge[kind];
-    if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
-    Vec3 p[3];
-    const float* values[3];
-    for (int c = 0; c < 3; ++c) {
-      const float* q = points + 3 * std::size_t{faces_[f].vertex[c]};
-      p[c] = Vec3(q[0], q[1], q[2]);
-      values[c] = k.value(ids[c]);
-    }
-    const double area = 0.5 * area_vector(p[0], p[1], p[2]).norm();
-    // Each corner's wedge keeps the face's quadric about that corner's vertex.
-    if (kind == kUv) {
-      const auto face = AttributeQuadric<2>::from_face(p, values, area);
-      const auto fixed = AttributeQuadric<2, float>::origin_free(face);
-      for (int c = 0; c < 3; ++c) uv_quadrics_[wedge[c]].add_moved(face, fixed, p[c]);
-    } else {
-      const auto face = AttributeQuadric<3>::from_face(p, values, area);
-      const auto fixed = AttributeQuadric<3, float>::origin_free(face);
-      for (int c = 0; c < 3; ++c) normal_quadrics_[wedge[c]].add_moved(face, fixed, p[c]);
     }
   }
 }
@@ -293,63 +244,96 @@ bool CornerAttributes::collapse_keeps_attributes(const CollapseStar& c) const {
 }
 
 double CornerAttributes::collapse_cost(const CollapseStar& c) const {
-  StarWedges wedges;
-  star_wedges(c, wedges);
-  return collapse_cost(c, wedges);
+  StarFields fields;
+  star_fields(c, fields);
+  return collapse_cost(c, fields);
 }
 
-void CornerAttributes::star_wedges(const CollapseStar& c, StarWedges& out) const {
-  static_assert(kKinds == 2, "StarWedges holds two kinds");
-  for (int kind = 0; kind < kKinds; ++kind) {
-    const Kind& k = kinds_[kind];
-    uint32_t* wedges = out.wedges[kind];
-    int& count = out.count[kind];
-    count = 0;
-    if (!k.present || k.scale == 0) continue;
-    // Without a seam at v (c.seamless), faces across each of v's edges agree at v, so all
-    // of v's corners have one wedge: the first face's.
-    const int n_faces = c.seamless ? std::min(c.n_faces, 1) : c.n_faces;
-    for (int i = 0; i < n_faces && count < StarWedges::kMost; ++i) {
-      const uint32_t g = c.faces[i];
-      const int corner = corner_of(g, c.v);
-      const uint32_t w = faces_[g].wedge[kind][corner];
-      if (w == kNoWedge || std::any_of(wedges, wedges + count,
-                                       [&](uint32_t s) { return s == w; }))
-        continue;
-      wedges[count++] = w;
-      // collapse_cost() reads its quadric next, for every target priced.
-      const char* quadric = kind == kUv ? reinterpret_cast<const char*>(&uv_quadrics_[w])
-                                        : reinterpret_cast<const char*>(&normal_quadrics_[w]);
-      __builtin_prefetch(quadric);
-      __builtin_prefetch(quadric + 64);
+void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const {
+  static_assert(kKinds == 2, "StarFields holds two kinds");
+  static_assert(StarFields::kMostDims >= 3, "a normal has three components");
+  out.count[kUv] = out.count[kNormal] = 0;
+  bool priced[kKinds];
+  for (int kind = 0; kind < kKinds; ++kind)
+    priced[kind] = kinds_[kind].present && kinds_[kind].scale != 0;
+  if (!priced[kUv] && !priced[kNormal]) return;
+  const float* at_v = points_ + 3 * std::size_t{c.v};
+  const Vec3 pv(at_v[0], at_v[1], at_v[2]);
+  const int n_faces = std::min(c.n_faces, StarFields::kMostFaces);
+  // The corners' values are scattered in the input's tables: all asked for first, so that
+  // their cache misses overlap.
+  for (int i = 0; i < n_faces; ++i)
+    for (int kind = 0; kind < kKinds; ++kind) {
+      if (!priced[kind]) continue;
+      for (const uint32_t id : faces_[c.faces[i]].id[kind])
+        if (id != kNoAttribute) __builtin_prefetch(kinds_[kind].value(id));
+    }
+  for (int i = 0; i < n_faces; ++i) {
+    const uint32_t f = c.faces[i];
+    const FaceCorners& face = faces_[f];
+    Vec3 p[3];  // about v: the positions' differences are exact, the fields' terms small
+    for (int j = 0; j < 3; ++j) {
+      const float* q = points_ + 3 * std::size_t{face.vertex[j]};
+      p[j] = Vec3(q[0], q[1], q[2]) - pv;
+    }
+    const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const double g11 = e1 | e1, g12 = e1 | e2, g22 = e2 | e2;
+    const double det = g11 * g22 - g12 * g12;  // |e1 x e2|^2
+    const double area = 0.5 * (e1 % e2).norm();
+    // A degenerate face has no gradient, and no area to weigh it: it counts for nothing.
+    if (!(det > 0) || !(area > 0)) continue;
+    const int corner = corner_of(f, c.v);
+    for (int kind = 0; kind < kKinds; ++kind) {
+      if (!priced[kind]) continue;
+      const auto& ids = face.id[kind];
+      if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
+      const Kind& k = kinds_[kind];
+      StarFields::Field& field = out.fields[kind][out.count[kind]++];
+      field.area = area;
+      field.wedge = face.wedge[kind][corner];
+      const float* value[3] = {k.value(ids[0]), k.value(ids[1]), k.value(ids[2])};
+      for (int j = 0; j < k.dims; ++j) {
+        // Hoppe 1999, §4: g in the face's plane with g . e1 = a1 - a0 and g . e2 = a2 - a0,
+        // then d = a0 - g . p0, so that a_j(p) = g . p + d on the face.
+        const double d1 = double(value[1][j]) - value[0][j];
+        const double d2 = double(value[2][j]) - value[0][j];
+        const double alpha = (g22 * d1 - g12 * d2) / det, beta = (g11 * d2 - g12 * d1) / det;
+        const Vec3 g = alpha * e1 + beta * e2;
+        field.gradient[j][0] = g[0], field.gradient[j][1] = g[1], field.gradient[j][2] = g[2];
+        field.offset[j] = value[0][j] - (g | p[0]);
+      }
     }
   }
 }
 
-double CornerAttributes::collapse_cost(const CollapseStar& c, const StarWedges& wedges) const {
+double CornerAttributes::collapse_cost(const CollapseStar& c, const StarFields& fields) const {
   double cost = 0;
   const bool has_l = c.fl != CollapseStar::kNoFace, has_r = c.fr != CollapseStar::kNoFace;
+  const Vec3 x = c.pu - c.pv;  // u about v, where the fields are
   for (int kind = 0; kind < kKinds; ++kind) {
     const Kind& k = kinds_[kind];
-    if (wedges.count[kind] == 0) continue;
-    // target_corner() for each wedge: u's corner in fl for v's wedge there, else in fr.
+    if (fields.count[kind] == 0) continue;
+    // target_corner() for each of v's corners: u's corner in fl when v's wedge there is
+    // that corner's, else u's corner in fr.
     const uint32_t left_wedge = has_l && has_r ? wedge_at(kind, c.fl, c.v) : kNoWedge;
-    const uint32_t left_target = has_l ? faces_[c.fl].id[kind][corner_of(c.fl, c.u)] : kNoAttribute;
-    const uint32_t right_target = has_r ? faces_[c.fr].id[kind][corner_of(c.fr, c.u)] : kNoAttribute;
+    const uint32_t left = has_l ? faces_[c.fl].id[kind][corner_of(c.fl, c.u)] : kNoAttribute;
+    const uint32_t right = has_r ? faces_[c.fr].id[kind][corner_of(c.fr, c.u)] : kNoAttribute;
+    const float* left_value = left != kNoAttribute ? k.value(left) : nullptr;
+    const float* right_value = right != kNoAttribute ? k.value(right) : nullptr;
     double error = 0, weight = 0;
-    const Vec3 pu_about_v = c.pu - c.pv;  // v's wedges' quadrics are about v
-    for (int i = 0; i < wedges.count[kind]; ++i) {
-      const uint32_t w = wedges.wedges[kind][i];
-      const bool left = has_l && (!has_r || left_wedge == w);
-      const uint32_t target = left ? left_target : right_target;
-      if (target == kNoAttribute) continue;
-      if (kind == kUv) {
-        error += uv_quadrics_[w].error(pu_about_v, k.value(target));
-        weight += uv_quadrics_[w].weight;
-      } else {
-        error += normal_quadrics_[w].error(pu_about_v, k.value(target));
-        weight += normal_quadrics_[w].weight;
+    for (int i = 0; i < fields.count[kind]; ++i) {
+      const StarFields::Field& field = fields.fields[kind][i];
+      const float* s = has_l && (!has_r || left_wedge == field.wedge) ? left_value : right_value;
+      if (!s) continue;
+      // The face's value at u against the one its corner at v takes there.
+      double e = 0;
+      for (int j = 0; j < k.dims; ++j) {
+        const double r = field.gradient[j][0] * x[0] + field.gradient[j][1] * x[1] +
+                         field.gradient[j][2] * x[2] + field.offset[j] - s[j];
+        e += r * r;
       }
+      error += field.area * e;
+      weight += field.area;
     }
     if (weight > 0) cost += k.cost_weight * k.scale * k.scale * error / weight;
   }
@@ -369,28 +353,8 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
   if (c.fl != CollapseStar::kNoFace) record_face(c.fl, c.v, c.u, c.vl);
   if (c.fr != CollapseStar::kNoFace) record_face(c.fr, c.u, c.v, c.vr);
 
-  // v's wedges merge into u's (their quadrics add, Garland and Heckbert 1997 §4), then
-  // the moved corners take u's ids. Targets are read from fl and fr, which do not move.
-  for (int kind = 0; kind < kKinds; ++kind) {
-    Kind& k = kinds_[kind];
-    if (!k.present) continue;
-    uint32_t merged[64];
-    int merged_count = 0;
-    for (int i = 0; i < c.n_faces; ++i) {
-      const uint32_t g = c.faces[i];
-      const int corner = corner_of(g, c.v);
-      const uint32_t w = faces_[g].wedge[kind][corner];
-      if (w == kNoWedge || std::find(merged, merged + merged_count, w) != merged + merged_count)
-        continue;
-      if (merged_count < 64) merged[merged_count++] = w;
-      const auto [tf, tc] = target_corner(kind, c, w);
-      const uint32_t target = faces_[tf].wedge[kind][tc];
-      if (target == kNoWedge || target == w) continue;
-      // u's wedges' quadrics are about u: v's moves there first, in double.
-      if (kind == kUv) uv_quadrics_[target] += uv_quadrics_[w].moved_origin(c.pu - c.pv);
-      else normal_quadrics_[target] += normal_quadrics_[w].moved_origin(c.pu - c.pv);
-    }
-  }
+  // The moved corners take u's ids and wedges. Targets are read from fl and fr, which do
+  // not move.
   for (int i = 0; i < c.n_faces; ++i) {
     const uint32_t g = c.faces[i];
     if (g == c.fl || g == c.fr) continue;
@@ -416,62 +380,6 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
     uvs[i] = has_uvs() ? faces_[f].id[kUv][c] : kNoAttribute;
     normals[i] = has_normals() ? faces_[f].id[kNormal][c] : kNoAttribute;
   }
-}
-
-void CornerAttributes::compact_wedges(const std::vector<uint8_t>& face_dead) {
-  // Worth a pass over the live faces' corners only once a good part of the wedges is gone.
-  constexpr std::size_t kLeastShare = 4;  // a quarter
-  std::vector<uint32_t> slot[kKinds];      // per wedge: its new place, or kNoWedge
-  bool any = false;
-  for (int kind = 0; kind < kKinds; ++kind) {
-    if (!kinds_[kind].present) continue;
-    slot[kind].assign(kind == kUv ? uv_quadrics_.size() : normal_quadrics_.size(), kNoWedge);
-    any = true;
-  }
-  if (!any) return;
-  for (std::size_t f = 0; f < faces_.size(); ++f) {
-    if (face_dead[f]) continue;
-    for (int kind = 0; kind < kKinds; ++kind)
-      for (const uint32_t w : faces_[f].wedge[kind])
-        if (w != kNoWedge) slot[kind][w] = 0;  // used
-  }
-  bool moved = false;
-  for (int kind = 0; kind < kKinds; ++kind) {
-    std::vector<uint32_t>& places = slot[kind];
-    uint32_t used = 0;
-    for (uint32_t& place : places)
-      if (place != kNoWedge) place = used++;
-    if (places.size() - used < places.size() / kLeastShare) {
-      places.clear();  // kept as they are
-      continue;
-    }
-    // In order: a wedge's new place is never after its old one.
-    auto compact = [&](auto& quadrics) {
-      for (std::size_t w = 0; w < places.size(); ++w)
-        if (places[w] != kNoWedge) quadrics[places[w]] = quadrics[w];
-      detail::shrink_in_place(quadrics, used);
-    };
-    if (kind == kUv)
-      compact(uv_quadrics_);
-    else
-      compact(normal_quadrics_);
-    moved = true;
-  }
-  if (!moved) return;
-  ++compactions_;
-  for (std::size_t f = 0; f < faces_.size(); ++f) {
-    if (face_dead[f]) continue;
-    for (int kind = 0; kind < kKinds; ++kind) {
-      if (slot[kind].empty()) continue;
-      for (uint32_t& w : faces_[f].wedge[kind])
-        if (w != kNoWedge) w = slot[kind][w];
-    }
-  }
-}
-
-void CornerAttributes::end_collapses() {
-  std::vector<AttributeQuadric<2, float>>().swap(uv_quadrics_);
-  std::vector<AttributeQuadric<3, float>>().swap(normal_quadrics_);
 }
 
 void CornerAttributes::rename(const std::vector<uint32_t>& face_of,

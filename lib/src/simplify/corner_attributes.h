@@ -6,8 +6,15 @@
 // the faces that move from v to u) takes the wedge of u on its side of the collapsed edge.
 // Seams and material borders are discontinuities to keep (Garland and Heckbert 1998, §4;
 // Hoppe 1999, §5): a collapse is allowed only along them, never across, so no seam opens
-// and none closes. The cost of a collapse adds the attribute error of Hoppe 1999 (see
-// attribute_quadric.h), scaled to model units.
+// and none closes. The cost of a collapse adds an attribute error, scaled to model units:
+// Hoppe 1999's (§4: over each face, the attribute as a linear function of position; a
+// corner moved to u is off by what the face's function gives at u against the value the
+// corner takes), but over v's faces as they are now, not summed over every input face v
+// has come to stand for (memoryless, as Lindstrom and Turk 1998, §3, price geometry). It
+// keeps no state per wedge: the quadrics it replaced (a float quadric per wedge, about its
+// vertex) were a quarter of pmenc's peak memory on a textured mesh, and in float they lost
+// the small deviations of a large mesh's small faces to the rounding of the values' squares
+// (tests/bench/README.md, "Geometric error with attributes kept", has the measurements).
 #pragma once
 
 #include <array>
@@ -15,7 +22,7 @@
 #include <functional>
 #include <vector>
 
-#include "simplify/attribute_quadric.h"
+#include "simplify/geometry.h"
 #include "simplify/record_list.h"
 #include "pm/mesh.h"
 
@@ -66,7 +73,7 @@ struct CollapseStar {
   uint32_t fl, fr;  // the faces (v, u, vl) and (u, v, vr), kNoFace where there is none
   uint32_t vl, vr;  // their third vertices (anything where the face is absent)
   Vec3 pu;          // u's position
-  Vec3 pv;          // v's position (the origin of v's wedges' quadrics)
+  Vec3 pv;          // v's position
   // v's faces, fl and fr among them, in the order the loop lists the faces that move.
   const uint32_t* faces;
   int n_faces;
@@ -82,12 +89,12 @@ class CornerAttributes {
  public:
   // The input's corner ids for each face of the loop's mesh: face f has vertices
   // corners[3f..3f+2] (distinct), at points (three floats per vertex); input_face[f] is its
-  // input triangle and input_vertex[x] the input vertex of x (null: the identity). The
-  // texture coordinates' and the normals' quadrics are summed on two threads when `threads`
-  // allows (each in face order: the same sums). `inputs_read`, when set, is called once the
-  // faces' records are made: afterwards neither corners, input_face and input_vertex nor the
-  // input's triangles, corner indices and materials are read (only its uvs and normals), so
-  // that the caller may let them go before the wedges and their quadrics take their memory.
+  // input triangle and input_vertex[x] the input vertex of x (null: the identity). points
+  // must stay as they are while costs are asked (collapse_cost() reads them). The faces'
+  // records are made on `threads`. `inputs_read`, when set, is called once they are made:
+  // afterwards neither corners, input_face and input_vertex nor the input's triangles,
+  // corner indices and materials are read (only its uvs and normals), so that the caller
+  // may let them go before the wedges are numbered.
   CornerAttributes(const Mesh& input, const uint32_t* corners, std::size_t n_faces,
                    const float* points, std::size_t n_vertices, const uint32_t* input_face,
                    const uint32_t* input_vertex, unsigned threads = 1,
@@ -115,9 +122,11 @@ class CornerAttributes {
   // folding).
   bool collapse_keeps_attributes(const CollapseStar& c) const;
 
-  // The attribute error of the collapse in squared model units: for each kind, v's wedges'
-  // quadrics at u's position and at the values the corners take, as a mean over their
-  // area, times the kind's scale squared and its weight (weigh_costs()).
+  // The attribute error of the collapse in squared model units: for each kind, over v's
+  // faces, the squared difference between the face's linear attribute at u's position and
+  // the value its corner at v takes (u's, on that corner's side of the collapsed edge), as
+  // a mean weighted by the faces' areas, times the kind's scale squared and its weight
+  // (weigh_costs()). Only while the loop runs: it reads the loop's positions.
   double collapse_cost(const CollapseStar& c) const;
   // How much each kind's error counts in collapse_cost(): 1 and 1 unless set (the former default
   // loop's); the collapse loop weighs the texture error less (collapse_loop.h, kUvCostWeight).
@@ -126,18 +135,24 @@ class CornerAttributes {
     kinds_[kNormal].cost_weight = normal;
   }
 
-  // v's distinct wedges of each kind priced by collapse_cost(), in the order of c.faces:
-  // the part of the cost that is the same for every target, so that a loop pricing all of
-  // v's options finds them once (star_wedges(), then collapse_cost(c, wedges) per target).
-  struct StarWedges {
-    static constexpr int kMost =
-        256;  // the most faces a star has (collapse_loop.h: kMaxValence is less)
-    uint32_t wedges[2][kMost];  // per kind (texture coordinates, normals): quadric slots
+  // v's faces' attribute functions (Hoppe 1999, §4), about v's position: the part of the
+  // cost that is the same for every target, so that a loop pricing all of v's options
+  // makes them once (star_fields(), then collapse_cost(c, fields) per target).
+  struct StarFields {
+    static constexpr int kMostFaces = 64;  // collapse_loop.h's kMaxValence
+    static constexpr int kMostDims = 3;
+    struct Field {
+      double area;
+      double gradient[kMostDims][3];  // per component: a(p) = gradient . (p - pv) + offset
+      double offset[kMostDims];
+      uint32_t wedge;  // of the face's corner at v
+    };
+    Field fields[2][kMostFaces];  // per kind (texture coordinates, normals)
     int count[2];
   };
-  void star_wedges(const CollapseStar& c, StarWedges& out) const;
-  // collapse_cost(c), given star_wedges() of a star with the same v and faces.
-  double collapse_cost(const CollapseStar& c, const StarWedges& wedges) const;
+  void star_fields(const CollapseStar& c, StarFields& out) const;
+  // collapse_cost(c), given star_fields() of a star with the same v and faces.
+  double collapse_cost(const CollapseStar& c, const StarFields& fields) const;
 
   // Applies the collapse to the corners (call before the loop changes its mesh, once the
   // collapse is decided): appends what the split needs to `record`, which has room for it
@@ -156,22 +171,9 @@ class CornerAttributes {
                   uint32_t (&normals)[3]) const;
   uint32_t material(uint32_t f) const { return faces_[f].material; }
 
-  // Lets the quadrics of the wedges that no live face uses any more go (v's, merged into u's
-  // by its collapse): the others move down in their order, the corners are renumbered, and
-  // the memory past them goes back to the system (core/huge_pages.h, shrink_in_place()). The
-  // loop calls it between its rounds, on one thread, so that the quadrics shrink as the mesh
-  // does, where they were held whole to the last collapse, when memory peaks (the collapse
-  // record is largest then). The same costs and merges after as before: wedges keep their
-  // order and values, and the rules only compare them. face_dead[f]: face f is gone (its
-  // corners are left as they were, never read again).
-  void compact_wedges(const std::vector<uint8_t>& face_dead);
-  // How many of those calls moved some wedge (tests).
-  std::size_t compactions() const { return compactions_; }
-
-  // After the last collapse: the wedges' quadrics go (80 MB of the 950K-face textured mesh's
-  // encode, held through the assembly for nothing); the corners stay for it. No cost may be
-  // asked afterwards.
-  void end_collapses();
+  // After the last collapse, before the loop's positions go: no cost may be asked
+  // afterwards (the corners stay, for the assembly).
+  void end_collapses() { points_ = nullptr; }
 
   // Renames the faces and vertices: face f becomes face_of[f] (face_of a permutation of the
   // faces), vertex x vertex_of[x] (a loop that works in its own ids hands the result back in
@@ -211,12 +213,11 @@ class CornerAttributes {
   std::pair<uint32_t, int> target_corner(int kind, const CollapseStar& c, uint32_t v_wedge) const;
   // value_class: per id, the smallest id with the same value bits (value_classes()); begin and
   // corners: each vertex's corners (3 f + c), corners[begin[x]] to corners[begin[x + 1]], in
-  // face order. Sizes the kind's quadrics.
+  // face order.
   void number_wedges(int kind, const std::vector<uint32_t>& value_class,
                      const std::vector<uint32_t>& begin, const std::vector<uint32_t>& corners);
-  void add_face_quadrics(int kind, const float* points);
 
-  // Per face: its corners' vertices, per kind their ids and wedges (quadric slots), and its
+  // Per face: its corners' vertices, per kind their ids and wedges, and its
   // material (kNoAttribute where the kind or the materials are absent). One cache line a face:
   // the rules read a star's faces together, and with an array per kind and field (and a
   // value-class table) each face missed the cache five times or more. The textured 950K-face
@@ -232,10 +233,7 @@ class CornerAttributes {
   std::vector<FaceCorners> faces_;
   Kind kinds_[kKinds];
   bool has_materials_ = false;
-  std::size_t compactions_ = 0;
-  // Per wedge, about its vertex's position (attribute_quadric.h: float is exact enough there).
-  std::vector<AttributeQuadric<2, float>> uv_quadrics_;
-  std::vector<AttributeQuadric<3, float>> normal_quadrics_;
+  const float* points_ = nullptr;  // the loop's positions, three floats per vertex
 };
 
 }  // namespace pm

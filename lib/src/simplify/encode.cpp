@@ -303,8 +303,8 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
     }
   };
   {
-    // The loop's state (with attributes, their quadrics: 160 MB of a 950K-face textured
-    // mesh) ends here, before layer_splits() and validate() take their own memory.
+    // The loop's state ends here, before layer_splits() and validate() take their own
+    // memory.
     Simplification run;
     const std::size_t n_vertices = input.vertex_count(), n_faces = input_faces;
     if (simplify_direct(input, options, run, switches, release_input)) {

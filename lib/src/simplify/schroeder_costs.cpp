@@ -24,15 +24,15 @@ namespace pm::collapse_loop {
 
 void CollapseLoop::schroeder_costs(uint32_t v, VertexKind kind, const Neighbour* ring_v, int n,
                                    Option* options, int count, Star& star,
-                                   const CornerAttributes::StarWedges& wedges) const {
+                                   const CornerAttributes::StarFields& fields) const {
   const Vec3 pv = point(v);
   const double weight = vertex_[v].sharp_corner ? kSharpCornerWeight : 1.0;
   // The attributes' error in model units joins the distance as the larger of the two, as
-  // in the former default loop (Hoppe 1999, §4's attribute quadrics, a squared distance).
+  // in the former default loop (Hoppe 1999, §4's attribute error, a squared distance).
   auto attribute_distance = [&](const Option& o) {
     if (!attributes_) return 0.0;
     const Neighbour& to = ring_v[o.index];
-    return std::sqrt(attribute_cost(to.vertex, to.edge, star, wedges));
+    return std::sqrt(attribute_cost(to.vertex, to.edge, star, fields));
   };
   if (kind != VertexKind::kCorner) {
     // One error whichever edge it goes along; the shortest legal edge first.

@@ -108,7 +108,7 @@ void CollapseLoop::run() {
   input_.clear();
   seam_drift_.reset();  // it reads xyz_
   std::vector<uint8_t>().swap(seam_);
-  if (attributes_) attributes_->end_collapses();
+  if (attributes_) attributes_->end_collapses();  // before xyz_ goes
   out_.points.resize(3 * vertex_.size());
   for (std::size_t i = 0; i < vertex_of_.size(); ++i)
     for (int c = 0; c < 3; ++c) out_.points[3 * vertex_of_[i] + c] = xyz_[3 * i + c];
@@ -273,11 +273,11 @@ void CollapseLoop::run_rounds() {
     // two Loop meshes at 50, 10 and 2%: Hausdorff 1.034 times, RMS 1.018, geometric means,
     // the bunny after three steps at 2% 1.17 times; the 8 shared meshes 1.018 and 1.011),
     // still a third of meshopt's on the Loop meshes (tests/bench/fast_loop_meshes.md).
-    // With attributes, the first round ends at the median too: the wedges' quadrics shrink
-    // after each round (below), and a first round that makes seven eighths of the collapses
-    // held them whole while the record grew to near its end (pmenc --fast on the 950K-face
-    // textured mesh: peak RSS 297 -> 275 MiB; one thread, 3 alternating runs, 3.92 -> 3.81 s;
-    // its levels at 50, 10 and 2% as close to the input, attr_quality.md).
+    // With attributes, the first round ends at the median too. It came for the wedges'
+    // quadrics, compacted between the rounds, which have gone since (corner_attributes.h);
+    // it stays because it was no slower (pmenc --fast on the 950K-face textured mesh, one
+    // thread, 3 alternating runs, 3.92 -> 3.81 s) and the levels are measured with it
+    // (attr_quality.md, uv.md).
     const bool to_median = measure_ || (round == 0 && attributes_);
     const std::size_t q_at = to_median ? keys.size() / 2 : keys.size() * 7 / 8;
     std::nth_element(keys.begin(), keys.begin() + q_at, keys.end());
@@ -295,10 +295,6 @@ void CollapseLoop::run_rounds() {
     std::size_t made = 0;
     for (const Worker& w : regions) made += w.collapses.size();
     merge(regions);
-    // The wedges' quadrics shrink with the mesh (CornerAttributes::compact_wedges()): held
-    // whole, they were a quarter of pmenc's peak on a textured mesh, which came at the last
-    // collapse.
-    if (attributes_ && compact_wedges_) attributes_->compact_wedges(face_dead_);
     if (options_.progress) report_progress(out_.collapses.size());
     if (made == 0) break;
   }

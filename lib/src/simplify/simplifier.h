@@ -6,7 +6,7 @@
 // topology: the link condition, the normal-flip and degeneracy limits, pinned vertices, welds,
 // carried faces, boundaries and feature edges; and the attributes
 // (corner_attributes.h, seam_drift.h): seams and material borders kept,
-// attribute quadrics in the cost, texture-seam drift in the measured key.
+// the attribute error in the cost, texture-seam drift in the measured key.
 #pragma once
 
 #include <cstdint>
@@ -39,10 +39,6 @@ struct LoopSwitches {
   // quadric's cost (collapse_loop.h, FanPlanes). Off: the quadric alone, whose shortcuts
   // (keep_apex_candidates) leave the sequence as it was; test_encoder.cpp compares the levels.
   bool plane_term = true;
-  // Whether the wedges' quadrics are compacted between the rounds (CornerAttributes::
-  // compact_wedges()), to lower the memory peak. The same stream either way: test_encoder.cpp
-  // compares.
-  bool compact_wedges = true;
 };
 
 struct Simplification {
