@@ -123,5 +123,40 @@ TEST(CornerAttributes, ACollapseElsewhereLeavesNoTraceInTheCost) {
   EXPECT_GT(std::abs(after - before), 0.01 * before);
 }
 
+// finish() keeps what the assembly reads, renamed to the caller's ids: the live faces'
+// corners, and every face's material (the faces a collapse removed too: their splits
+// restore them).
+TEST(CornerAttributes, FinishKeepsTheLiveFacesCornersAndEveryMaterialInTheCallersIds) {
+  Mesh mesh = hexagon({0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 1});
+  mesh.face_materials = {10, 11, 12, 13, 14, 15};
+  mesh.material_names = {"m"};
+  CornerAttributes attributes = attributes_of(mesh);
+  // 2 -> 1 along the border: face 0 goes, face 1 becomes (0, 1, 3) with vertex 1's ids.
+  const Star border(mesh, 2, 1, CollapseStar::kNoFace, 0, 0, 0, {0, 1});
+  CollapseAttributes record;
+  record.make_room(true, false, 1);
+  attributes.collapse(border.c, record);
+  attributes.end_collapses();
+  // The caller's ids: faces reversed, vertices shifted by one (mod 7).
+  const std::vector<uint32_t> face_of = {5, 4, 3, 2, 1, 0};
+  const std::vector<uint32_t> vertex_of = {1, 2, 3, 4, 5, 6, 0};
+  const std::vector<uint8_t> face_dead = {1, 0, 0, 0, 0, 0};
+  attributes.finish(face_of, vertex_of, face_dead);
+  for (uint32_t f = 0; f < 6; ++f) EXPECT_EQ(attributes.material(face_of[f]), 10 + f);
+  // Face 1, now (0, 1, 3), is the caller's face 4 with vertices (1, 2, 4); its corners keep
+  // their texture coordinates' ids: vertex 0's, vertex 1's (taken from u) and vertex 3's.
+  uint32_t uvs[3], normals[3];
+  attributes.corner_ids(4, {2, 4, 1}, uvs, normals);
+  EXPECT_EQ(uvs[0], 1u);
+  EXPECT_EQ(uvs[1], 3u);
+  EXPECT_EQ(uvs[2], 0u);
+  EXPECT_EQ(normals[0], kNoAttribute);
+  // Face 5 (0, 6, 1), the caller's 0, with vertices (1, 0, 2).
+  attributes.corner_ids(0, {1, 0, 2}, uvs, normals);
+  EXPECT_EQ(uvs[0], 0u);
+  EXPECT_EQ(uvs[1], 6u);
+  EXPECT_EQ(uvs[2], 1u);
+}
+
 }  // namespace
 }  // namespace pm

@@ -375,30 +375,41 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
 
 void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t (&uvs)[3],
                                   uint32_t (&normals)[3]) const {
+  // After finish(), face f's record is where its id is among the live ones.
+  const std::size_t at_f =
+      finished_ ? static_cast<std::size_t>(
+                      std::lower_bound(live_ids_.begin(), live_ids_.end(), f) - live_ids_.begin())
+                : f;
+  const FaceCorners& face = faces_[at_f];
   for (int i = 0; i < 3; ++i) {
-    const int c = corner_of(f, at[i]);
-    uvs[i] = has_uvs() ? faces_[f].id[kUv][c] : kNoAttribute;
-    normals[i] = has_normals() ? faces_[f].id[kNormal][c] : kNoAttribute;
+    const auto& vs = face.vertex;
+    const int c = vs[0] == at[i] ? 0 : vs[1] == at[i] ? 1 : 2;
+    uvs[i] = has_uvs() ? face.id[kUv][c] : kNoAttribute;
+    normals[i] = has_normals() ? face.id[kNormal][c] : kNoAttribute;
   }
 }
 
-void CornerAttributes::rename(const std::vector<uint32_t>& face_of,
-                              const std::vector<uint32_t>& vertex_of) {
-  for (FaceCorners& face : faces_)
-    for (uint32_t& x : face.vertex) x = vertex_of[x];
-  // The permutation's cycles, each record carried to its place.
-  std::vector<bool> placed(faces_.size(), false);
-  for (std::size_t start = 0; start < faces_.size(); ++start) {
-    if (placed[start]) continue;
-    FaceCorners carried = faces_[start];
-    std::size_t at = start;
-    do {
-      const uint32_t to = face_of[at];
-      std::swap(carried, faces_[to]);
-      placed[to] = true;
-      at = to;
-    } while (at != start);
+void CornerAttributes::finish(const std::vector<uint32_t>& face_of,
+                              const std::vector<uint32_t>& vertex_of,
+                              const std::vector<uint8_t>& face_dead) {
+  if (has_materials_) {
+    materials_.assign(faces_.size(), kNoAttribute);
+    for (std::size_t f = 0; f < faces_.size(); ++f) materials_[face_of[f]] = faces_[f].material;
   }
+  std::vector<std::pair<uint32_t, uint32_t>> live;  // (caller's id, own id)
+  for (std::size_t f = 0; f < faces_.size(); ++f)
+    if (!face_dead[f]) live.push_back({face_of[f], static_cast<uint32_t>(f)});
+  std::sort(live.begin(), live.end());
+  std::vector<FaceCorners> kept(live.size());
+  live_ids_.resize(live.size());
+  for (std::size_t i = 0; i < live.size(); ++i) {
+    live_ids_[i] = live[i].first;
+    kept[i] = faces_[live[i].second];
+    for (uint32_t& x : kept[i].vertex) x = vertex_of[x];
+  }
+  faces_.swap(kept);
+  std::vector<FaceCorners>().swap(kept);
+  finished_ = true;
 }
 
 }  // namespace pm

@@ -117,7 +117,7 @@ void CollapseLoop::run() {
   to_given_ids();
   write_base();
   if (attributes_) {
-    attributes_->rename(face_of_, vertex_of_);
+    attributes_->finish(face_of_, vertex_of_, face_dead_);
     out_.attributes = std::move(attributes_);
   }
 }
