@@ -1,10 +1,14 @@
-// Transparent huge pages for large random-access arrays (see huge_pages.h).
+// Transparent huge pages for large random-access arrays, and the allocator's free memory
+// given back to the system (see huge_pages.h).
 #include "core/huge_pages.h"
 
 #include <cstdint>
 
 #if defined(__linux__)
 #include <sys/mman.h>
+#endif
+#if defined(__GLIBC__)
+#include <malloc.h>
 #endif
 
 namespace pm::detail {
@@ -37,6 +41,12 @@ void prefer_huge_pages(const void* data, std::size_t bytes) {
 #else
   (void)data;
   (void)bytes;
+#endif
+}
+
+void return_free_memory() {
+#if defined(__GLIBC__)
+  (void)malloc_trim(0);
 #endif
 }
 

@@ -12,6 +12,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/huge_pages.h"
 #include "io/openmesh_logs.h"
 #include "pm/advanced/stream_order.h"
 #include "pm/encoder.h"
@@ -325,6 +326,7 @@ Status encode_unguarded(const Mesh& input, const EncodeOptions& options, uint32_
                         run.points.size() / 3, repaired.input_face.size()},
              !options.drop_attributes, options.keep_order, out, taken);
   }
+  detail::return_free_memory();  // the loop's, before layer_splits() copies the splits
   // The progressive mesh, checked as a decoder would check it.
   if (options.layer_window > 0)
     layer_splits(out, chunk_splits, options.layer_window, options.threads);
