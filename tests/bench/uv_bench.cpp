@@ -3,8 +3,8 @@
 //
 // For each mesh with texture coordinates and each target fraction of its faces:
 //   pmenc             pm::encode with default options (the one collapse loop, quadric
-//                     metric, attributes kept: seams and material borders held, attribute
-//                     quadrics in the cost, Hoppe 1999), then pm::extract_level of the finest
+//                     metric, attributes kept: seams and material borders held, the
+//                     attribute error in the cost, Hoppe 1999), then pm::extract_level of the finest
 //                     level with at most the target's faces
 //   pmenc --fast      the same without the loop's measured distance (pmenc's default on
 //                     meshes of a million faces or more, --fast-from)

@@ -6,8 +6,9 @@
 // Garland and Heckbert 1997, §4: the cheapest pair, here among v's half-edge collapses.
 //
 // With attributes, the quadric metric's cost is v's planes at the target plus the
-// attributes' error in the same units (Hoppe 1999, §4's attribute quadrics:
-// CornerAttributes::collapse_cost, ~18% of the loop's instructions with attributes). That
+// attributes' error in the same units (Hoppe 1999, §4's attribute error over v's faces:
+// CornerAttributes::star_fields() and collapse_cost(), about a quarter of the time of the
+// loop without its measure on the 950K-face textured mesh, perf). That
 // term is never negative, so an option's geometric cost alone is a lower bound of its whole
 // cost (rounding is monotone): in order of geometric cost, the first option whose bound
 // already ranks behind the best whole cost found ends the search, and the options after it

@@ -14,7 +14,7 @@
 // keeps no state per wedge: the quadrics it replaced (a float quadric per wedge, about its
 // vertex) were a quarter of pmenc's peak memory on a textured mesh, and in float they lost
 // the small deviations of a large mesh's small faces to the rounding of the values' squares
-// (tests/bench/README.md, "Geometric error with attributes kept", has the measurements).
+// (tests/bench/README.md, "The textured whole process", has the measurements).
 #pragma once
 
 #include <array>
