@@ -213,9 +213,13 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     // A simple vertex of v's ring other than vl and vr stays simple (only the angle could
     // make a feature edge here: seams and material borders slide with the collapse, w's
     // edge to v becoming its edge to u on the same side of them) and only traded its
-    // option w -> v for w -> u; the others cost what they did, attributes too (its wedges
-    // and the corners its options read did not change). Unless it was queued towards v,
-    // or w -> u is no dearer, its queued candidate is still its best.
+    // option w -> v for w -> u; the others cost what they did. Unless it was queued towards
+    // v, or w -> u is no dearer, its queued candidate is still its best. With attributes
+    // that is an approximation since the attribute error went memoryless (4f1fb0e): the two
+    // faces w shares with v now have u's corner there, so the attribute functions of w's
+    // options moved a little; its queued candidate keeps its place only when it was its
+    // cheapest, and is queued again at its cost now (keeps_best_with_attributes()). Not
+    // measured against evaluating every such w again.
     // vl and vr, geometry only, lost their option to v and kept the others at their cost,
     // and stay simple (their edges to v and u become one, a boundary edge if either was).
     // When their queued candidate was their cheapest, legal or not, and not towards v,
