@@ -13,31 +13,19 @@
 
 namespace pm::detail {
 
-#if defined(__linux__)
-namespace {
-
-// madvise(advice) over the pages of `page` bytes (a power of two) that lie wholly inside
-// [data, data + bytes): what lies before and after the range (the allocator's records) is
-// never touched. An error leaves the pages as they were: every advice here only saves.
-void advise_inner_pages(const void* data, std::size_t bytes, std::uintptr_t page, int advice) {
-  if (data == nullptr) return;
-  const auto start = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t begin = (start + page - 1) & ~(page - 1);
-  const std::uintptr_t end = (start + bytes) & ~(page - 1);
-  if (end <= begin) return;
-  (void)madvise(reinterpret_cast<void*>(begin), end - begin, advice);
-}
-
-}  // namespace
-#endif
-
 void prefer_huge_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr std::uintptr_t kHugePage = std::uintptr_t{1} << 21;
   // Below a few huge pages the TLB covers the array anyway.
   constexpr std::size_t kLeast = 4 * kHugePage;
   // A hint: an old kernel, or huge pages disabled, leaves the pages as they were.
-  if (bytes >= kLeast) advise_inner_pages(data, bytes, kHugePage, MADV_HUGEPAGE);
+  if (data == nullptr || bytes < kLeast) return;
+  // Only the huge pages wholly inside [data, data + bytes): what lies before and after the
+  // range (the allocator's records) is never touched. An error leaves the pages as they were.
+  const auto start = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t begin = (start + kHugePage - 1) & ~(kHugePage - 1);
+  const std::uintptr_t end = (start + bytes) & ~(kHugePage - 1);
+  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 #else
   (void)data;
   (void)bytes;

@@ -282,7 +282,7 @@ void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const
     const double area = 0.5 * (e1 % e2).norm();
     // A degenerate face has no gradient, and no area to weigh it: it counts for nothing.
     if (!(det > 0) || !(area > 0)) continue;
-    const int corner = corner_of(f, c.v);
+    const int corner = face.corner_of(c.v);
     for (int kind = 0; kind < kKinds; ++kind) {
       if (!priced[kind]) continue;
       const auto& ids = face.id[kind];
@@ -382,8 +382,7 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
                 : f;
   const FaceCorners& face = faces_[at_f];
   for (int i = 0; i < 3; ++i) {
-    const auto& vs = face.vertex;
-    const int c = vs[0] == at[i] ? 0 : vs[1] == at[i] ? 1 : 2;
+    const int c = face.corner_of(at[i]);
     uvs[i] = has_uvs() ? face.id[kUv][c] : kNoAttribute;
     normals[i] = has_normals() ? face.id[kNormal][c] : kNoAttribute;
   }

@@ -198,10 +198,7 @@ class CornerAttributes {
     const float* value(uint32_t id) const { return values->data() + std::size_t{id} * dims; }
   };
   // Which corner of face f holds vertex w (0, 1 or 2).
-  int corner_of(uint32_t f, uint32_t w) const {
-    const auto& vs = faces_[f].vertex;
-    return vs[0] == w ? 0 : vs[1] == w ? 1 : 2;
-  }
+  int corner_of(uint32_t f, uint32_t w) const { return faces_[f].corner_of(w); }
   // The wedge of face f's corner at vertex w. A vertex has one wedge per value class (ids
   // whose values have the same bits; number_wedges()), and a collapse gives each moved
   // corner both the id and the wedge of one of u's corners (collapse()): so two corners of
@@ -235,6 +232,7 @@ class CornerAttributes {
     std::array<uint32_t, 3> id[kKinds];
     std::array<uint32_t, 3> wedge[kKinds];
     uint32_t material;
+    int corner_of(uint32_t w) const { return vertex[0] == w ? 0 : vertex[1] == w ? 1 : 2; }
   };
   static_assert(sizeof(FaceCorners) == 64, "one cache line a face");
   std::vector<FaceCorners> faces_;
