@@ -61,7 +61,7 @@ int sign(double x) { return (x > 0) - (x < 0); }
 
 }  // namespace
 
-CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
+CornerAttributes::CornerAttributes(const Mesh& input, FaceVertices corners,
                                    std::size_t faces, const float* points,
                                    std::size_t n_vertices, const uint32_t* input_face,
                                    const uint32_t* input_vertex, unsigned threads,
@@ -73,7 +73,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   // the input vertex of the corner's copy names it.
   auto input_corner = [&](std::size_t f, int k) {
     const uint32_t face = input_face_of(f);
-    const uint32_t w = input_vertex ? input_vertex[faces_[f].vertex[k]] : faces_[f].vertex[k];
+    const uint32_t w = input_vertex ? input_vertex[corners(f, k)] : corners(f, k);
     for (int j = 0; j < 3; ++j)
       if (input.triangles[3 * std::size_t{face} + j] == w) return 3 * std::size_t{face} + j;
     return 3 * std::size_t{face};  // unreachable for a face of distinct vertices
@@ -94,20 +94,21 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     k.values = tables[kind];
   }
   has_materials_ = !input.face_materials.empty();
+  corners_ = corners;
   points_ = points;
   // Each face's record on its own: in slices, on `threads`.
   detail::assign_preferring_huge_pages(faces_, faces, {});
+  if (has_materials_) detail::assign_preferring_huge_pages(materials_, faces, kNoAttribute);
   run_in_slices(faces, threads, [&](std::size_t lo, std::size_t hi) {
     for (std::size_t f = lo; f < hi; ++f) {
       FaceCorners& face = faces_[f];
-      for (int k = 0; k < 3; ++k) face.vertex[k] = corners[3 * f + k];
       for (int kind = 0; kind < kKinds; ++kind) {
         face.id[kind] = {kNoAttribute, kNoAttribute, kNoAttribute};
         face.wedge[kind] = {kNoWedge, kNoWedge, kNoWedge};
         if (kinds_[kind].present)
           for (int c = 0; c < 3; ++c) face.id[kind][c] = (*input_ids[kind])[input_corner(f, c)];
       }
-      face.material = has_materials_ ? input.face_materials[input_face_of(f)] : kNoAttribute;
+      if (has_materials_) materials_[f] = input.face_materials[input_face_of(f)];
     }
   });
   if (inputs_read) inputs_read();
@@ -120,8 +121,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
     for (std::size_t f = 0; f < faces; ++f) {
       const auto& ids = faces_[f].id[kUv];
       if (ids[0] == kNoAttribute || ids[1] == kNoAttribute || ids[2] == kNoAttribute) continue;
-      const auto& vs = faces_[f].vertex;
-      const Vec3 a = point(vs[0]), b = point(vs[1]), c = point(vs[2]);
+      const Vec3 a = point(corners(f, 0)), b = point(corners(f, 1)), c = point(corners(f, 2));
       area += 0.5 * area_vector(a, b, c).norm();
       uv_area += std::abs(uv_triangle_area(kinds_[kUv].value(ids[0]), kinds_[kUv].value(ids[1]),
                                            kinds_[kUv].value(ids[2])));
@@ -139,14 +139,14 @@ CornerAttributes::CornerAttributes(const Mesh& input, const uint32_t* corners,
   if (!has_uvs() && !has_normals()) return;
   // Each vertex's corners (face and corner index), in face order, for both kinds.
   std::vector<uint32_t> begin(n_vertices + 1, 0), vertex_corners(3 * faces);
-  for (const FaceCorners& face : faces_)
-    for (uint32_t x : face.vertex) ++begin[x + 1];
+  for (std::size_t f = 0; f < faces; ++f)
+    for (int c = 0; c < 3; ++c) ++begin[corners(f, c) + 1];
   for (std::size_t x = 0; x < n_vertices; ++x) begin[x + 1] += begin[x];
   {
     std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
     for (std::size_t f = 0; f < faces; ++f)
       for (int c = 0; c < 3; ++c)
-        vertex_corners[fill[faces_[f].vertex[c]]++] = static_cast<uint32_t>(3 * f + c);
+        vertex_corners[fill[corners(f, c)]++] = static_cast<uint32_t>(3 * f + c);
   }
   for (int kind = 0; kind < kKinds; ++kind)
     if (kinds_[kind].present)
@@ -178,7 +178,7 @@ void CornerAttributes::number_wedges(int kind, const std::vector<uint32_t>& valu
 bool CornerAttributes::is_seam_of_kind(int kind, uint32_t f, uint32_t g, uint32_t a,
                                        uint32_t b) const {
   if (g == CollapseStar::kNoFace || f == CollapseStar::kNoFace) return false;
-  if (kind == kKinds) return faces_[f].material != faces_[g].material;
+  if (kind == kKinds) return materials_[f] != materials_[g];
   return wedge_at(kind, f, a) != wedge_at(kind, g, a) || wedge_at(kind, f, b) != wedge_at(kind, g, b);
 }
 
@@ -273,7 +273,7 @@ void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const
     const FaceCorners& face = faces_[f];
     Vec3 p[3];  // about v: the positions' differences are exact, the fields' terms small
     for (int j = 0; j < 3; ++j) {
-      const float* q = points_ + 3 * std::size_t{face.vertex[j]};
+      const float* q = points_ + 3 * std::size_t{corners_(f, j)};
       p[j] = Vec3(q[0], q[1], q[2]) - pv;
     }
     const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
@@ -282,7 +282,7 @@ void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const
     const double area = 0.5 * (e1 % e2).norm();
     // A degenerate face has no gradient, and no area to weigh it: it counts for nothing.
     if (!(det > 0) || !(area > 0)) continue;
-    const int corner = face.corner_of(c.v);
+    const int corner = corner_of(f, c.v);
     for (int kind = 0; kind < kKinds; ++kind) {
       if (!priced[kind]) continue;
       const auto& ids = face.id[kind];
@@ -369,7 +369,6 @@ void CornerAttributes::collapse(const CollapseStar& c, CollapseAttributes& recor
       id = faces_[tf].id[kind][tc];
       faces_[g].wedge[kind][corner] = faces_[tf].wedge[kind][tc];
     }
-    faces_[g].vertex[corner] = c.u;
   }
 }
 
@@ -382,7 +381,10 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
                 : f;
   const FaceCorners& face = faces_[at_f];
   for (int i = 0; i < 3; ++i) {
-    const int c = face.corner_of(at[i]);
+    const int c = finished_ ? (live_vertices_[3 * at_f] == at[i]       ? 0
+                               : live_vertices_[3 * at_f + 1] == at[i] ? 1
+                                                                       : 2)
+                            : corner_of(f, at[i]);
     uvs[i] = has_uvs() ? face.id[kUv][c] : kNoAttribute;
     normals[i] = has_normals() ? face.id[kNormal][c] : kNoAttribute;
   }
@@ -392,8 +394,9 @@ void CornerAttributes::finish(const std::vector<uint32_t>& face_of,
                               const std::vector<uint32_t>& vertex_of,
                               const std::vector<uint8_t>& face_dead) {
   if (has_materials_) {
-    materials_.assign(faces_.size(), kNoAttribute);
-    for (std::size_t f = 0; f < faces_.size(); ++f) materials_[face_of[f]] = faces_[f].material;
+    std::vector<uint32_t> renamed(materials_.size());
+    for (std::size_t f = 0; f < materials_.size(); ++f) renamed[face_of[f]] = materials_[f];
+    materials_.swap(renamed);
   }
   std::vector<std::pair<uint32_t, uint32_t>> live;  // (caller's id, own id)
   for (std::size_t f = 0; f < faces_.size(); ++f)
@@ -401,13 +404,15 @@ void CornerAttributes::finish(const std::vector<uint32_t>& face_of,
   std::sort(live.begin(), live.end());
   std::vector<FaceCorners> kept(live.size());
   live_ids_.resize(live.size());
+  live_vertices_.resize(3 * live.size());
   for (std::size_t i = 0; i < live.size(); ++i) {
     live_ids_[i] = live[i].first;
     kept[i] = faces_[live[i].second];
-    for (uint32_t& x : kept[i].vertex) x = vertex_of[x];
+    for (int k = 0; k < 3; ++k) live_vertices_[3 * i + k] = vertex_of[corners_(live[i].second, k)];
   }
   faces_.swap(kept);
   std::vector<FaceCorners>().swap(kept);
+  corners_ = {};
   finished_ = true;
 }
 

@@ -85,17 +85,28 @@ struct CollapseStar {
   bool seamless = false;
 };
 
+// The loop's faces as it holds them: vertex k of face f at first[stride * (3 f + k)] (the
+// collapse loop's half-edges: {vertex, twin} per half-edge 3 f + k, stride 2; a plain corner
+// array: stride 1). CornerAttributes reads them and never writes: they are the loop's,
+// which moves v's corners to u after CornerAttributes::collapse().
+struct FaceVertices {
+  const uint32_t* first = nullptr;
+  std::size_t stride = 1;
+  uint32_t operator()(std::size_t f, int k) const { return first[stride * (3 * f + k)]; }
+};
+
 class CornerAttributes {
  public:
   // The input's corner ids for each face of the loop's mesh: face f has vertices
-  // corners[3f..3f+2] (distinct), at points (three floats per vertex); input_face[f] is its
-  // input triangle and input_vertex[x] the input vertex of x (null: the identity). points
-  // must stay as they are while costs are asked (collapse_cost() reads them). The faces'
-  // records are made on `threads`. `inputs_read`, when set, is called once they are made:
-  // afterwards neither corners, input_face and input_vertex nor the input's triangles,
-  // corner indices and materials are read (only its uvs and normals), so that the caller
-  // may let them go before the wedges are numbered.
-  CornerAttributes(const Mesh& input, const uint32_t* corners, std::size_t n_faces,
+  // corners(f, 0..2) (distinct), at points (three floats per vertex); input_face[f] is its
+  // input triangle and input_vertex[x] the input vertex of x (null: the identity). corners
+  // must stay valid and current until finish() (they are read, not copied: a face's record
+  // would hold its vertices again), and points while costs are asked (collapse_cost() reads
+  // them). The faces' records are made on `threads`. `inputs_read`, when set, is called once
+  // they are made: afterwards neither input_face and input_vertex nor the input's
+  // triangles, corner indices and materials are read (only its uvs and normals), so that
+  // the caller may let them go before the wedges are numbered.
+  CornerAttributes(const Mesh& input, FaceVertices corners, std::size_t n_faces,
                    const float* points, std::size_t n_vertices, const uint32_t* input_face,
                    const uint32_t* input_vertex, unsigned threads = 1,
                    const std::function<void()>& inputs_read = {});
@@ -154,36 +165,41 @@ class CornerAttributes {
   // collapse_cost(c), given star_fields() of a star with the same v and faces.
   double collapse_cost(const CollapseStar& c, const StarFields& fields) const;
 
-  // Applies the collapse to the corners (call before the loop changes its mesh, once the
-  // collapse is decided): appends what the split needs to `record`, which has room for it
+  // Applies the collapse to the corners' ids and wedges (call before the loop changes its
+  // mesh, once the collapse is decided; the loop then moves v's corners to u in its faces,
+  // which `corners` reads): appends what the split needs to `record`, which has room for it
   // (CollapseAttributes::make_room()); the moved faces are c.faces but fl and fr, in that
   // order.
   void collapse(const CollapseStar& c, CollapseAttributes& record);
 
   // Asks for face f's corners ahead of reading them (star_wedges(), collapse_cost(),
-  // collapse_keeps_attributes(): their loads of a star's faces miss the cache). Inlined
-  // always, as every function that only prefetches (formats/wedge_codes.h,
-  // UnknownIds::prefetch, says why).
-  [[gnu::always_inline]] void prefetch(uint32_t f) const { __builtin_prefetch(&faces_[f]); }
+  // collapse_keeps_attributes(): their loads of a star's faces miss the cache): both ends
+  // of its record, which may lie across two cache lines. Inlined always, as every function
+  // that only prefetches (formats/wedge_codes.h, UnknownIds::prefetch, says why).
+  [[gnu::always_inline]] void prefetch(uint32_t f) const {
+    const char* record = reinterpret_cast<const char*>(&faces_[f]);
+    __builtin_prefetch(record);
+    __builtin_prefetch(record + sizeof(FaceCorners) - 1);
+  }
 
   // The current corner ids of face f at the given vertices (in that order).
   void corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t (&uvs)[3],
                   uint32_t (&normals)[3]) const;
-  uint32_t material(uint32_t f) const {
-    return finished_ ? materials_[f] : faces_[f].material;
-  }
+  uint32_t material(uint32_t f) const { return has_materials_ ? materials_[f] : kNoAttribute; }
 
   // After the last collapse, before the loop's positions go: no cost may be asked
   // afterwards (the corners stay, for the assembly).
   void end_collapses() { points_ = nullptr; }
 
-  // After the loop (and end_collapses()): keeps what the assembly reads, in the caller's
-  // ids, face f becoming face_of[f] and vertex x vertex_of[x] (a loop that works in its own
-  // ids hands the result back in the caller's): every face's material, and the corners of
-  // the faces still alive (face_dead[f] false: the base mesh's). The faces' records go, so
-  // that the assembly does not build the progressive mesh beside them (64 bytes a face: 58
-  // MiB of the 950K-face textured mesh, where pmenc --fast peaked in the assembly). Then
-  // corner_ids() answers for those faces only, material() for all; nothing else may be asked.
+  // After the loop (and end_collapses()), while `corners` still reads its faces: keeps what
+  // the assembly reads, in the caller's ids, face f becoming face_of[f] and vertex x
+  // vertex_of[x] (a loop that works in its own ids hands the result back in the caller's):
+  // every face's material, and the corners of the faces still alive (face_dead[f] false:
+  // the base mesh's), with their vertices. The faces' records go, so that the assembly does
+  // not build the progressive mesh beside them (then 64 bytes a face: 58 MiB of the
+  // 950K-face textured mesh, where pmenc --fast peaked in the assembly). Then corner_ids()
+  // answers for those faces only, material() for all; nothing else may be asked, and
+  // `corners` is no longer read.
   void finish(const std::vector<uint32_t>& face_of, const std::vector<uint32_t>& vertex_of,
               const std::vector<uint8_t>& face_dead);
 
@@ -198,7 +214,9 @@ class CornerAttributes {
     const float* value(uint32_t id) const { return values->data() + std::size_t{id} * dims; }
   };
   // Which corner of face f holds vertex w (0, 1 or 2).
-  int corner_of(uint32_t f, uint32_t w) const { return faces_[f].corner_of(w); }
+  int corner_of(uint32_t f, uint32_t w) const {
+    return corners_(f, 0) == w ? 0 : corners_(f, 1) == w ? 1 : 2;
+  }
   // The wedge of face f's corner at vertex w. A vertex has one wedge per value class (ids
   // whose values have the same bits; number_wedges()), and a collapse gives each moved
   // corner both the id and the wedge of one of u's corners (collapse()): so two corners of
@@ -221,28 +239,29 @@ class CornerAttributes {
   void number_wedges(int kind, const std::vector<uint32_t>& value_class,
                      const std::vector<uint32_t>& begin, const std::vector<uint32_t>& corners);
 
-  // Per face: its corners' vertices, per kind their ids and wedges, and its
-  // material (kNoAttribute where the kind or the materials are absent). One cache line a face:
-  // the rules read a star's faces together, and with an array per kind and field (and a
-  // value-class table) each face missed the cache five times or more. The textured 950K-face
-  // mesh's loop without its measure, one thread, medians of alternating runs: prefetch()
-  // alone 6.53 -> 6.26 s; this record and wedge_at() with it 6.16 -> 5.24 s.
-  struct alignas(64) FaceCorners {
-    std::array<uint32_t, 3> vertex;
+  // Per face, per kind: its corners' ids and wedges (kNoAttribute and kNoWedge where the
+  // kind is absent). One record a face: the rules read a star's faces together, and with an
+  // array per kind and field (and a value-class table) each face missed the cache five
+  // times or more. The textured 950K-face mesh's loop without its measure, one thread,
+  // medians of alternating runs: prefetch() alone 6.53 -> 6.26 s; a record and wedge_at()
+  // with it 6.16 -> 5.24 s. Its vertices are the loop's (corners_) and its material apart
+  // (materials_): 48 bytes instead of a cache line's 64, 14.5 MiB less on that mesh.
+  struct alignas(16) FaceCorners {
     std::array<uint32_t, 3> id[kKinds];
     std::array<uint32_t, 3> wedge[kKinds];
-    uint32_t material;
-    int corner_of(uint32_t w) const { return vertex[0] == w ? 0 : vertex[1] == w ? 1 : 2; }
   };
-  static_assert(sizeof(FaceCorners) == 64, "one cache line a face");
+  static_assert(sizeof(FaceCorners) == 48, "no padding");
+  FaceVertices corners_;
   std::vector<FaceCorners> faces_;
   Kind kinds_[kKinds];
   bool has_materials_ = false;
+  // Per face, its material (has_materials_ alone): in the loop's ids, then the caller's.
+  std::vector<uint32_t> materials_;
   const float* points_ = nullptr;  // the loop's positions, three floats per vertex
   // finish(): faces_ holds the live faces' records alone, in the order of their caller's ids
-  // (live_ids_), and materials_ every face's material.
+  // (live_ids_), and live_vertices_ their corners' vertices in the caller's ids.
   bool finished_ = false;
-  std::vector<uint32_t> live_ids_, materials_;
+  std::vector<uint32_t> live_ids_, live_vertices_;
 };
 
 }  // namespace pm

@@ -7,6 +7,7 @@
 #include "simplify/simplifier.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <functional>
 #include <queue>
 #include <utility>
@@ -130,23 +131,25 @@ void CollapseLoop::attach_attributes(const Mesh& input, const uint32_t* input_fa
     if (input_read) input_read();
     return;
   }
-  // In local ids: each local face's and vertex's input one.
+  // In local ids: each local face's and vertex's input one. The faces' vertices are read
+  // where the loop keeps them, its half-edges.
+  static_assert(sizeof(HalfEdge) == 2 * sizeof(uint32_t) && offsetof(HalfEdge, vertex) == 0,
+                "FaceVertices reads a half-edge's vertex every two words");
   const std::size_t n_faces = half_.size() / 3, n_vertices = vertex_of_.size();
-  std::vector<uint32_t> corners(3 * n_faces), faces(n_faces), vertices(n_vertices);
-  for (std::size_t h = 0; h < half_.size(); ++h) corners[h] = half_[h].vertex;
+  std::vector<uint32_t> faces(n_faces), vertices(n_vertices);
   for (std::size_t f = 0; f < n_faces; ++f)
     faces[f] = input_face ? input_face[face_of_[f]] : face_of_[f];
   for (std::size_t x = 0; x < n_vertices; ++x)
     vertices[x] = input_vertex ? input_vertex[vertex_of_[x]] : vertex_of_[x];
   // Once the faces' records hold their ids, these copies and the input's arrays go.
   const auto read = [&] {
-    std::vector<uint32_t>().swap(corners);
     std::vector<uint32_t>().swap(faces);
     std::vector<uint32_t>().swap(vertices);
     if (input_read) input_read();
   };
+  const FaceVertices corners{half_.empty() ? nullptr : &half_[0].vertex, 2};
   attributes_ =
-      std::make_unique<CornerAttributes>(input, corners.data(), n_faces, xyz_.data(), n_vertices,
+      std::make_unique<CornerAttributes>(input, corners, n_faces, xyz_.data(), n_vertices,
                                          faces.data(), vertices.data(), threads_, read);
   if (!attributes_->any()) {
     attributes_.reset();
