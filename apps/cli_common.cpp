@@ -3,6 +3,9 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <cctype>
 #include <cerrno>
@@ -226,6 +229,13 @@ std::string human_bytes(std::size_t bytes) {
   else
     std::snprintf(text, sizeof text, "%zu B", bytes);
   return text;
+}
+
+void return_large_blocks_when_freed() {
+#if defined(__GLIBC__)
+  // Setting it also turns off glibc's raising of it (mallopt(3), M_MMAP_THRESHOLD).
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024);
+#endif
 }
 
 }  // namespace pm::cli

@@ -61,4 +61,13 @@ double seconds_since(std::chrono::steady_clock::time_point start);
 // "1.23 MB", "456 kB", "789 B".
 std::string human_bytes(std::size_t bytes);
 
+// Makes every heap block of 256 KiB or more a mapping of its own, given back to the system
+// when it is freed (glibc's fixed mmap threshold; nothing elsewhere). By default glibc
+// raises the threshold to the size of each such block freed, up to 32 MiB, and the blocks
+// below it then come from the heap, whose freed memory the process keeps: pmenc's stages
+// (the collapse loop, the assembly, the layering, the writer) each free tens of MiB of
+// arrays before the next takes its own, and its peak held both. Called once, first thing in
+// main(): a process-wide policy, which the library leaves to its caller.
+void return_large_blocks_when_freed();
+
 }  // namespace pm::cli

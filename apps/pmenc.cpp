@@ -160,6 +160,7 @@ pm::cli::Outcome encode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
 }  // namespace
 
 int main(int argc, char** argv) {
+  pm::cli::return_large_blocks_when_freed();
   CLI::App app{
       "pmenc: encode triangle meshes as progressive meshes (.pm).\n"
       "Reads OBJ, PLY, OFF, STL or glTF; writes the base mesh and the vertex splits that\n"

@@ -10,6 +10,7 @@
 
 #include "pm/mesh.h"
 #include "simplify/corner_attributes.h"
+#include "simplify/face_renumbering.h"
 
 namespace pm {
 namespace {
@@ -168,6 +169,46 @@ TEST(CornerAttributes, FinishKeepsTheLiveFacesCornersAndEveryMaterialInTheCaller
   EXPECT_EQ(uvs[0], 0u);
   EXPECT_EQ(uvs[1], 6u);
   EXPECT_EQ(uvs[2], 1u);
+}
+
+// compact(): the faces renamed without the dead ones (face 0, after 2 -> 1), as the loop
+// does between rounds. The costs read the same faces under their new ids, and finish() still
+// gives every face's material, the dead face's (kept aside by compact()) too, and the live
+// faces' corners, in the caller's ids.
+TEST(CornerAttributes, RenamedFacesKeepTheirCostsCornersAndMaterials) {
+  Mesh mesh = hexagon({0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 1});
+  mesh.face_materials = {10, 11, 12, 13, 14, 15};
+  mesh.material_names = {"m"};
+  CornerAttributes attributes = attributes_of(mesh);
+  const Star border(mesh, 2, 1, CollapseStar::kNoFace, 0, 0, 0, {0, 1});
+  CollapseAttributes record;
+  record.make_room(true, false, 1);
+  attributes.collapse(border.c, record);
+  move_corners(mesh, 2, 1, {1});
+  // 0 -> 1: fl = face 1 (0, 1, 3), fr = face 5 (1, 0, 6).
+  const double before = attributes.collapse_cost(Star(mesh, 0, 1, 1, 3, 5, 6, {1, 2, 3, 4, 5}).c);
+  // The caller's ids of the loop's faces, before the renaming: faces reversed.
+  const std::vector<uint32_t> given = {5, 4, 3, 2, 1, 0};
+  const FaceRenumbering faces(std::vector<uint8_t>{1, 0, 0, 0, 0, 0});
+  attributes.compact(faces, given.data());
+  faces.compact(mesh.triangles, 3);  // the loop renames its own faces as well
+  // The same collapse, its faces one id lower.
+  const double after = attributes.collapse_cost(Star(mesh, 0, 1, 0, 3, 4, 6, {0, 1, 2, 3, 4}).c);
+  EXPECT_EQ(after, before);
+  EXPECT_GT(after, 0.0);
+
+  attributes.end_collapses();
+  const std::vector<uint32_t> face_of = {4, 3, 2, 1, 0};  // the live faces' caller ids
+  const std::vector<uint32_t> vertex_of = {0, 1, 2, 3, 4, 5, 6};
+  attributes.finish(face_of, vertex_of, std::vector<uint8_t>(5, 0));
+  // The caller's face 5 is the dead one, material 10.
+  for (uint32_t f = 0; f < 6; ++f) EXPECT_EQ(attributes.material(given[f]), 10 + f);
+  // The loop's face 1, renamed 0 and the caller's 4, is (0, 1, 3) with vertex 1's ids at 1.
+  uint32_t uvs[3], normals[3];
+  attributes.corner_ids(4, {0, 1, 3}, uvs, normals);
+  EXPECT_EQ(uvs[0], 0u);
+  EXPECT_EQ(uvs[1], 1u);
+  EXPECT_EQ(uvs[2], 3u);
 }
 
 }  // namespace

@@ -595,9 +595,11 @@ TEST(FastLoop, ThePlaneTermBringsTheLevelsCloserToTheInput) {
 // The whole collapse sequence as encode() runs it (on the input, or on its repair) with
 // the loop's test switches, written out: every collapse with its record and moved faces,
 // the attribute record and the base mesh; and the number of collapses.
+// `renamings`, when set: how often the loop renamed its faces (compact_faces()).
 std::pair<std::size_t, std::vector<double>> whole_sequence(const Mesh& input,
                                                            const EncodeOptions& options,
-                                                           const LoopSwitches& switches) {
+                                                           const LoopSwitches& switches,
+                                                           std::size_t* renamings = nullptr) {
   Simplification run;
   if (!simplify_direct(input, options, run, switches)) {
     ManifoldMesh repaired;
@@ -621,7 +623,67 @@ std::pair<std::size_t, std::vector<double>> whole_sequence(const Mesh& input,
   add(run.base.vertices);
   add(run.base.faces);
   add(run.base.corners);
+  if (renamings) *renamings = run.face_renamings;
   return {run.collapses.size(), words};
+}
+
+// Between rounds the loop renames its faces without the dead ones and shrinks its per-face
+// arrays (face_renumbering.h). Every live face keeps its place among the others, so the
+// sequence, its records (in the given ids) and the .pm are the ones the loop makes without
+// renaming: with and without the measure, with texture coordinates, normals and materials
+// (the textured sample: the dead faces' materials are kept aside for their splits) and
+// without, either metric.
+TEST(CollapseLoop, RenamingTheFacesBetweenRoundsChangesNothing) {
+  struct Case {
+    std::string path;
+    Metric metric;
+  };
+  std::vector<Case> cases = {{test::sample_mesh_path("textured.obj"), Metric::kQuadric},
+                             {test::sample_mesh_path("textured.obj"), Metric::kSchroeder}};
+  for (const char* name : {"fandisk.obj", "spot.obj", "stanford-bunny.obj"}) {
+    const std::string path = test::shared_mesh_path(name);
+    if (!test::file_exists(path)) {
+      std::fprintf(stderr, "[  SKIPPED ] %s not found (../shared/meshes)\n", path.c_str());
+      continue;
+    }
+    cases.push_back({path, Metric::kQuadric});
+  }
+  std::size_t measured_renamings = 0;
+  for (const Case& c : cases) {
+    Mesh input;
+    ASSERT_TRUE(read_mesh(c.path, input).is_ok()) << c.path;
+    for (const bool fast : {false, true}) {
+      SCOPED_TRACE(c.path + (fast ? ", fast" : ", measured") +
+                   (c.metric == Metric::kSchroeder ? ", schroeder" : ", quadric"));
+      EncodeOptions options;
+      options.metric = c.metric;
+      options.fast = fast;
+      options.fast_partition_vertices = 1;  // rounds, whatever the size
+      LoopSwitches renaming, keeping;
+      keeping.compact_faces = false;
+      std::size_t renamed = 0, kept_names = 0;
+      const auto with = whole_sequence(input, options, renaming, &renamed);
+      const auto without = whole_sequence(input, options, keeping, &kept_names);
+      // Without the measure the rounds go on to a sixteenth of the vertices and rename the
+      // faces every time; with it a small mesh's rounds may end before a quarter of its
+      // faces are dead (below).
+      if (fast) EXPECT_GT(renamed, 0u);
+      measured_renamings += fast ? 0 : renamed;
+      EXPECT_EQ(kept_names, 0u);
+      EXPECT_GT(with.first, 0u);
+      EXPECT_TRUE(with == without) << "the sequences differ: " << with.first << " and "
+                                   << without.first << " collapses";
+      ProgressiveMesh pm_with, pm_without;
+      ASSERT_TRUE(encode_with_switches(input, options, renaming, pm_with).is_ok());
+      ASSERT_TRUE(encode_with_switches(input, options, keeping, pm_without).is_ok());
+      std::string bytes_with, bytes_without;
+      ASSERT_TRUE(write_pm(pm_with, WriteOptions{}, bytes_with).is_ok());
+      ASSERT_TRUE(write_pm(pm_without, WriteOptions{}, bytes_without).is_ok());
+      EXPECT_TRUE(bytes_with == bytes_without) << "the .pm streams differ";
+      EXPECT_EQ(pm_with.face_materials, pm_without.face_materials);
+    }
+  }
+  EXPECT_GT(measured_renamings, 0u) << "no measured case renamed its faces";
 }
 
 // The collapse loop with its measure keeps the fan's part of a candidate's measure while

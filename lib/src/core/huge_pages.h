@@ -11,11 +11,13 @@
 // per-half-edge arrays too: each collapse reads a neighbourhood's records, and consecutive
 // collapses are anywhere on the mesh (nefertiti after two Loop steps, one thread, without
 // the measure: medians of alternating runs 2069 -> 2038 ms, minima 2042 -> 1967; the bunny
-// after three, 5852 -> 5625 ms). And return_free_memory(), below, between stages. Internal to
-// the library.
+// after three, 5852 -> 5625 ms). And the other way: shrink_in_place(), for an array that
+// shrinks (the collapse loop's, as its faces die), and return_free_memory() between stages.
+// Internal to the library.
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace pm::detail {
@@ -43,6 +45,23 @@ void assign_preferring_huge_pages(std::vector<T>& values, std::size_t n,
     prefer_huge_pages(values);
   }
   values.assign(n, value);
+}
+
+// Gives the whole pages of [data, data + bytes) back to the system: their contents are lost
+// (Linux's MADV_DONTNEED: they read as zeros if touched again, which the callers never do).
+// For the unused end of a large array that shrank in place; elsewhere nothing happens.
+void release_pages(const void* data, std::size_t bytes);
+
+// values shrunk to its first n elements in place, the memory of the rest given back
+// (release_pages()): shrink_to_fit() would copy the n elements to a new array, held beside
+// the old one for the copy's length, where the point of shrinking is to lower the peak.
+template <class T>
+void shrink_in_place(std::vector<T>& values, std::size_t n) {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>,
+                "the released elements are never destroyed or read");
+  if (n >= values.size()) return;
+  values.resize(n);
+  release_pages(values.data() + n, (values.capacity() - n) * sizeof(T));
 }
 
 // Gives the allocator's free memory back to the system (glibc: malloc_trim; elsewhere nothing).

@@ -12,8 +12,10 @@ static_assert(TrackedPoints::kMaxOldFaces >= kMaxValence, "v's faces fit Tracked
 
 void CollapseLoop::apply(Worker& worker, uint32_t v) {
   const uint32_t edge = best_[v].edge;
-  // The candidate's edge may have gone, or changed, since it was queued.
-  if (face_dead_[edge / 3] || (half_[edge].vertex != v && half_[next_of(edge)].vertex != v)) {
+  // The candidate's edge may have gone, or changed, since it was queued (kNone: its face
+  // died before the faces were renamed, compact_faces()).
+  if (edge == kNone || face_dead_[edge / 3] ||
+      (half_[edge].vertex != v && half_[next_of(edge)].vertex != v)) {
     evaluate(worker, v, true);
     return;
   }

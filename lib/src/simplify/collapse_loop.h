@@ -115,6 +115,7 @@ class CollapseLoop {
         plane_term_(!measure_ && !schroeder_ && switches.plane_term),
         reuse_fan_part_(switches.reuse_fan_part),
         keep_apex_candidates_(switches.keep_apex_candidates),
+        compact_faces_(switches.compact_faces),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -733,8 +734,16 @@ class CollapseLoop {
   void initialize_quadrics();
 
   // The records in the given ids: in one pass at the end, where each lookup is independent
-  // of the next, instead of a dependent cache miss in every collapse.
+  // of the next, instead of a dependent cache miss in every collapse. Their faces from
+  // where compact_faces() left off (it renames those before).
   void to_given_ids();
+  // The faces of the records made since the last call, in the given ids (face_of_ as it is).
+  void faces_to_given_ids();
+  // Renames the faces without the dead ones and shrinks every per-face and per-half-edge
+  // array (face_renumbering.h), between rounds: the sequence stays the same.
+  void compact_faces();
+  // The records' collapses and moved-face blocks whose faces are in the given ids already.
+  std::size_t given_faces_collapses_ = 0, given_faces_blocks_ = 0;
 
   // What is left, in the given ids, increasing.
   void write_base();
@@ -752,7 +761,7 @@ class CollapseLoop {
   // attributes (attach_attributes() turns it off).
   bool plane_term_;
   // LoopSwitches' (simplifier.h), for tests.
-  const bool reuse_fan_part_, keep_apex_candidates_;
+  const bool reuse_fan_part_, keep_apex_candidates_, compact_faces_;
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one

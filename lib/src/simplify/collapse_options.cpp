@@ -176,6 +176,7 @@ bool CollapseLoop::find_best(Worker& worker, uint32_t v, bool check_legal) {
 
 bool CollapseLoop::keeps_best_with_attributes(Worker& worker, uint32_t v, uint32_t u,
                                               double geometric) {
+  if (best_[v].edge == kNone) return false;  // its face died (compact_faces()): evaluated again
   Star star;
   CornerAttributes::StarFields fields;
   Neighbour ring_v[kMaxValence];

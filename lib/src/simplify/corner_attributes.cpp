@@ -94,6 +94,7 @@ CornerAttributes::CornerAttributes(const Mesh& input, FaceVertices corners,
     k.values = tables[kind];
   }
   has_materials_ = !input.face_materials.empty();
+  first_faces_ = faces;
   corners_ = corners;
   points_ = points;
   // Each face's record on its own: in slices, on `threads`.
@@ -390,13 +391,25 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
   }
 }
 
+void CornerAttributes::compact(const FaceRenumbering& faces, const uint32_t* given_face) {
+  if (has_materials_) {
+    if (given_materials_.empty())
+      detail::assign_preferring_huge_pages(given_materials_, first_faces_, kNoAttribute);
+    for (std::size_t f = 0; f < materials_.size(); ++f)
+      if (faces.new_id[f] == FaceRenumbering::kGone) given_materials_[given_face[f]] = materials_[f];
+    faces.compact(materials_, 1);
+  }
+  faces.compact(faces_, 1);
+}
+
 void CornerAttributes::finish(const std::vector<uint32_t>& face_of,
                               const std::vector<uint32_t>& vertex_of,
                               const std::vector<uint8_t>& face_dead) {
   if (has_materials_) {
-    std::vector<uint32_t> renamed(materials_.size());
-    for (std::size_t f = 0; f < materials_.size(); ++f) renamed[face_of[f]] = materials_[f];
-    materials_.swap(renamed);
+    if (given_materials_.empty()) given_materials_.resize(first_faces_);
+    for (std::size_t f = 0; f < materials_.size(); ++f) given_materials_[face_of[f]] = materials_[f];
+    materials_.swap(given_materials_);
+    std::vector<uint32_t>().swap(given_materials_);
   }
   std::vector<std::pair<uint32_t, uint32_t>> live;  // (caller's id, own id)
   for (std::size_t f = 0; f < faces_.size(); ++f)

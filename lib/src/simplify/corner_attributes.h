@@ -22,6 +22,7 @@
 #include <functional>
 #include <vector>
 
+#include "simplify/face_renumbering.h"
 #include "simplify/geometry.h"
 #include "simplify/record_list.h"
 #include "pm/mesh.h"
@@ -187,6 +188,13 @@ class CornerAttributes {
                   uint32_t (&normals)[3]) const;
   uint32_t material(uint32_t f) const { return has_materials_ ? materials_[f] : kNoAttribute; }
 
+  // The loop's faces renamed without the dead ones (face_renumbering.h), between collapses;
+  // given_face[f]: face f's id in the caller's ids (finish()'s face_of) before the renaming.
+  // The dead faces' materials are kept aside in the caller's ids (their splits restore
+  // them), the live faces' records move. `corners` must read the renamed faces afterwards
+  // (the loop renames its half-edges in place).
+  void compact(const FaceRenumbering& faces, const uint32_t* given_face);
+
   // After the last collapse, before the loop's positions go: no cost may be asked
   // afterwards (the corners stay, for the assembly).
   void end_collapses() { points_ = nullptr; }
@@ -256,7 +264,10 @@ class CornerAttributes {
   Kind kinds_[kKinds];
   bool has_materials_ = false;
   // Per face, its material (has_materials_ alone): in the loop's ids, then the caller's.
-  std::vector<uint32_t> materials_;
+  // Once faces were renamed (compact()), the materials of the faces dead by then in
+  // given_materials_, in the caller's ids (one per face the loop began with).
+  std::vector<uint32_t> materials_, given_materials_;
+  std::size_t first_faces_ = 0;  // the faces the loop began with
   const float* points_ = nullptr;  // the loop's positions, three floats per vertex
   // finish(): faces_ holds the live faces' records alone, in the order of their caller's ids
   // (live_ids_), and live_vertices_ their corners' vertices in the caller's ids.

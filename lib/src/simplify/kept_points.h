@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "simplify/face_renumbering.h"
 #include "simplify/geometry.h"
 
 namespace pm::collapse_loop {
@@ -51,6 +52,11 @@ class KeptPoints {
   // n_faces faces, none holding a point yet; xyz, the input's positions (three per vertex),
   // stays the caller's and must not change. n_faces 0: frees the memory.
   void reset(std::size_t n_faces, const float* xyz);
+  // The faces renamed without the dead ones (face_renumbering.h), whose lists are empty.
+  void compact(const FaceRenumbering& faces) {
+    faces.compact(point_, kKept);
+    faces.compact(distance_, kKept);
+  }
   // Asks for face f's list ahead of collapse() or points_distance(). Inlined always
   // (CollapseLoop::fetch()).
   [[gnu::always_inline]] void prefetch(uint32_t f) const {

@@ -81,11 +81,13 @@ class RecordList {
     return shift;
   }
 
-  // Calls f(entries, count) for each block, in order (renaming, tests).
+  // Calls f(entries, count) for each block, in order (renaming, tests); from block `first`
+  // on (block_count(): the blocks so far, which take() never changes).
   template <class F>
-  void for_each_block(F&& f) {
-    for (Block& b : blocks_) f(b.data.get(), b.used);
+  void for_each_block(F&& f, std::size_t first = 0) {
+    for (std::size_t i = first; i < blocks_.size(); ++i) f(blocks_[i].data.get(), blocks_[i].used);
   }
+  std::size_t block_count() const { return blocks_.size(); }
   template <class F>
   void for_each_block(F&& f) const {
     for (const Block& b : blocks_) f(static_cast<const uint32_t*>(b.data.get()), b.used);

@@ -16,6 +16,7 @@
 #include "core/huge_pages.h"
 #include "core/in_turn.h"
 #include "simplify/collapse_loop.h"
+#include "simplify/face_renumbering.h"
 
 namespace pm {
 namespace collapse_loop {
@@ -300,6 +301,9 @@ void CollapseLoop::run_rounds() {
     merge(regions);
     if (options_.progress) report_progress(out_.collapses.size());
     if (made == 0) break;
+    // Once a quarter of the faces are dead, the arrays shrink to the live ones: the record
+    // grows round by round beside them.
+    if (compact_faces_ && 4 * faces_alive_ <= 3 * face_dead_.size()) compact_faces();
   }
   in_rounds_ = false;
   std::vector<uint8_t>().swap(band_);
@@ -380,8 +384,12 @@ void CollapseLoop::initialize_quadrics() {
   }
 }
 
+namespace {
+constexpr std::size_t kFetchAhead = 16;  // records: their lookups' misses overlap
+}  // namespace
+
 void CollapseLoop::to_given_ids() {
-  constexpr std::size_t kFetchAhead = 16;  // records: their lookups' misses overlap
+  faces_to_given_ids();
   auto& collapses = out_.collapses;
   for (std::size_t k = 0; k < collapses.size(); ++k) {
     if (k + kFetchAhead < collapses.size()) {
@@ -389,24 +397,69 @@ void CollapseLoop::to_given_ids() {
       for (const uint32_t x : {ahead.v, ahead.u, ahead.vl, ahead.vr}) {
         if (x != kNoVertex) __builtin_prefetch(vertex_of_.data() + x);
       }
-      for (const int f : {ahead.fl, ahead.fr}) {
-        if (f >= 0) __builtin_prefetch(face_of_.data() + f);
-      }
     }
     Collapse& c = collapses[k];
     c.v = vertex_of_[c.v];
     c.u = vertex_of_[c.u];
     if (c.vl != kNoVertex) c.vl = vertex_of_[c.vl];
     if (c.vr != kNoVertex) c.vr = vertex_of_[c.vr];
+  }
+}
+
+void CollapseLoop::faces_to_given_ids() {
+  auto& collapses = out_.collapses;
+  for (std::size_t k = given_faces_collapses_; k < collapses.size(); ++k) {
+    if (k + kFetchAhead < collapses.size()) {
+      const Collapse& ahead = collapses[k + kFetchAhead];
+      for (const int f : {ahead.fl, ahead.fr}) {
+        if (f >= 0) __builtin_prefetch(face_of_.data() + f);
+      }
+    }
+    Collapse& c = collapses[k];
     if (c.fl >= 0) c.fl = static_cast<int>(face_of_[c.fl]);
     if (c.fr >= 0) c.fr = static_cast<int>(face_of_[c.fr]);
   }
-  out_.moved_faces.for_each_block([&](uint32_t* moved, uint32_t count) {
-    for (uint32_t k = 0; k < count; ++k) {
-      if (k + kFetchAhead < count) __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
-      moved[k] = face_of_[moved[k]];
+  given_faces_collapses_ = collapses.size();
+  out_.moved_faces.for_each_block(
+      [&](uint32_t* moved, uint32_t count) {
+        for (uint32_t k = 0; k < count; ++k) {
+          if (k + kFetchAhead < count) __builtin_prefetch(face_of_.data() + moved[k + kFetchAhead]);
+          moved[k] = face_of_[moved[k]];
+        }
+      },
+      given_faces_blocks_);
+  given_faces_blocks_ = out_.moved_faces.block_count();
+}
+
+void CollapseLoop::compact_faces() {
+  // Every record so far names faces by their ids now: in the given ids before they change.
+  faces_to_given_ids();
+  ++out_.face_renamings;
+  const FaceRenumbering faces(face_dead_);
+  if (attributes_) attributes_->compact(faces, face_of_.data());
+  for (std::size_t f = 0; f < faces.new_id.size(); ++f) {
+    const uint32_t to = faces.new_id[f];
+    if (to == FaceRenumbering::kGone) continue;
+    for (uint32_t k = 0; k < 3; ++k) {
+      HalfEdge e = half_[3 * f + k];
+      if (e.twin != kNone) e.twin = faces.half_edge(e.twin);  // a live face's twin is live
+      half_[3 * std::size_t{to} + k] = e;
     }
-  });
+  }
+  detail::shrink_in_place(half_, 3 * faces.live);
+  faces.compact(seam_, 3);
+  faces.compact(face_of_, 1);
+  faces.compact(face_dead_, 1);  // all alive now
+  tracked_.compact(faces);
+  kept_.compact(faces);
+  // A vertex's outgoing half-edge is a live face's while the vertex lives; a candidate's
+  // edge may have died since it was queued (apply() then finds v's best again): kNone.
+  for (std::size_t v = 0; v < vertex_.size(); ++v) {
+    uint32_t& out = vertex_[v].outgoing;
+    if (out != kNone) out = faces.half_edge(out);
+    uint32_t& edge = best_[v].edge;
+    if (edge != kNone) edge = faces.half_edge(edge);
+  }
 }
 
 void CollapseLoop::write_base() {

@@ -39,6 +39,10 @@ struct LoopSwitches {
   // quadric's cost (collapse_loop.h, FanPlanes). Off: the quadric alone, whose shortcuts
   // (keep_apex_candidates) leave the sequence as it was; test_encoder.cpp compares the levels.
   bool plane_term = true;
+  // Whether the loop renames its faces without the dead ones between rounds, shrinking its
+  // per-face arrays (face_renumbering.h). The same sequence in less memory: test_encoder.cpp
+  // compares.
+  bool compact_faces = true;
 };
 
 struct Simplification {
@@ -51,6 +55,7 @@ struct Simplification {
   // (Collapse::moved_begin, new_faces_begin). Null otherwise.
   std::unique_ptr<CornerAttributes> attributes;
   CollapseAttributes attribute_record;
+  std::size_t face_renamings = 0;  // how often the loop renamed its faces (tests)
 };
 
 // Runs the whole collapse sequence on repaired.mesh, in its ids. Its triangles and points

@@ -34,6 +34,7 @@
 #include <limits>
 #include <vector>
 
+#include "simplify/face_renumbering.h"
 #include "simplify/geometry.h"
 #include "simplify/kept_points.h"
 
@@ -47,6 +48,8 @@ class TrackedPoints {
   void reset(std::size_t n_faces, std::size_t n_vertices, const float* xyz);
   // Asks for face f's list ahead of collapse().
   [[gnu::always_inline]] void prefetch(uint32_t f) const { __builtin_prefetch(&head_[f]); }
+  // The faces renamed without the dead ones (face_renumbering.h), whose lists are empty.
+  void compact(const FaceRenumbering& faces) { faces.compact(head_, 1); }
 
   // The collapse v -> u (before the faces change): v and every point on old_faces (v's
   // faces, those at v-u among them) go to a face of `fan` (the faces around u after it, v's
