@@ -135,20 +135,32 @@ TEST(CornerAttributes, ACollapseElsewhereLeavesNoTraceInTheCost) {
   EXPECT_GT(std::abs(after - before), 0.01 * before);
 }
 
+// The hexagon with one material per face (10 to 15), after the collapse 2 -> 1 along the
+// border: face 0 goes, face 1 becomes (0, 1, 3) with vertex 1's ids. The attributes read the
+// mesh's triangles, which the collapse updated as the loop does.
+struct CollapsedHexagon {
+  Mesh mesh = with_materials(hexagon({0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 1}));
+  CornerAttributes attributes = attributes_of(mesh);
+  CollapsedHexagon() {
+    const Star border(mesh, 2, 1, CollapseStar::kNoFace, 0, 0, 0, {0, 1});
+    CollapseAttributes record;
+    record.make_room(true, false, 1);
+    attributes.collapse(border.c, record);
+    move_corners(mesh, 2, 1, {1});
+  }
+  static Mesh with_materials(Mesh mesh) {
+    mesh.face_materials = {10, 11, 12, 13, 14, 15};
+    mesh.material_names = {"m"};
+    return mesh;
+  }
+};
+
 // finish() keeps what the assembly reads, renamed to the caller's ids: the live faces'
 // corners, and every face's material (the faces a collapse removed too: their splits
 // restore them).
 TEST(CornerAttributes, FinishKeepsTheLiveFacesCornersAndEveryMaterialInTheCallersIds) {
-  Mesh mesh = hexagon({0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 1});
-  mesh.face_materials = {10, 11, 12, 13, 14, 15};
-  mesh.material_names = {"m"};
-  CornerAttributes attributes = attributes_of(mesh);
-  // 2 -> 1 along the border: face 0 goes, face 1 becomes (0, 1, 3) with vertex 1's ids.
-  const Star border(mesh, 2, 1, CollapseStar::kNoFace, 0, 0, 0, {0, 1});
-  CollapseAttributes record;
-  record.make_room(true, false, 1);
-  attributes.collapse(border.c, record);
-  move_corners(mesh, 2, 1, {1});
+  CollapsedHexagon collapsed;
+  CornerAttributes& attributes = collapsed.attributes;
   attributes.end_collapses();
   // The caller's ids: faces reversed, vertices shifted by one (mod 7).
   const std::vector<uint32_t> face_of = {5, 4, 3, 2, 1, 0};
@@ -176,15 +188,9 @@ TEST(CornerAttributes, FinishKeepsTheLiveFacesCornersAndEveryMaterialInTheCaller
 // gives every face's material, the dead face's (kept aside by compact()) too, and the live
 // faces' corners, in the caller's ids.
 TEST(CornerAttributes, RenamedFacesKeepTheirCostsCornersAndMaterials) {
-  Mesh mesh = hexagon({0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5, 0, 5, 6, 0, 6, 1});
-  mesh.face_materials = {10, 11, 12, 13, 14, 15};
-  mesh.material_names = {"m"};
-  CornerAttributes attributes = attributes_of(mesh);
-  const Star border(mesh, 2, 1, CollapseStar::kNoFace, 0, 0, 0, {0, 1});
-  CollapseAttributes record;
-  record.make_room(true, false, 1);
-  attributes.collapse(border.c, record);
-  move_corners(mesh, 2, 1, {1});
+  CollapsedHexagon collapsed;
+  Mesh& mesh = collapsed.mesh;
+  CornerAttributes& attributes = collapsed.attributes;
   // 0 -> 1: fl = face 1 (0, 1, 3), fr = face 5 (1, 0, 6).
   const double before = attributes.collapse_cost(Star(mesh, 0, 1, 1, 3, 5, 6, {1, 2, 3, 4, 5}).c);
   // The caller's ids of the loop's faces, before the renaming: faces reversed.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <set>
 #include <string>
 #include <tuple>
@@ -592,6 +593,27 @@ TEST(FastLoop, ThePlaneTermBringsTheLevelsCloserToTheInput) {
   }
 }
 
+// A mesh and a metric whose sequences a test compares: the textured sample with either
+// metric, then each of the shared meshes `shared` that is there with each of `metrics`.
+struct SequenceCase {
+  std::string path;
+  Metric metric;
+};
+std::vector<SequenceCase> sequence_cases(std::initializer_list<const char*> shared,
+                                         std::initializer_list<Metric> metrics) {
+  std::vector<SequenceCase> cases = {{test::sample_mesh_path("textured.obj"), Metric::kQuadric},
+                                     {test::sample_mesh_path("textured.obj"), Metric::kSchroeder}};
+  for (const char* name : shared) {
+    const std::string path = test::shared_mesh_path(name);
+    if (!test::file_exists(path)) {
+      std::fprintf(stderr, "[  SKIPPED ] %s not found (../shared/meshes)\n", path.c_str());
+      continue;
+    }
+    for (const Metric metric : metrics) cases.push_back({path, metric});
+  }
+  return cases;
+}
+
 // The whole collapse sequence as encode() runs it (on the input, or on its repair) with
 // the loop's test switches, written out: every collapse with its record and moved faces,
 // the attribute record and the base mesh; and the number of collapses.
@@ -634,22 +656,9 @@ std::pair<std::size_t, std::vector<double>> whole_sequence(const Mesh& input,
 // (the textured sample: the dead faces' materials are kept aside for their splits) and
 // without, either metric.
 TEST(CollapseLoop, RenamingTheFacesBetweenRoundsChangesNothing) {
-  struct Case {
-    std::string path;
-    Metric metric;
-  };
-  std::vector<Case> cases = {{test::sample_mesh_path("textured.obj"), Metric::kQuadric},
-                             {test::sample_mesh_path("textured.obj"), Metric::kSchroeder}};
-  for (const char* name : {"fandisk.obj", "spot.obj", "stanford-bunny.obj"}) {
-    const std::string path = test::shared_mesh_path(name);
-    if (!test::file_exists(path)) {
-      std::fprintf(stderr, "[  SKIPPED ] %s not found (../shared/meshes)\n", path.c_str());
-      continue;
-    }
-    cases.push_back({path, Metric::kQuadric});
-  }
   std::size_t measured_renamings = 0;
-  for (const Case& c : cases) {
+  for (const SequenceCase& c :
+       sequence_cases({"fandisk.obj", "spot.obj", "stanford-bunny.obj"}, {Metric::kQuadric})) {
     Mesh input;
     ASSERT_TRUE(read_mesh(c.path, input).is_ok()) << c.path;
     for (const bool fast : {false, true}) {
@@ -667,7 +676,9 @@ TEST(CollapseLoop, RenamingTheFacesBetweenRoundsChangesNothing) {
       // Without the measure the rounds go on to a sixteenth of the vertices and rename the
       // faces every time; with it a small mesh's rounds may end before a quarter of its
       // faces are dead (below).
-      if (fast) EXPECT_GT(renamed, 0u);
+      if (fast) {
+        EXPECT_GT(renamed, 0u);
+      }
       measured_renamings += fast ? 0 : renamed;
       EXPECT_EQ(kept_names, 0u);
       EXPECT_GT(with.first, 0u);
@@ -694,22 +705,8 @@ TEST(CollapseLoop, RenamingTheFacesBetweenRoundsChangesNothing) {
 // depends on the distance it starts from; on nefertiti after a Loop step, 1 of 20,761 reused
 // parts differs from a fresh measure. None does on these meshes.)
 TEST(MeasuredLoop, KeepingTheFansPartOfAMeasureChangesNoCollapse) {
-  struct Case {
-    std::string path;
-    Metric metric;
-  };
-  std::vector<Case> cases = {{test::sample_mesh_path("textured.obj"), Metric::kQuadric},
-                             {test::sample_mesh_path("textured.obj"), Metric::kSchroeder}};
-  for (const char* name : {"spot.obj", "homer.obj", "cow.obj"}) {
-    const std::string path = test::shared_mesh_path(name);
-    if (!test::file_exists(path)) {
-      std::fprintf(stderr, "[  SKIPPED ] %s not found (../shared/meshes)\n", path.c_str());
-      continue;
-    }
-    cases.push_back({path, Metric::kQuadric});
-    cases.push_back({path, Metric::kSchroeder});
-  }
-  for (const Case& c : cases) {
+  for (const SequenceCase& c : sequence_cases({"spot.obj", "homer.obj", "cow.obj"},
+                                              {Metric::kQuadric, Metric::kSchroeder})) {
     Mesh input;
     ASSERT_TRUE(read_mesh(c.path, input).is_ok()) << c.path;
     for (const bool regions : {false, true}) {

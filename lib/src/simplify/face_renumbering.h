@@ -6,8 +6,9 @@
 // Why. A collapse kills two faces but frees nothing: the per-face arrays (half-edges,
 // corner records, tracked points' lists) kept every face to the end, where the sequence's
 // record had grown beside them, and the loop's memory peaked there (pmenc --fast on the
-// 950K-face textured mesh: 223 MiB at its last round, with a third of its faces alive after
-// the first round and a sixth after the second). Internal to simplify/.
+// 950K-face textured mesh: 223 MiB at its last round, when a third of its faces were dead
+// after the first round and two thirds after the second; 187 MiB, in its second round, once
+// renamed). Internal to simplify/.
 #pragma once
 
 #include <cstddef>

@@ -432,6 +432,7 @@ void CollapseLoop::faces_to_given_ids() {
 }
 
 void CollapseLoop::compact_faces() {
+  static_assert(FaceRenumbering::kGone == kNone, "a dead face's half-edge renamed is kNone");
   // Every record so far names faces by their ids now: in the given ids before they change.
   faces_to_given_ids();
   ++out_.face_renamings;
