@@ -14,6 +14,22 @@
 
 namespace pm::detail {
 
+#if defined(__linux__)
+namespace {
+
+// madvise(advice) over the pages of `page` bytes wholly inside [data, data + bytes): what
+// lies before and after the range (an array's elements kept, the allocator's records) is
+// never touched. An error leaves the pages as they were.
+void advise_inner_pages(const void* data, std::size_t bytes, std::uintptr_t page, int advice) {
+  const auto start = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t begin = (start + page - 1) & ~(page - 1);
+  const std::uintptr_t end = (start + bytes) & ~(page - 1);
+  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, advice);
+}
+
+}  // namespace
+#endif
+
 void prefer_huge_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr std::uintptr_t kHugePage = std::uintptr_t{1} << 21;
@@ -21,12 +37,7 @@ void prefer_huge_pages(const void* data, std::size_t bytes) {
   constexpr std::size_t kLeast = 4 * kHugePage;
   // A hint: an old kernel, or huge pages disabled, leaves the pages as they were.
   if (data == nullptr || bytes < kLeast) return;
-  // Only the huge pages wholly inside [data, data + bytes): what lies before and after the
-  // range (the allocator's records) is never touched. An error leaves the pages as they were.
-  const auto start = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t begin = (start + kHugePage - 1) & ~(kHugePage - 1);
-  const std::uintptr_t end = (start + bytes) & ~(kHugePage - 1);
-  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+  advise_inner_pages(data, bytes, kHugePage, MADV_HUGEPAGE);
 #else
   (void)data;
   (void)bytes;
@@ -37,14 +48,7 @@ void release_pages(const void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_DONTNEED)
   static const long page_size = sysconf(_SC_PAGESIZE);  // a huge page in the range is split
   if (data == nullptr || page_size <= 0) return;
-  // Only the pages wholly inside the range: what lies before and after it (the array's
-  // elements kept, the allocator's records) is never touched. An error leaves them as they
-  // were.
-  const auto page = static_cast<std::uintptr_t>(page_size);
-  const auto start = reinterpret_cast<std::uintptr_t>(data);
-  const std::uintptr_t begin = (start + page - 1) & ~(page - 1);
-  const std::uintptr_t end = (start + bytes) & ~(page - 1);
-  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+  advise_inner_pages(data, bytes, static_cast<std::uintptr_t>(page_size), MADV_DONTNEED);
 #else
   (void)data;
   (void)bytes;
