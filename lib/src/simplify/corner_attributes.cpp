@@ -382,10 +382,9 @@ void CornerAttributes::corner_ids(uint32_t f, const uint32_t (&at)[3], uint32_t 
                 : f;
   const FaceCorners& face = faces_[at_f];
   for (int i = 0; i < 3; ++i) {
-    const int c = finished_ ? (live_vertices_[3 * at_f] == at[i]       ? 0
-                               : live_vertices_[3 * at_f + 1] == at[i] ? 1
-                                                                       : 2)
-                            : corner_of(f, at[i]);
+    const int c = finished_
+                      ? corner_among(live_vertices_[3 * at_f], live_vertices_[3 * at_f + 1], at[i])
+                      : corner_of(f, at[i]);
     uvs[i] = has_uvs() ? face.id[kUv][c] : kNoAttribute;
     normals[i] = has_normals() ? face.id[kNormal][c] : kNoAttribute;
   }

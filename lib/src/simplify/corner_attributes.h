@@ -221,9 +221,11 @@ class CornerAttributes {
     double cost_weight = 1;  // weigh_costs()
     const float* value(uint32_t id) const { return values->data() + std::size_t{id} * dims; }
   };
+  // Which of three vertices is w (0, 1 or 2; 2 when neither of the first two).
+  static int corner_among(uint32_t a, uint32_t b, uint32_t w) { return a == w ? 0 : b == w ? 1 : 2; }
   // Which corner of face f holds vertex w (0, 1 or 2).
   int corner_of(uint32_t f, uint32_t w) const {
-    return corners_(f, 0) == w ? 0 : corners_(f, 1) == w ? 1 : 2;
+    return corner_among(corners_(f, 0), corners_(f, 1), w);
   }
   // The wedge of face f's corner at vertex w. A vertex has one wedge per value class (ids
   // whose values have the same bits; number_wedges()), and a collapse gives each moved
