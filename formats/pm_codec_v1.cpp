@@ -646,12 +646,13 @@ Status write_pm_v1(const ProgressiveMesh& pm, int zstd_level, std::string& bytes
   const Header header = header_for(pm);
   std::string out;
   append_header(header, out);
+  SectionWriter writer;
   for (int section = 0; section < kKnownSectionCount; ++section) {
     if (!section_expected(header, section)) continue;
     const std::string raw = kEncoders[section](pm);
     const uint32_t flags = is_attribute_section(section) ? 0 : kSectionRequired;
     if (Status status =
-            append_section(kKnownTags[section], flags, raw, raw.size(), zstd_level, out);
+            writer.append(kKnownTags[section], flags, raw, raw.size(), zstd_level, out);
         !status) {
       return status;
     }

@@ -173,6 +173,7 @@ class SectionCompressor {
 
  private:
   void work() {
+    SectionWriter writer;  // this thread's zstd context, for every section it takes
     for (;;) {
       std::size_t slot = 0;
       {
@@ -185,7 +186,7 @@ class SectionCompressor {
       try {
         const std::string& raw = raws_[slot];
         statuses_[slot] =
-            append_section(tags_[slot], kSectionRequired, raw, raw.size(), level_, compressed_[slot]);
+            writer.append(tags_[slot], kSectionRequired, raw, raw.size(), level_, compressed_[slot]);
         std::string().swap(raws_[slot]);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex_);

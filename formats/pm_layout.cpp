@@ -37,20 +37,14 @@ std::string tag_name(uint32_t tag) {
   return name;
 }
 
-namespace {
+SectionWriter::SectionWriter() : context_(ZSTD_createCCtx()) {}
 
-struct FreeCompressContext {
-  void operator()(ZSTD_CCtx* context) const { ZSTD_freeCCtx(context); }
-};
-using CompressContext = std::unique_ptr<ZSTD_CCtx, FreeCompressContext>;
-
-}  // namespace
-
-Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
-                      uint64_t declared_raw_size, int zstd_level, std::string& out) {
-  CompressContext context(ZSTD_createCCtx());
-  if (!context) return Status(ErrorCode::kInternal, "zstd: cannot create a compression context");
-  ZSTD_CCtx* cctx = context.get();
+Status SectionWriter::append(uint32_t tag, uint32_t flags, std::string_view raw,
+                             uint64_t declared_raw_size, int zstd_level, std::string& out) {
+  ZSTD_CCtx* cctx = context_.get();
+  if (!cctx) return Status(ErrorCode::kInternal, "zstd: cannot create a compression context");
+  // Parameters are sticky: each is set again, in case the last section failed half-way.
+  (void)ZSTD_CCtx_reset(cctx, ZSTD_reset_session_and_parameters);
   for (const auto& [parameter, value] :
        {std::pair{ZSTD_c_compressionLevel, zstd_level}, std::pair{ZSTD_c_checksumFlag, 1},
         std::pair{ZSTD_c_contentSizeFlag, 1}}) {
@@ -59,21 +53,34 @@ Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
       return Status(ErrorCode::kInvalidArgument, std::string("zstd: ") + ZSTD_getErrorName(result));
     }
   }
-  std::string frame(ZSTD_compressBound(raw.size()), '\0');
+  // The frame straight after its header in `out` (its size filled in after): no buffer of
+  // its own to fill and copy. `out` is as it was on failure.
+  const std::size_t header_at = out.size(), frame_at = header_at + kSectionHeaderSize;
+  {
+    ByteWriter writer(out);
+    writer.put_u32(tag);
+    writer.put_u32(flags);
+    writer.put_u64(0);  // the frame's size, below
+    writer.put_u64(declared_raw_size);
+  }
+  out.resize(frame_at + ZSTD_compressBound(raw.size()));
   const size_t frame_size =
-      ZSTD_compress2(cctx, frame.data(), frame.size(), raw.data(), raw.size());
+      ZSTD_compress2(cctx, out.data() + frame_at, out.size() - frame_at, raw.data(), raw.size());
   if (ZSTD_isError(frame_size)) {
+    out.resize(header_at);
     return Status(ErrorCode::kInternal,
                   "section " + tag_name(tag) + ": zstd: " + ZSTD_getErrorName(frame_size));
   }
-  frame.resize(frame_size);
-  ByteWriter writer(out);
-  writer.put_u32(tag);
-  writer.put_u32(flags);
-  writer.put_u64(frame.size());
-  writer.put_u64(declared_raw_size);
-  writer.put_bytes(frame);
+  out.resize(frame_at + frame_size);
+  std::string size_field;
+  ByteWriter(size_field).put_u64(frame_size);
+  out.replace(header_at + 8, size_field.size(), size_field);
   return Status::ok();
+}
+
+Status append_section(uint32_t tag, uint32_t flags, std::string_view raw,
+                      uint64_t declared_raw_size, int zstd_level, std::string& out) {
+  return SectionWriter().append(tag, flags, raw, declared_raw_size, zstd_level, out);
 }
 
 // One zstd frame, exactly `frame.size()` bytes, with a content checksum and a content

@@ -312,6 +312,49 @@ uint64_t raw_size_of(const std::string& bytes, const SectionSpan& span) {
 // Round trips
 // ---------------------------------------------------------------------------------------
 
+// One zstd context for many sections writes each as a context of its own would: the same
+// bytes, whatever the context compressed before and at whatever level.
+TEST(SectionWriter, ReusedContextWritesWhatFreshContextsWrite) {
+  std::string repetitive, noisy(3000, '\0'), empty;
+  for (int i = 0; i < 4000; ++i) repetitive += "v 0.5 1.25 " + std::to_string(i % 37) + "\n";
+  std::mt19937 random(7);
+  for (char& c : noisy) c = static_cast<char>(random());
+  const struct {
+    uint32_t tag;
+    const std::string* raw;
+    int level;
+  } sections[] = {{detail::kTagBase, &repetitive, 18},
+                  {detail::make_tag("CHNK"), &noisy, 3},
+                  {detail::make_tag("CHNK"), &empty, 18},
+                  {detail::make_tag("CHNK"), &repetitive, 1},
+                  {detail::make_tag("INDX"), &noisy, 18}};
+  detail::SectionWriter writer;
+  std::string reused = "prefix", fresh = "prefix";
+  for (const auto& section : sections) {
+    ASSERT_TRUE(writer.append(section.tag, detail::kSectionRequired, *section.raw,
+                              section.raw->size(), section.level, reused));
+    ASSERT_TRUE(detail::append_section(section.tag, detail::kSectionRequired, *section.raw,
+                                       section.raw->size(), section.level, fresh));
+  }
+  EXPECT_EQ(reused, fresh);
+  // Each section: its header, then a frame of the size the header says, holding the raw bytes.
+  std::size_t at = 6;
+  ZSTD_DCtx* dctx = ZSTD_createDCtx();
+  for (const auto& section : sections) {
+    ASSERT_LE(at + detail::kSectionHeaderSize, reused.size());
+    EXPECT_EQ(get_u32_at(reused, at), section.tag);
+    const uint64_t stored = get_u64_at(reused, at + 8);
+    EXPECT_EQ(get_u64_at(reused, at + 16), section.raw->size());
+    std::string raw;
+    const std::string_view frame(reused.data() + at + detail::kSectionHeaderSize, stored);
+    EXPECT_TRUE(detail::decompress_frame("test", frame, section.raw->size(), dctx, raw));
+    EXPECT_EQ(raw, *section.raw);
+    at += detail::kSectionHeaderSize + stored;
+  }
+  ZSTD_freeDCtx(dctx);
+  EXPECT_EQ(at, reused.size());
+}
+
 TEST(PmCodecRoundTrip, SmallMeshIsExact) {
   const ProgressiveMesh original = small_mesh();
   std::string message;
