@@ -66,8 +66,10 @@ std::string human_bytes(std::size_t bytes);
 // raises the threshold to the size of each such block freed, up to 32 MiB, and the blocks
 // below it then come from the heap, whose freed memory the process keeps: pmenc's stages
 // (the collapse loop, the assembly, the layering, the writer) each free tens of MiB of
-// arrays before the next takes its own, and its peak held both. Called once, first thing in
-// main(): a process-wide policy, which the library leaves to its caller.
+// arrays before the next takes its own, and its peak held both; so did pmdec's (reading,
+// replaying the splits, writing the mesh): full detail of the 950K-face textured mesh as
+// OBJ, peak 372 -> 269 MB, as PLY 327 -> 233 MB, in the same time. Called once, first
+// thing in main(): a process-wide policy, which the library leaves to its caller.
 void return_large_blocks_when_freed();
 
 }  // namespace pm::cli

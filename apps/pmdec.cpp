@@ -20,6 +20,7 @@ int fail_usage(const std::string& message) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pm::cli::return_large_blocks_when_freed();
   CLI::App app{
       "pmdec: decode levels of detail from progressive meshes (.pm).\n"
       "Without a level option, writes full detail: the input mesh, exactly.\n"
