@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 
 namespace pm::detail {
 

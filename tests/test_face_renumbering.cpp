@@ -40,7 +40,7 @@ TEST(FaceRenumbering, NoDeadFaceChangesNothing) {
 }
 
 // A large array shrunk in place keeps its first elements (its end's pages go back to the
-// system, huge_pages.h; only the elements kept are read again).
+// system, memory_pages.h; only the elements kept are read again).
 TEST(FaceRenumbering, ALargeArrayShrinksInPlace) {
   std::vector<uint8_t> dead(1 << 20, 1);
   for (std::size_t f = 0; f < dead.size(); f += 7) dead[f] = 0;

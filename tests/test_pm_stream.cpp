@@ -24,7 +24,7 @@
 #include "../formats/byte_io.h"
 #include "../formats/pm_layout.h"
 #include "../formats/range_coder.h"
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 #include "pm/advanced/pm_stream.h"
 #include "pm/advanced/stream_order.h"
 #include "pm/encoder.h"
@@ -1570,7 +1570,7 @@ TEST(PmStream, RangeCoderRoundTripsAndRefusesDamage) {
   EXPECT_TRUE(refused || !ones.ok());
 }
 
-// The huge-page hint (huge_pages.h) is only a hint: whatever the kernel does with it, the
+// The huge-page hint (memory_pages.h) is only a hint: whatever the kernel does with it, the
 // memory keeps what was written before and takes what is written after, over the aligned
 // interior and the unaligned ends alike, and odd ranges (null, empty, small, unaligned) are
 // left alone.

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "byte_io.h"
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 #include "core/no_throw.h"
 #include "pm/pm_codec.h"
 #include "pm_layout.h"
@@ -325,7 +325,7 @@ Status PmStreamReader::State::start(std::string_view header_bytes, bool reserve)
   positions.components = 3;
   positions.grid = h.position_bits != 0 ? &position_grid : nullptr;
   positions.units.reserve(3 * V);
-  prefer_huge_pages(positions.units);  // each split reads its neighbours' (huge_pages.h)
+  prefer_huge_pages(positions.units);  // each split reads its neighbours' (memory_pages.h)
   colors.components = h.color_components;
   colors.units.reserve(uint64_t{h.color_components} * V);
   fans.reset(h.split_vertices(), split_faces);

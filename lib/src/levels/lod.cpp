@@ -7,7 +7,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 #include "levels/level_output.h"
 
 namespace pm {
@@ -96,7 +96,7 @@ class LevelWalker {
     level = std::min(level, pm_.splits.size());
     const std::size_t capacity = faces_.capacity();
     faces_.reserve(3 * faces_at_level(pm_, level));
-    // Written at random, split by split (huge_pages.h); asked once per new allocation, not
+    // Written at random, split by split (memory_pages.h); asked once per new allocation, not
     // at every step of an incremental walk.
     if (faces_.capacity() != capacity) detail::prefer_huge_pages(faces_);
     // The faces a split moves are scattered over the mesh, and named in advance: fetched a

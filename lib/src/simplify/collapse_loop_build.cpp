@@ -3,7 +3,7 @@
 // the legality rules only a repaired mesh needs (welds, carried faces).
 #include "simplify/collapse_loop.h"
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 
 namespace pm::collapse_loop {
 

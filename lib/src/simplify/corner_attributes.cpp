@@ -9,7 +9,7 @@
 #include <cstring>
 #include <utility>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 #include "core/in_turn.h"
 
 namespace pm {

@@ -12,7 +12,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 #include "io/openmesh_logs.h"
 #include "pm/advanced/stream_order.h"
 #include "pm/encoder.h"

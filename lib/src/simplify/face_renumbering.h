@@ -1,7 +1,7 @@
 // The collapse loop's faces renumbered without the dead ones, between its rounds: each live
 // face keeps its place among the live (new ids in increasing order), so that every walk and
 // every order the loop takes stays the same and its sequence does not change; the per-face
-// arrays shrink in place and give their ends back (huge_pages.h, shrink_in_place()).
+// arrays shrink in place and give their ends back (memory_pages.h, shrink_in_place()).
 //
 // Why. A collapse kills two faces but frees nothing: the per-face arrays (half-edges,
 // corner records, tracked points' lists) kept every face to the end, where the sequence's
@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 
 namespace pm {
 

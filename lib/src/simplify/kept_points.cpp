@@ -7,7 +7,7 @@
 #include <limits>
 #include <utility>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 
 namespace pm::collapse_loop {
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 #include "core/in_turn.h"
 #include "simplify/collapse_loop.h"
 #include "simplify/face_renumbering.h"

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/huge_pages.h"
+#include "core/memory_pages.h"
 
 namespace pm::collapse_loop {
 

@@ -1,6 +1,6 @@
 // Transparent huge pages for large random-access arrays, the unused end of a shrunk one and
-// the allocator's free memory given back to the system (see huge_pages.h).
-#include "core/huge_pages.h"
+// the allocator's free memory given back to the system (see memory_pages.h).
+#include "core/memory_pages.h"
 
 #include <cstdint>
 

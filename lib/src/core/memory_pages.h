@@ -1,3 +1,7 @@
+// The pages under the library's large arrays, asked for and given back. Asked for: huge
+// pages for the large arrays that are read at random; given back: the unused end of an array
+// shrunk in place, and the allocator's free memory between stages.
+//
 // Transparent huge pages for the large arrays that are read at random: the connectivity a
 // .pm stream is decoded against, the decoded positions, the faces a level is replayed on.
 // Each split touches a few records scattered over tens of megabytes, and with 4 KiB pages
