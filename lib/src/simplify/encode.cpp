@@ -131,7 +131,7 @@ void assemble(const Mesh& input, const ManifoldMesh& repaired, const Simplified&
   out.moved_faces.reserve(run.moved_faces.count());
   // Every array at its final size from the start: grown by doubling, each would be copied
   // to new memory several times over and held twice while it is (pmenc --fast on the
-  // 950K-face textured mesh: a tenth of the process's page faults were these copies).
+  // 950K-face textured mesh: about 10,000 of the process's 207,000 page faults).
   std::size_t face_count = run.base.faces.size() + repaired.carried_input_faces.size();
   for (const Collapse& c : collapses) face_count += (c.fl >= 0) + (c.fr >= 0);
   if (uvs) {
