@@ -53,16 +53,10 @@ Status SectionWriter::append(uint32_t tag, uint32_t flags, std::string_view raw,
       return Status(ErrorCode::kInvalidArgument, std::string("zstd: ") + ZSTD_getErrorName(result));
     }
   }
-  // The frame straight after its header in `out` (its size filled in after): no buffer of
-  // its own to fill and copy. `out` is as it was on failure.
+  // The frame straight after its header's place in `out`, the header written once the
+  // frame's size is known: no buffer of its own to fill and copy. `out` is as it was on
+  // failure.
   const std::size_t header_at = out.size(), frame_at = header_at + kSectionHeaderSize;
-  {
-    ByteWriter writer(out);
-    writer.put_u32(tag);
-    writer.put_u32(flags);
-    writer.put_u64(0);  // the frame's size, below
-    writer.put_u64(declared_raw_size);
-  }
   out.resize(frame_at + ZSTD_compressBound(raw.size()));
   const size_t frame_size =
       ZSTD_compress2(cctx, out.data() + frame_at, out.size() - frame_at, raw.data(), raw.size());
@@ -72,9 +66,13 @@ Status SectionWriter::append(uint32_t tag, uint32_t flags, std::string_view raw,
                   "section " + tag_name(tag) + ": zstd: " + ZSTD_getErrorName(frame_size));
   }
   out.resize(frame_at + frame_size);
-  std::string size_field;
-  ByteWriter(size_field).put_u64(frame_size);
-  out.replace(header_at + 8, size_field.size(), size_field);
+  std::string header;
+  ByteWriter writer(header);
+  writer.put_u32(tag);
+  writer.put_u32(flags);
+  writer.put_u64(frame_size);
+  writer.put_u64(declared_raw_size);
+  out.replace(header_at, kSectionHeaderSize, header);
   return Status::ok();
 }
 

@@ -272,8 +272,14 @@ void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const
   for (int i = 0; i < n_faces; ++i) {
     const uint32_t f = c.faces[i];
     const FaceCorners& face = faces_[f];
-    Vec3 p[3];  // about v: the positions' differences are exact, the fields' terms small
+    // About v: the positions' differences are exact, the fields' terms small (v's own is 0).
+    const int corner = corner_of(f, c.v);
+    Vec3 p[3];
     for (int j = 0; j < 3; ++j) {
+      if (j == corner) {
+        p[j] = Vec3(0, 0, 0);
+        continue;
+      }
       const float* q = points_ + 3 * std::size_t{corners_(f, j)};
       p[j] = Vec3(q[0], q[1], q[2]) - pv;
     }
@@ -283,7 +289,19 @@ void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const
     const double area = 0.5 * (e1 % e2).norm();
     // A degenerate face has no gradient, and no area to weigh it: it counts for nothing.
     if (!(det > 0) || !(area > 0)) continue;
-    const int corner = corner_of(f, c.v);
+    // Hoppe 1999, §4: the attribute's gradient g lies in the face's plane with g . e1 = a1 -
+    // a0 and g . e2 = a2 - a0, that is g = (a1 - a0) w1 + (a2 - a0) w2 with w1, w2 the dual
+    // basis of e1, e2 in that plane (the gradients of the barycentric coordinates), made once
+    // for every kind and component; then d = a0 - g . p0, so that a(p) = g . p + d on the
+    // face. (Against a division per component, and v's own position read: the 950K-face
+    // textured mesh's collapse sequence without the measure, one thread, medians of 6
+    // alternating runs of 5, 3.35 -> 3.24 s. With the terms about v's corner instead, whose
+    // value is the offset there, no g . p0: about 4% faster again, but the rounding moved the
+    // textured sample at 2% of its faces from Hausdorff 0.88 to 1.01 times meshopt_simplify's,
+    // attr_quality.md.)
+    const double inverse = 1.0 / det;
+    const Vec3 w1 = (g22 * inverse) * e1 - (g12 * inverse) * e2;
+    const Vec3 w2 = (g11 * inverse) * e2 - (g12 * inverse) * e1;
     for (int kind = 0; kind < kKinds; ++kind) {
       if (!priced[kind]) continue;
       const auto& ids = face.id[kind];
@@ -294,12 +312,9 @@ void CornerAttributes::star_fields(const CollapseStar& c, StarFields& out) const
       field.wedge = face.wedge[kind][corner];
       const float* value[3] = {k.value(ids[0]), k.value(ids[1]), k.value(ids[2])};
       for (int j = 0; j < k.dims; ++j) {
-        // Hoppe 1999, §4: g in the face's plane with g . e1 = a1 - a0 and g . e2 = a2 - a0,
-        // then d = a0 - g . p0, so that a_j(p) = g . p + d on the face.
         const double d1 = double(value[1][j]) - value[0][j];
         const double d2 = double(value[2][j]) - value[0][j];
-        const double alpha = (g22 * d1 - g12 * d2) / det, beta = (g11 * d2 - g12 * d1) / det;
-        const Vec3 g = alpha * e1 + beta * e2;
+        const Vec3 g = d1 * w1 + d2 * w2;
         field.gradient[j][0] = g[0], field.gradient[j][1] = g[1], field.gradient[j][2] = g[2];
         field.offset[j] = value[0][j] - (g | p[0]);
       }
