@@ -68,10 +68,7 @@ Status SectionWriter::append(uint32_t tag, uint32_t flags, std::string_view raw,
   out.resize(frame_at + frame_size);
   std::string header;
   ByteWriter writer(header);
-  writer.put_u32(tag);
-  writer.put_u32(flags);
-  writer.put_u64(frame_size);
-  writer.put_u64(declared_raw_size);
+  write_section_header({tag, flags, frame_size, declared_raw_size}, writer);
   out.replace(header_at, kSectionHeaderSize, header);
   return Status::ok();
 }
@@ -156,6 +153,13 @@ bool read_section_header(std::string_view bytes, SectionHeader& out) {
   fields.read_u64(out.stored_size);
   fields.read_u64(out.raw_size);
   return true;
+}
+
+void write_section_header(const SectionHeader& header, ByteWriter& out) {
+  out.put_u32(header.tag);
+  out.put_u32(header.flags);
+  out.put_u64(header.stored_size);
+  out.put_u64(header.raw_size);
 }
 
 std::string byte_count_text(uint64_t bytes) {

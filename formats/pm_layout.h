@@ -199,6 +199,8 @@ struct SectionHeader {
 };
 // The section header at the start of `bytes`; false when fewer than 24 bytes are there.
 bool read_section_header(std::string_view bytes, SectionHeader& out);
+// Its writer: the 24 bytes appended to `out`.
+void write_section_header(const SectionHeader& header, ByteWriter& out);
 // Whether the tag's four bytes are all ASCII letters or digits.
 bool is_valid_tag(uint32_t tag);
 
