@@ -4,8 +4,13 @@
 // compared without keeping the files.
 //
 //   pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] [--sequence]
-//                   [--partition VERTICES] [--threads N] [--runs N] [--out FILE.pm]
+//                   [--partition VERTICES] [--threads N] [--runs N] [--out FILE.pm] [--write]
+//                   [--zstd-level N]
 //
+// --write: also the time of pm::write_pm() on the encoded mesh (the .pm's bytes from the
+// progressive mesh: the splits' codes and zstd; default WriteOptions, EncodeOptions::threads
+// threads), each run writing again; printed on a second line. --zstd-level: WriteOptions's
+// (pmenc --zstd-level), for the written bytes whether timed or not.
 // --sequence: the collapse sequence alone (issue 25's speed line: simplify_direct, attributes
 // kept unless the mesh has none, on a mesh that needs no repair), instead of the whole encode();
 // it prints the collapses as splits, and writes nothing (bytes 0, hash of nothing).
@@ -49,7 +54,8 @@ int main(int argc, char** argv) {
   std::string path, out;
   pm::EncodeOptions options;
   int runs = 1;
-  bool sequence_only = false;
+  bool sequence_only = false, time_write = false;
+  int zstd_level = pm::WriteOptions{}.zstd_level;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--metric" && i + 1 < argc) {
@@ -71,6 +77,10 @@ int main(int argc, char** argv) {
       options.layer_window = std::atof(argv[++i]);
     } else if (arg == "--runs" && i + 1 < argc) {
       runs = std::max(1, std::atoi(argv[++i]));
+    } else if (arg == "--write") {
+      time_write = true;
+    } else if (arg == "--zstd-level" && i + 1 < argc) {
+      zstd_level = std::atoi(argv[++i]);
     } else if (arg == "--out" && i + 1 < argc) {
       out = argv[++i];
     } else if (path.empty()) {
@@ -78,7 +88,7 @@ int main(int argc, char** argv) {
     } else {
       die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--fast] [--one-heap] "
           "[--sequence] [--partition VERTICES] [--threads N] [--layer-window SHARE] [--runs N] "
-          "[--out FILE]");
+          "[--out FILE] [--write] [--zstd-level N]");
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");
@@ -102,9 +112,19 @@ int main(int argc, char** argv) {
     users.push_back(user_seconds() - user0);
     splits = sequence_only ? sequence.collapses.size() : progressive.splits.size();
   }
+  std::vector<double> write_users, write_walls;
   if (!sequence_only) {
-    if (pm::Status s = pm::write_pm(progressive, pm::WriteOptions{}, bytes); !s)
-      die("write: " + s.message());
+    pm::WriteOptions write;
+    write.threads = options.threads;
+    write.zstd_level = zstd_level;
+    for (int r = 0; r < (time_write ? runs : 1); ++r) {
+      const double user0 = user_seconds();
+      const auto wall0 = std::chrono::steady_clock::now();
+      if (pm::Status s = pm::write_pm(progressive, write, bytes); !s) die("write: " + s.message());
+      write_walls.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+      write_users.push_back(user_seconds() - user0);
+    }
   }
   uint64_t hash = 1469598103934665603ull;
   for (unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;
@@ -114,5 +134,12 @@ int main(int argc, char** argv) {
   std::printf("%s faces %zu splits %zu user %.3f wall %.3f (median of %d) bytes %zu hash %016llx\n",
               path.c_str(), mesh.face_count(), splits, users[users.size() / 2],
               walls[walls.size() / 2], runs, bytes.size(), static_cast<unsigned long long>(hash));
+  if (time_write && !write_walls.empty()) {
+    std::sort(write_users.begin(), write_users.end());
+    std::sort(write_walls.begin(), write_walls.end());
+    std::printf("%s write_pm user %.3f wall %.3f (median of %d)\n", path.c_str(),
+                write_users[write_users.size() / 2], write_walls[write_walls.size() / 2],
+                static_cast<int>(write_walls.size()));
+  }
   return 0;
 }

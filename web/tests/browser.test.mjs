@@ -72,13 +72,21 @@ test('the viewer draws the base mesh at once and refines as bytes arrive', { tim
   const server = await serve(streamPath);
   t.after(() => server.close());
   const puppeteer = (await import('puppeteer-core')).default;
+  // Puppeteer's own limits (30 s to start the browser, to load the page, and for any call;
+  // 180 s for a protocol message) are not what the test measures: on a loaded machine
+  // (ctest -j2 beside the other suites) Chromium can take longer to start or to answer
+  // while SwiftShader draws a million faces. They get the test's own deadline instead.
+  const kPuppeteerLimitMs = 600000;
   const browser = await puppeteer.launch({
     executablePath: '/usr/bin/chromium', headless: true,
+    timeout: kPuppeteerLimitMs, protocolTimeout: kPuppeteerLimitMs,
     args: ['--no-sandbox', '--disable-gpu', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
            '--disable-background-networking', '--disable-dev-shm-usage', '--no-first-run'],
   });
   t.after(() => browser.close());
   const page = await browser.newPage();
+  page.setDefaultTimeout(kPuppeteerLimitMs);
+  page.setDefaultNavigationTimeout(kPuppeteerLimitMs);
   await page.setViewport({ width: 900, height: 640 });
   const errors = [];
   page.on('pageerror', (error) => errors.push(error.message));
