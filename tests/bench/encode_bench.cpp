@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
     }
   }
   if (path.empty()) die("usage: pm_bench_encode MESH [--metric quadric|schroeder] [--runs N]");
+  if (time_write && sequence_only) die("--write times write_pm of the whole encode: not with --sequence");
   pm::Mesh mesh;
   if (pm::Status s = pm::read_mesh(path, mesh); !s) die("reading " + path + ": " + s.message());
   std::vector<double> users, walls;
