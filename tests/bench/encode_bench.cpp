@@ -43,6 +43,26 @@ double user_seconds() {
   return double(usage.ru_utime.tv_sec) + 1e-6 * double(usage.ru_utime.tv_usec);
 }
 
+// User CPU and wall seconds of each run of something, and their middle values (the upper of
+// the two for an even count), as this program has always printed them.
+struct Timings {
+  std::vector<double> user, wall;
+  template <typename Run>
+  void time(Run&& run) {
+    const double user0 = user_seconds();
+    const auto wall0 = std::chrono::steady_clock::now();
+    run();
+    wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
+    user.push_back(user_seconds() - user0);
+  }
+  static double middle(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+  }
+  double user_middle() const { return middle(user); }
+  double wall_middle() const { return middle(wall); }
+};
+
 [[noreturn]] void die(const std::string& message) {
   std::fprintf(stderr, "pm_bench_encode: %s\n", message.c_str());
   std::exit(1);
@@ -95,52 +115,41 @@ int main(int argc, char** argv) {
   if (time_write && sequence_only) die("--write times write_pm of the whole encode: not with --sequence");
   pm::Mesh mesh;
   if (pm::Status s = pm::read_mesh(path, mesh); !s) die("reading " + path + ": " + s.message());
-  std::vector<double> users, walls;
+  Timings encoding, writing;
   std::string bytes;
   pm::ProgressiveMesh progressive;
   std::size_t splits = 0;
   for (int r = 0; r < runs; ++r) {
     pm::Simplification sequence;
-    const double user0 = user_seconds();
-    const auto wall0 = std::chrono::steady_clock::now();
-    if (sequence_only) {
-      if (!pm::simplify_direct(mesh, options, sequence))
-        die(path + " needs a repair: --sequence takes a manifold mesh that needs none");
-    } else if (pm::Status s = pm::encode(mesh, options, progressive); !s) {
-      die("encode: " + s.message());
-    }
-    walls.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
-    users.push_back(user_seconds() - user0);
+    encoding.time([&] {
+      if (sequence_only) {
+        if (!pm::simplify_direct(mesh, options, sequence))
+          die(path + " needs a repair: --sequence takes a manifold mesh that needs none");
+      } else if (pm::Status s = pm::encode(mesh, options, progressive); !s) {
+        die("encode: " + s.message());
+      }
+    });
     splits = sequence_only ? sequence.collapses.size() : progressive.splits.size();
   }
-  std::vector<double> write_users, write_walls;
   if (!sequence_only) {
     pm::WriteOptions write;
     write.threads = options.threads;
     write.zstd_level = zstd_level;
     for (int r = 0; r < (time_write ? runs : 1); ++r) {
-      const double user0 = user_seconds();
-      const auto wall0 = std::chrono::steady_clock::now();
-      if (pm::Status s = pm::write_pm(progressive, write, bytes); !s) die("write: " + s.message());
-      write_walls.push_back(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count());
-      write_users.push_back(user_seconds() - user0);
+      writing.time([&] {
+        if (pm::Status s = pm::write_pm(progressive, write, bytes); !s) die("write: " + s.message());
+      });
     }
   }
   uint64_t hash = 1469598103934665603ull;
   for (unsigned char c : bytes) hash = (hash ^ c) * 1099511628211ull;
   if (!out.empty()) std::ofstream(out, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-  std::sort(users.begin(), users.end());
-  std::sort(walls.begin(), walls.end());
   std::printf("%s faces %zu splits %zu user %.3f wall %.3f (median of %d) bytes %zu hash %016llx\n",
-              path.c_str(), mesh.face_count(), splits, users[users.size() / 2],
-              walls[walls.size() / 2], runs, bytes.size(), static_cast<unsigned long long>(hash));
-  if (time_write && !write_walls.empty()) {
-    std::sort(write_users.begin(), write_users.end());
-    std::sort(write_walls.begin(), write_walls.end());
+              path.c_str(), mesh.face_count(), splits, encoding.user_middle(),
+              encoding.wall_middle(), runs, bytes.size(), static_cast<unsigned long long>(hash));
+  if (time_write) {
     std::printf("%s write_pm user %.3f wall %.3f (median of %d)\n", path.c_str(),
-                write_users[write_users.size() / 2], write_walls[write_walls.size() / 2],
-                static_cast<int>(write_walls.size()));
+                writing.user_middle(), writing.wall_middle(), static_cast<int>(writing.wall.size()));
   }
   return 0;
 }
