@@ -19,6 +19,8 @@ std::string significant(double value, int digits = 3);
 std::string distinguishable_pair(double ours, double peer);
 // 12,345.
 std::string with_thousands(std::size_t n);
+// The middle value, or the mean of the two middle ones for an even count; 0 for none.
+double median(std::vector<double> values);
 // 'text' for a POSIX shell.
 std::string shell_quoted(const std::string& text);
 // What the command prints on standard output, without the trailing line break ("" when it

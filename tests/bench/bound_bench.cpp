@@ -26,18 +26,13 @@
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using pm::bench::median;
 using pm::bench::significant;
 using pm::bench::with_thousands;
 
 namespace {
 
 constexpr double kTargets[] = {0.5, 0.1, 0.02};
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 bool encode(const pm::Mesh& mesh, bool fast, pm::ProgressiveMesh& out, double* ms) {
   pm::EncodeOptions options;

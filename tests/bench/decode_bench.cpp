@@ -45,6 +45,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using pm::bench::fail;
 using pm::bench::OMesh;
+using pm::bench::median;
 using pm::bench::significant;
 using pm::bench::with_thousands;
 
@@ -62,12 +63,6 @@ struct Settings {
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 struct Decoder {

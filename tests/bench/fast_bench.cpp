@@ -34,6 +34,7 @@
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using pm::bench::median;
 using pm::bench::significant;
 using pm::bench::with_thousands;
 
@@ -44,12 +45,6 @@ constexpr double kSpeedTarget = 0.01;
 
 double milliseconds_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 struct Distance {

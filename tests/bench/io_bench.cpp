@@ -40,6 +40,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using OMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+using pm::bench::median;
 using pm::bench::significant;
 using pm::bench::with_thousands;
 
@@ -53,12 +54,6 @@ struct Settings {
 [[noreturn]] void die(const std::string& message) {
   std::fprintf(stderr, "pm_bench_io: %s\n", message.c_str());
   std::exit(1);
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 double time_once(const std::function<void()>& work) {

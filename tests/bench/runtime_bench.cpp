@@ -52,6 +52,7 @@ using pm::bench::OpenMeshSetup;
 using pm::bench::OurSetup;
 using pm::bench::openmesh_progressive_mesh;
 using pm::bench::our_progressive_mesh;
+using pm::bench::median;
 using pm::bench::significant;
 using pm::bench::with_thousands;
 
@@ -67,13 +68,6 @@ struct Settings {
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 // Nearest rank: the smallest value with at least fraction p of the values at or below it.
@@ -171,9 +165,9 @@ class Evictor {
 struct Latency {
   std::vector<double> run_medians, refine_run_medians, coarsen_run_medians;
   std::vector<double> all;  // every change of every run
-  double median() const { return ::median(run_medians); }
-  double refine_median() const { return ::median(refine_run_medians); }
-  double coarsen_median() const { return ::median(coarsen_run_medians); }
+  double median() const { return pm::bench::median(run_medians); }
+  double refine_median() const { return pm::bench::median(refine_run_medians); }
+  double coarsen_median() const { return pm::bench::median(coarsen_run_medians); }
   double p99() const { return percentile(all, 0.99); }
 };
 

@@ -31,6 +31,7 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using pm::bench::median;
 using pm::bench::significant;
 using pm::bench::with_thousands;
 
@@ -43,12 +44,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n == 0 ? 0 : n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 // Nearest rank: the smallest value with at least fraction p of the values at or below it.
