@@ -116,6 +116,7 @@ class CollapseLoop {
         reuse_fan_part_(switches.reuse_fan_part),
         keep_apex_candidates_(switches.keep_apex_candidates),
         compact_faces_(switches.compact_faces),
+        price_at_top_(switches.price_at_top),
         threads_(thread_count(options.threads)) {}
 
   void run();
@@ -761,7 +762,10 @@ class CollapseLoop {
   // attributes (attach_attributes() turns it off).
   bool plane_term_;
   // LoopSwitches' (simplifier.h), for tests.
-  const bool reuse_fan_part_, keep_apex_candidates_, compact_faces_;
+  const bool reuse_fan_part_, keep_apex_candidates_, compact_faces_, price_at_top_;
+  // Whether evaluations queue the cheapest geometric cost, the attributes priced at the top
+  // (LoopSwitches::price_at_top): without the measure, with attributes, the quadric metric.
+  bool pricing_at_top() const { return price_at_top_ && attributes_ && !measure_ && !schroeder_; }
   const unsigned threads_;     // run_in_turn's (EncodeOptions::threads)
   std::vector<uint32_t> vertex_of_, local_vertex_;  // local vertex id <-> the given one
   std::vector<uint32_t> face_of_;                   // local face id -> the given one
@@ -779,6 +783,7 @@ class CollapseLoop {
     uint8_t simple = 0;        // of kind kSimple when last evaluated (apply()'s shortcut)
     uint8_t cheapest = 0;      // its queued option was its cheapest then, legal or not
     uint8_t sharp_corner = 0;  // Schroeder's metric: an input corner of a sharp edge
+    uint8_t unpriced = 0;      // queued at its geometric cost, a bound (pricing_at_top())
   };
   static_assert(sizeof(VertexRecord) == 64);
   // Half-edge h = 3f + k of face f: the vertex it leaves and its twin (kNone on a boundary).

@@ -43,6 +43,10 @@ struct LoopSwitches {
   // per-face arrays (face_renumbering.h). The same sequence in less memory: test_encoder.cpp
   // compares.
   bool compact_faces = true;
+  // Whether the loop without its measure, with attributes, prices a vertex's options (their
+  // attribute error) only when it comes to the top, queued until then at its cheapest
+  // geometric cost, a lower bound (collapse_options.cpp). Off: every evaluation prices them.
+  bool price_at_top = true;
 };
 
 struct Simplification {
