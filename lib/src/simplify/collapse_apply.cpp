@@ -241,10 +241,9 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     // collapse, 5.9 before; 4% less time without the measure). With attributes their
     // options' corners changed (v's became u's in the faces they share).
     // Without the measure, priced at the top (pricing_at_top()): a w queued at its
-    // cheapest geometric cost, unpriced, keeps it as geometry only (its other options'
-    // geometric costs did not change); a priced one is evaluated again, at most as far as
-    // that bound when it ranks behind the top (collapse_options.cpp), which is cheaper than
-    // keeps_best_with_attributes(). The levels moved little: attr_quality.md's 950K-face
+    // cheapest geometric cost, unpriced, keeps it as geometry only (keeps_best()); a priced
+    // one is evaluated again, at most as far as that bound when it ranks behind the top
+    // (collapse_options.cpp), which is cheaper than keeps_best_with_attributes(). The levels moved little: attr_quality.md's 950K-face
     // textured mesh at 2%, Hausdorff 0.60 -> 0.67 times meshopt_simplify's, RMS 0.83 ->
     // 0.82; pm_bench_uv on it, the texture's RMS at 2% 0.00035 -> 0.000124 (meshopt's
     // 0.00109); tests/bench/README.md has the small meshes.
@@ -260,9 +259,7 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     // 385K against 250K, 232K without the plane term).
     if (!schroeder_ && !angle_features_ && vertex_[w].simple && may_keep && worker.queued(w) &&
         best_[w].target != v) {
-      // its measure was reset above
-      if (bound_queued ? static_cast<float>(geometric_cost(w, u)) > best_[w].key
-                       : keeps_best(worker, w, u)) {
+      if (keeps_best(worker, w, u)) {  // its measure was reset above
         if (apex) worker.queue(w, queued_key(best_[w].key));
         continue;
       }

@@ -557,10 +557,11 @@ class CollapseLoop {
   // Whether v's queued candidate is still its best after a collapse onto its neighbour u
   // (apply()'s shortcut, whose conditions hold): when v -> u costs more. Then, with
   // attributes, v is queued again as evaluate() would queue it, its key back to the cost
-  // of its candidate.
+  // of its candidate; unless v is queued at its geometric cost, unpriced (pricing_at_top()),
+  // which is kept as geometry only (its other options' geometric costs did not change).
   bool keeps_best(Worker& worker, uint32_t v, uint32_t u) {
     const double geometric = geometric_cost(v, u);
-    if (!attributes_) return static_cast<float>(geometric) > best_[v].key;
+    if (!attributes_ || vertex_[v].unpriced) return static_cast<float>(geometric) > best_[v].key;
     return keeps_best_with_attributes(worker, v, u, geometric);
   }
   bool keeps_best_with_attributes(Worker& worker, uint32_t v, uint32_t u, double geometric);
