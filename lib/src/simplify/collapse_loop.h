@@ -68,7 +68,7 @@ class CollapseLoop {
     // these lists (Collapse::moved_begin, new_faces_begin) until merge() hands the blocks on.
     RecordList moved_faces{kMovedEntriesPerBlock};
     CollapseAttributes record;
-    std::vector<uint32_t> tracked_scratch;  // TrackedPoints::collapse()'s
+    TrackedPoints::Scratch tracked_scratch;  // TrackedPoints::collapse()'s
     // A record that merge() gives every later collapse of this worker at least: the running
     // maximum when it was made, then its own records' (apply()'s tracked points settle within
     // it).

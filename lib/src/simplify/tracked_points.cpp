@@ -2,6 +2,7 @@
 // 1996).
 #include "simplify/tracked_points.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/memory_pages.h"
@@ -22,14 +23,15 @@ void TrackedPoints::reset(std::size_t n_faces, std::size_t n_vertices, const flo
 
 double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
                                const KeptPoints::FanFace* fan, int n_fan, double settled,
-                               std::vector<uint32_t>& scratch) {
+                               Scratch& scratch, PartRunner* runner) {
   // v and the points of v's faces, each with the fan index of the face it was on (a moved
   // face keeps its id; the fan lists v's faces first, in the order of old_faces, but the two
   // at v-u), which it tries first: most stay where they were. Pairs (point, fan index or
-  // kNone) in scratch.
-  scratch.clear();
-  scratch.push_back(v);
-  scratch.push_back(kNone);
+  // kNone) in scratch.points.
+  std::vector<uint32_t>& points = scratch.points;
+  points.clear();
+  points.push_back(v);
+  points.push_back(kNone);
   // A removed face (at v-u) has no fan index: its points try first the face after it
   // around v, or before it (the faces that shared its edges at v, moved onto u), instead of
   // searching the fan. Nefertiti after two Loop steps without the measure, one thread,
@@ -46,38 +48,78 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
       if (hint == kNone) hint = hints[i > 0 ? i - 1 : n_old - 1];
     }
     for (uint32_t x = head_[f]; x != kNone; x = next_[x]) {
-      scratch.push_back(x);
-      scratch.push_back(hint);
+      points.push_back(x);
+      points.push_back(hint);
     }
     head_[f] = kNone;
   }
   if (n_fan == 0) return HUGE_VAL;  // nowhere to go: no finite record bounds them
-  const std::size_t n = scratch.size() / 2;
-  // Their positions, asked for all at once: the points of a face are far apart in memory.
-  for (std::size_t i = 0; i < n; ++i) __builtin_prefetch(xyz_ + 3 * std::size_t{scratch[2 * i]});
+  const std::size_t n = points.size() / 2;
+  const std::size_t parts = n < 2 * kPartPoints ? 1 : (n + kPartPoints - 1) / kPartPoints;
+  const std::size_t fan_size = static_cast<std::size_t>(n_fan);
+  scratch.lists.assign(2 * parts * fan_size, kNone);
+  scratch.farthest.assign(parts, 0.0);
+  scratch.lost.assign(parts, 0);
+  // noexcept: a part another thread runs must end, and count itself done (nothing in it
+  // allocates).
+  const auto part = [&](uint32_t j) noexcept {
+    const std::size_t begin = parts == 1 ? 0 : j * kPartPoints;
+    const std::size_t end = parts == 1 ? n : std::min(n, begin + kPartPoints);
+    uint32_t* heads = &scratch.lists[2 * j * fan_size];
+    scratch.farthest[j] = move(&points[2 * begin], end - begin, fan, n_fan, settled, heads,
+                               heads + fan_size, &scratch.lost[j]);
+  };
+  if (parts > 1 && runner) {
+    runner->run_parts(static_cast<uint32_t>(parts), part);
+  } else {
+    for (uint32_t j = 0; j < parts; ++j) part(j);
+  }
+  // Each part's lists onto the front of its faces', in the parts' order: as if every point
+  // had gone onto the front of its face's list in turn.
   double farthest = 0;
   bool lost = false;
-  for (std::size_t i = 0; i < n; ++i) {
-    const uint32_t x = scratch[2 * i];
+  for (std::size_t j = 0; j < parts; ++j) {
+    const uint32_t* heads = &scratch.lists[2 * j * fan_size];
+    const uint32_t* tails = heads + fan_size;
+    for (std::size_t i = 0; i < fan_size; ++i) {
+      if (heads[i] == kNone) continue;
+      const uint32_t f = fan[i].face;
+      next_[tails[i]] = head_[f];
+      head_[f] = heads[i];
+    }
+    farthest = std::max(farthest, scratch.farthest[j]);
+    lost |= scratch.lost[j] != 0;
+  }
+  return lost ? HUGE_VAL : farthest;
+}
+
+double TrackedPoints::move(const uint32_t* pairs, std::size_t count,
+                           const KeptPoints::FanFace* fan, int n_fan, double settled,
+                           uint32_t* heads, uint32_t* tails, uint8_t* lost) {
+  // Their positions, asked for all at once: the points of a face are far apart in memory.
+  for (std::size_t i = 0; i < count; ++i) __builtin_prefetch(xyz_ + 3 * std::size_t{pairs[2 * i]});
+  double farthest = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const uint32_t x = pairs[2 * i];
     const float* p = xyz_ + 3 * std::size_t{x};
-    const int hint = scratch[2 * i + 1] == kNone ? -1 : static_cast<int>(scratch[2 * i + 1]);
+    const int hint = pairs[2 * i + 1] == kNone ? -1 : static_cast<int>(pairs[2 * i + 1]);
     int at;
     // The first face within `settled`, or within the largest distance so far of this
-    // collapse's points (the one it was on tried first), keeps it: a bound of its distance
+    // part's points (the one it was on tried first), keeps it: a bound of its distance
     // that the record holds anyway. With the second, nefertiti after two Loop steps without
     // the measure, one thread, medians of 5 alternating runs: 2.38 -> 2.30 s.
     const double d = KeptPoints::nearest(Vec3(p[0], p[1], p[2]), fan, n_fan,
                                          std::max(settled, farthest), hint, &at);
     if (at < 0) {  // no distance compares (non-finite input): no finite record bounds it
-      lost = true;
+      *lost = 1;
       continue;
     }
     if (d > farthest) farthest = d;
-    const uint32_t f = fan[at].face;
-    next_[x] = head_[f];
-    head_[f] = x;
+    if (heads[at] == kNone) tails[at] = x;
+    next_[x] = heads[at];
+    heads[at] = x;
   }
-  return lost ? HUGE_VAL : farthest;
+  return farthest;
 }
 
 }  // namespace pm::collapse_loop

@@ -1,0 +1,146 @@
+// The tracked points' collapse in parts (simplify/tracked_points.h): a collapse that moves many
+// points moves them in parts, which another thread may take (tracking_thread.h). Whoever runs
+// the parts, in whatever order, the lists and the record must be the same, and the record a
+// bound of every moved point's distance to the face it went to.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <random>
+#include <thread>
+#include <vector>
+
+#include "simplify/geometry.h"
+#include "simplify/kept_points.h"
+#include "simplify/tracked_points.h"
+
+namespace pm::collapse_loop {
+namespace {
+
+using FanFace = KeptPoints::FanFace;
+
+// Runs the parts last first.
+class BackwardsRunner final : public TrackedPoints::PartRunner {
+ public:
+  void run_parts(uint32_t count, const std::function<void(uint32_t)>& part) override {
+    counts.push_back(count);
+    for (uint32_t j = count; j-- > 0;) part(j);
+  }
+  std::vector<uint32_t> counts;
+};
+
+// Runs the parts on two threads at once, each taking the next part left.
+class TwoThreadRunner final : public TrackedPoints::PartRunner {
+ public:
+  void run_parts(uint32_t count, const std::function<void(uint32_t)>& part) override {
+    counts.push_back(count);
+    std::atomic<uint32_t> next{0};
+    auto take = [&] {
+      for (uint32_t j; (j = next.fetch_add(1)) < count;) part(j);
+    };
+    std::thread other(take);
+    take();
+    other.join();
+  }
+  std::vector<uint32_t> counts;
+};
+
+// A disc of kSpokes triangles around the origin (faces kFanFace, ...) and, above and below
+// it, kPoints input vertices scattered over it; vertex kPoints is the one collapsed.
+constexpr int kSpokes = 8;
+constexpr uint32_t kPoints = 5000;
+constexpr uint32_t kHolder = 0, kEmpty = 1, kFanFace = 10;
+
+std::vector<float> scattered_points() {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> angle(0.0f, 6.2831853f), radius(0.0f, 0.95f),
+      height(-0.1f, 0.1f);
+  std::vector<float> xyz;
+  for (uint32_t i = 0; i <= kPoints; ++i) {
+    const float a = angle(random), r = radius(random);
+    xyz.insert(xyz.end(), {r * std::cos(a), r * std::sin(a), height(random)});
+  }
+  return xyz;
+}
+
+std::vector<FanFace> disc() {
+  std::vector<FanFace> fan;
+  const Vec3 centre(0, 0, 0);
+  for (int k = 0; k < kSpokes; ++k) {
+    const double a = 6.283185307179586 * k / kSpokes, b = 6.283185307179586 * (k + 1) / kSpokes;
+    fan.push_back(FanFace::make(kFanFace + k, centre, Vec3(std::cos(a), std::sin(a), 0),
+                                Vec3(std::cos(b), std::sin(b), 0)));
+  }
+  return fan;
+}
+
+// Every point on face kHolder (each collapsed there alone), then vertex kPoints collapsed
+// from kHolder onto the disc: the record, and the lists of the disc's faces.
+struct Moved {
+  double record;
+  std::vector<std::vector<uint32_t>> lists;
+};
+
+Moved collapse_onto_disc(const std::vector<float>& xyz, TrackedPoints::PartRunner* runner) {
+  TrackedPoints tracked;
+  tracked.reset(kFanFace + kSpokes, kPoints + 1, xyz.data());
+  TrackedPoints::Scratch scratch;
+  // A triangle far wider than the disc, below it: one face to hold every point.
+  const FanFace holder =
+      FanFace::make(kHolder, Vec3(-10, -10, -1), Vec3(10, -10, -1), Vec3(0, 10, -1));
+  for (uint32_t x = 0; x < kPoints; ++x) {
+    const uint32_t none[] = {kEmpty};
+    tracked.collapse(x, none, 1, &holder, 1, 0.0, scratch);
+  }
+  EXPECT_EQ(tracked.points_on(kHolder).size(), kPoints);
+  const std::vector<FanFace> fan = disc();
+  const uint32_t old_faces[] = {kHolder};
+  Moved moved;
+  moved.record = tracked.collapse(kPoints, old_faces, 1, fan.data(), kSpokes, 0.0, scratch, runner);
+  EXPECT_TRUE(tracked.points_on(kHolder).empty());
+  for (const FanFace& face : fan) moved.lists.push_back(tracked.points_on(face.face));
+  return moved;
+}
+
+TEST(TrackedPoints, PartsGiveTheSameListsAndRecordWhoeverRunsThem) {
+  const std::vector<float> xyz = scattered_points();
+  const Moved in_turn = collapse_onto_disc(xyz, nullptr);
+  BackwardsRunner backwards;
+  TwoThreadRunner two_threads;
+  const Moved last_first = collapse_onto_disc(xyz, &backwards);
+  const Moved side_by_side = collapse_onto_disc(xyz, &two_threads);
+  // The collapse moved its kPoints + 1 points in parts of kPartPoints (the other collapses,
+  // one point each, ran in turn without the runner).
+  const auto parts = static_cast<uint32_t>((kPoints + 1 + TrackedPoints::kPartPoints - 1) /
+                                           TrackedPoints::kPartPoints);
+  EXPECT_EQ(backwards.counts, std::vector<uint32_t>{parts});
+  EXPECT_EQ(two_threads.counts, std::vector<uint32_t>{parts});
+  EXPECT_EQ(last_first.record, in_turn.record);
+  EXPECT_EQ(side_by_side.record, in_turn.record);
+  // (Checked to fail when the parts share their largest distance as they end: the points near
+  // two faces then go to the other one, run last first.)
+  EXPECT_EQ(last_first.lists, in_turn.lists);
+  EXPECT_EQ(side_by_side.lists, in_turn.lists);
+  // Every point is on one face, within the record of it (the largest distance it claims).
+  std::size_t on_faces = 0;
+  double farthest = 0;
+  const std::vector<FanFace> fan = disc();
+  for (int k = 0; k < kSpokes; ++k) {
+    for (const uint32_t x : in_turn.lists[k]) {
+      const Vec3 p(xyz[3 * x], xyz[3 * x + 1], xyz[3 * x + 2]);
+      const double d = point_triangle_distance(p, fan[k].a, fan[k].b, fan[k].c);
+      EXPECT_LE(d, in_turn.record) << "point " << x;
+      farthest = std::max(farthest, d);
+      ++on_faces;
+    }
+  }
+  EXPECT_EQ(on_faces, kPoints + 1);
+  // And the record is no looser than it must be: some point is that far from its face.
+  EXPECT_EQ(farthest, in_turn.record);
+}
+
+}  // namespace
+}  // namespace pm::collapse_loop
