@@ -16,6 +16,7 @@
 #include "simplify/geometry.h"
 #include "simplify/kept_points.h"
 #include "simplify/tracked_points.h"
+#include "simplify/tracking_thread.h"
 
 namespace pm::collapse_loop {
 namespace {
@@ -49,32 +50,48 @@ class TwoThreadRunner final : public TrackedPoints::PartRunner {
 };
 
 // A disc of kSpokes triangles around the origin (faces kFanFace, ...) and, above and below
-// it, kPoints input vertices scattered over it; vertex kPoints is the one collapsed.
+// it, kPoints input vertices scattered over it; vertices kPoints, ... are the ones collapsed.
 constexpr int kSpokes = 8;
-constexpr uint32_t kPoints = 5000;
-constexpr uint32_t kHolder = 0, kEmpty = 1, kFanFace = 10;
+constexpr uint32_t kPoints = 5000, kCollapsed = 20;
+constexpr uint32_t kHolder = 0, kEmpty = 1, kFanFace = 10, kTurnedFanFace = 20;
 
 std::vector<float> scattered_points() {
   std::mt19937 random(7);
   std::uniform_real_distribution<float> angle(0.0f, 6.2831853f), radius(0.0f, 0.95f),
       height(-0.1f, 0.1f);
   std::vector<float> xyz;
-  for (uint32_t i = 0; i <= kPoints; ++i) {
+  for (uint32_t i = 0; i < kPoints + kCollapsed; ++i) {
     const float a = angle(random), r = radius(random);
     xyz.insert(xyz.end(), {r * std::cos(a), r * std::sin(a), height(random)});
   }
   return xyz;
 }
 
-std::vector<FanFace> disc() {
+// The disc's faces, or (turned) the same disc turned half a spoke, faces kTurnedFanFace, ....
+std::vector<FanFace> disc(bool turned = false) {
   std::vector<FanFace> fan;
   const Vec3 centre(0, 0, 0);
+  const double turn = turned ? 0.5 : 0.0;
   for (int k = 0; k < kSpokes; ++k) {
-    const double a = 6.283185307179586 * k / kSpokes, b = 6.283185307179586 * (k + 1) / kSpokes;
-    fan.push_back(FanFace::make(kFanFace + k, centre, Vec3(std::cos(a), std::sin(a), 0),
-                                Vec3(std::cos(b), std::sin(b), 0)));
+    const double a = 6.283185307179586 * (k + turn) / kSpokes,
+                 b = 6.283185307179586 * (k + 1 + turn) / kSpokes;
+    fan.push_back(FanFace::make((turned ? kTurnedFanFace : kFanFace) + k, centre,
+                                Vec3(std::cos(a), std::sin(a), 0), Vec3(std::cos(b), std::sin(b), 0)));
   }
   return fan;
+}
+
+// Every point collapsed onto face kHolder, one at a time, in turn.
+void hold_every_point(TrackedPoints& tracked, const std::vector<float>& xyz) {
+  tracked.reset(kTurnedFanFace + kSpokes, kPoints + kCollapsed, xyz.data());
+  TrackedPoints::Scratch scratch;
+  // A triangle far wider than the disc, below it: one face to hold every point.
+  const FanFace holder =
+      FanFace::make(kHolder, Vec3(-10, -10, -1), Vec3(10, -10, -1), Vec3(0, 10, -1));
+  for (uint32_t x = 0; x < kPoints; ++x) {
+    const uint32_t none[] = {kEmpty};
+    tracked.collapse(x, none, 1, &holder, 1, 0.0, scratch);
+  }
 }
 
 // Every point on face kHolder (each collapsed there alone), then vertex kPoints collapsed
@@ -86,15 +103,8 @@ struct Moved {
 
 Moved collapse_onto_disc(const std::vector<float>& xyz, TrackedPoints::PartRunner* runner) {
   TrackedPoints tracked;
-  tracked.reset(kFanFace + kSpokes, kPoints + 1, xyz.data());
+  hold_every_point(tracked, xyz);
   TrackedPoints::Scratch scratch;
-  // A triangle far wider than the disc, below it: one face to hold every point.
-  const FanFace holder =
-      FanFace::make(kHolder, Vec3(-10, -10, -1), Vec3(10, -10, -1), Vec3(0, 10, -1));
-  for (uint32_t x = 0; x < kPoints; ++x) {
-    const uint32_t none[] = {kEmpty};
-    tracked.collapse(x, none, 1, &holder, 1, 0.0, scratch);
-  }
   EXPECT_EQ(tracked.points_on(kHolder).size(), kPoints);
   const std::vector<FanFace> fan = disc();
   const uint32_t old_faces[] = {kHolder};
@@ -140,6 +150,76 @@ TEST(TrackedPoints, PartsGiveTheSameListsAndRecordWhoeverRunsThem) {
   EXPECT_EQ(on_faces, kPoints + 1);
   // And the record is no looser than it must be: some point is that far from its face.
   EXPECT_EQ(farthest, in_turn.record);
+}
+
+// The collapses of the test below: kHolder's points onto the disc, then back and forth between
+// the disc and the disc turned, each time every point and a vertex more (kPoints + i). Each
+// collapse's record, and the lists at the end.
+struct Sequence {
+  std::vector<float> records;
+  std::vector<std::vector<uint32_t>> lists;
+};
+
+template <typename Track>
+Sequence back_and_forth(TrackedPoints& tracked, Track track) {
+  const std::vector<FanFace> fans[2] = {disc(false), disc(true)};
+  std::vector<uint32_t> faces[2];
+  for (int d = 0; d < 2; ++d)
+    for (const FanFace& face : fans[d]) faces[d].push_back(face.face);
+  Sequence sequence;
+  sequence.records.resize(kCollapsed);
+  for (uint32_t i = 0; i < kCollapsed; ++i) {
+    const int to = i % 2;
+    const std::vector<uint32_t> from =
+        i == 0 ? std::vector<uint32_t>{kHolder} : faces[1 - to];
+    track(kPoints + i, from, fans[to], &sequence.records[i]);
+  }
+  for (const std::vector<uint32_t>& d : faces)
+    for (const uint32_t f : d) sequence.lists.push_back(tracked.points_on(f));
+  return sequence;
+}
+
+// The loop's thread takes parts of the collapses the tracking thread tracks while it waits
+// (drain() here): the records and lists are those of the collapses tracked in turn. Whether it
+// takes any depends on the scheduler (both threads must run at once): up to 10 tries for one
+// where it did, each compared.
+TEST(TrackingThread, TheLoopsThreadTakesPartsAndTheRecordsStayAsInTurn) {
+  const std::vector<float> xyz = scattered_points();
+  TrackedPoints in_turn_points;
+  hold_every_point(in_turn_points, xyz);
+  TrackedPoints::Scratch scratch;
+  float floor = 0;
+  const Sequence in_turn = back_and_forth(
+      in_turn_points, [&](uint32_t v, const std::vector<uint32_t>& from,
+                          const std::vector<FanFace>& to, float* record) {
+        *record = in_turn_points.track(v, from.data(), static_cast<int>(from.size()), to.data(),
+                                       static_cast<int>(to.size()), false, 0.0, &floor, scratch);
+      });
+  uint64_t helped = 0;
+  for (int attempt = 0; attempt < 10 && helped == 0; ++attempt) {
+    TrackedPoints threaded_points;
+    hold_every_point(threaded_points, xyz);
+    TrackingThread tracking;
+    if (!tracking.start(threaded_points, false, 0.0f)) {
+      GTEST_SKIP() << "no thread to be had";
+    }
+    float drained = -1;
+    const Sequence threaded = back_and_forth(
+        threaded_points, [&](uint32_t v, const std::vector<uint32_t>& from,
+                             const std::vector<FanFace>& to, float* record) {
+          tracking.push(v, from.data(), static_cast<int>(from.size()), to.data(),
+                        static_cast<int>(to.size()), 0.0, record);
+          // After the last, so that back_and_forth() reads the lists once all are tracked.
+          if (v + 1 == kPoints + kCollapsed) drained = tracking.drain();
+        });
+    EXPECT_EQ(drained, floor);
+    EXPECT_EQ(threaded.records, in_turn.records) << "attempt " << attempt;
+    EXPECT_EQ(threaded.lists, in_turn.lists) << "attempt " << attempt;
+    helped = tracking.parts_helped();
+    tracking.stop();
+  }
+  // 20 collapses of 5,000 points, in parts of 256, while this thread waited in drain().
+  EXPECT_GT(helped, 0u);
 }
 
 }  // namespace

@@ -42,6 +42,7 @@ bool TrackingThread::start(TrackedPoints& tracked, bool measured, float record_f
   stopping_ = false;
   pushed_ = 0;
   done_ = 0;
+  parts_helped_ = 0;
   if (!slots_) slots_.reset(new Task[kSlots]);
   // No thread to be had: the caller tracks in turn.
   return try_start_thread(thread_, [this] { run(); });

@@ -64,6 +64,8 @@ class TrackingThread final : private TrackedPoints::PartRunner {
   float drain();
   // drain(), without rethrowing, and the thread ends.
   void stop();
+  // How many parts of collapses the loop's thread has run since start() (tests read it).
+  uint64_t parts_helped() const { return parts_helped_.load(std::memory_order_relaxed); }
 
  private:
   static constexpr int kSlots = 32;
@@ -84,8 +86,7 @@ class TrackingThread final : private TrackedPoints::PartRunner {
   bool run_a_part();
   // On the loop's thread, while it waits: the open parts it can take.
   void help() {
-    while (run_a_part()) {
-    }
+    while (run_a_part()) parts_helped_.fetch_add(1, std::memory_order_relaxed);
   }
 
   TrackedPoints* tracked_ = nullptr;
@@ -102,6 +103,7 @@ class TrackingThread final : private TrackedPoints::PartRunner {
   std::atomic<uint64_t> ticket_{0};
   std::atomic<uint32_t> part_count_{0}, parts_done_{0};
   std::atomic<const std::function<void(uint32_t)>*> part_{nullptr};
+  std::atomic<uint64_t> parts_helped_{0};
   std::thread thread_;
 };
 
