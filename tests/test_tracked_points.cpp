@@ -76,7 +76,8 @@ std::vector<FanFace> disc(bool turned = false) {
     const double a = 6.283185307179586 * (k + turn) / kSpokes,
                  b = 6.283185307179586 * (k + 1 + turn) / kSpokes;
     fan.push_back(FanFace::make((turned ? kTurnedFanFace : kFanFace) + k, centre,
-                                Vec3(std::cos(a), std::sin(a), 0), Vec3(std::cos(b), std::sin(b), 0)));
+                                Vec3(std::cos(a), std::sin(a), 0),
+                                Vec3(std::cos(b), std::sin(b), 0)));
   }
   return fan;
 }
@@ -94,12 +95,14 @@ void hold_every_point(TrackedPoints& tracked, const std::vector<float>& xyz) {
   }
 }
 
-// Every point on face kHolder (each collapsed there alone), then vertex kPoints collapsed
-// from kHolder onto the disc: the record, and the lists of the disc's faces.
+// A collapse's record, and the lists of the faces it moved points onto.
 struct Moved {
   double record;
   std::vector<std::vector<uint32_t>> lists;
 };
+
+// Every point on face kHolder (each collapsed there alone), then vertex kPoints collapsed
+// from kHolder onto the disc, its parts run by `runner` (in turn when null).
 
 Moved collapse_onto_disc(const std::vector<float>& xyz, TrackedPoints::PartRunner* runner) {
   TrackedPoints tracked;
@@ -170,8 +173,7 @@ Sequence back_and_forth(TrackedPoints& tracked, Track track) {
   sequence.records.resize(kCollapsed);
   for (uint32_t i = 0; i < kCollapsed; ++i) {
     const int to = i % 2;
-    const std::vector<uint32_t> from =
-        i == 0 ? std::vector<uint32_t>{kHolder} : faces[1 - to];
+    const std::vector<uint32_t> from = i == 0 ? std::vector<uint32_t>{kHolder} : faces[1 - to];
     track(kPoints + i, from, fans[to], &sequence.records[i]);
   }
   for (const std::vector<uint32_t>& d : faces)
@@ -189,9 +191,9 @@ TEST(TrackingThread, TheLoopsThreadTakesPartsAndTheRecordsStayAsInTurn) {
   hold_every_point(in_turn_points, xyz);
   TrackedPoints::Scratch scratch;
   float floor = 0;
-  const Sequence in_turn = back_and_forth(
-      in_turn_points, [&](uint32_t v, const std::vector<uint32_t>& from,
-                          const std::vector<FanFace>& to, float* record) {
+  const Sequence in_turn =
+      back_and_forth(in_turn_points, [&](uint32_t v, const std::vector<uint32_t>& from,
+                                         const std::vector<FanFace>& to, float* record) {
         *record = in_turn_points.track(v, from.data(), static_cast<int>(from.size()), to.data(),
                                        static_cast<int>(to.size()), false, 0.0, &floor, scratch);
       });
@@ -204,9 +206,9 @@ TEST(TrackingThread, TheLoopsThreadTakesPartsAndTheRecordsStayAsInTurn) {
       GTEST_SKIP() << "no thread to be had";
     }
     float drained = -1;
-    const Sequence threaded = back_and_forth(
-        threaded_points, [&](uint32_t v, const std::vector<uint32_t>& from,
-                             const std::vector<FanFace>& to, float* record) {
+    const Sequence threaded =
+        back_and_forth(threaded_points, [&](uint32_t v, const std::vector<uint32_t>& from,
+                                            const std::vector<FanFace>& to, float* record) {
           tracking.push(v, from.data(), static_cast<int>(from.size()), to.data(),
                         static_cast<int>(to.size()), 0.0, record);
           // After the last, so that back_and_forth() reads the lists once all are tracked.

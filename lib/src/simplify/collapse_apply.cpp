@@ -243,10 +243,11 @@ void CollapseLoop::apply(Worker& worker, uint32_t v) {
     // Without the measure, priced at the top (pricing_at_top()): a w queued at its
     // cheapest geometric cost, unpriced, keeps it as geometry only (keeps_best()); a priced
     // one is evaluated again, at most as far as that bound when it ranks behind the top
-    // (collapse_options.cpp), which is cheaper than keeps_best_with_attributes(). The levels moved little: attr_quality.md's 950K-face
-    // textured mesh at 2%, Hausdorff 0.60 -> 0.67 times meshopt_simplify's, RMS 0.83 ->
-    // 0.82; pm_bench_uv on it, the texture's RMS at 2% 0.00035 -> 0.000124 (meshopt's
-    // 0.00109); tests/bench/README.md has the small meshes.
+    // (collapse_options.cpp), which is cheaper than keeps_best_with_attributes(). The levels
+    // moved little: attr_quality.md's 950K-face textured mesh at 2%, Hausdorff 0.60 ->
+    // 0.67 times meshopt_simplify's, RMS 0.83 -> 0.82; pm_bench_uv on it, the texture's
+    // RMS at 2% 0.00035 -> 0.000124 (meshopt's 0.00109); tests/bench/README.md has the
+    // small meshes.
     const bool apex = w == vl || w == vr;
     const bool bound_queued = pricing_at_top() && vertex_[w].unpriced;
     const bool may_keep = pricing_at_top() ? bound_queued && (!apex || keep_apex_candidates_)

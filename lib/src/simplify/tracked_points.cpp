@@ -62,9 +62,9 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
   scratch.lost.assign(parts, 0);
   // noexcept: a part another thread runs must end, and count itself done (nothing in it
   // allocates).
+  const std::size_t part_size = parts == 1 ? n : kPartPoints;
   const auto part = [&](uint32_t j) noexcept {
-    const std::size_t begin = parts == 1 ? 0 : j * kPartPoints;
-    const std::size_t end = parts == 1 ? n : std::min(n, begin + kPartPoints);
+    const std::size_t begin = j * part_size, end = std::min(n, begin + part_size);
     uint32_t* heads = &scratch.lists[2 * j * fan_size];
     scratch.farthest[j] = move(&points[2 * begin], end - begin, fan, n_fan, settled, heads,
                                heads + fan_size, &scratch.lost[j]);
