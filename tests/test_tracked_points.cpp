@@ -155,6 +155,84 @@ TEST(TrackedPoints, PartsGiveTheSameListsAndRecordWhoeverRunsThem) {
   EXPECT_EQ(farthest, in_turn.record);
 }
 
+// Points at heights `z` above face kHolder's plane (z = 0; the first height is collapsed last),
+// each collapsed there alone, then one more vertex (on the plane) collapsed from kHolder onto
+// kHolder as it was and a face kOther above it (z = 0.3), with `settled`.
+constexpr uint32_t kOther = 30;
+struct Settled {
+  double record;
+  std::vector<uint32_t> on_holder, on_other;  // the heights' indices
+};
+Settled collapse_with_settled(const std::vector<float>& z, double settled) {
+  std::vector<float> xyz;
+  for (std::size_t i = 0; i < z.size(); ++i)
+    xyz.insert(xyz.end(), {0.1f * static_cast<float>(i % 5), 0.05f * static_cast<float>(i), z[i]});
+  xyz.insert(xyz.end(), {0.3f, 0.3f, 0.0f});
+  const auto n = static_cast<uint32_t>(z.size());
+  TrackedPoints tracked;
+  tracked.reset(kOther + 1, n + 1, xyz.data());
+  TrackedPoints::Scratch scratch;
+  const auto plane = [](uint32_t id, double height) {
+    return FanFace::make(id, Vec3(-10, -10, height), Vec3(10, -10, height), Vec3(0, 10, height));
+  };
+  const FanFace fan[] = {plane(kHolder, 0.0), plane(kOther, 0.3)};
+  for (uint32_t x = 0; x < n; ++x) {
+    const uint32_t none[] = {kEmpty};
+    tracked.collapse(x, none, 1, fan, 1, 0.0, scratch);
+  }
+  const uint32_t old_faces[] = {kHolder};
+  Settled out;
+  out.record = tracked.collapse(n, old_faces, 1, fan, 2, settled, scratch);
+  for (const uint32_t x : tracked.points_on(kHolder))
+    if (x < n) out.on_holder.push_back(x);
+  out.on_other = tracked.points_on(kOther);
+  std::sort(out.on_holder.begin(), out.on_holder.end());
+  std::sort(out.on_other.begin(), out.on_other.end());
+  // Whatever the record leaves out is within `settled`: every point is within the larger
+  // of the two of its face.
+  for (const uint32_t x : tracked.points_on(kHolder))
+    EXPECT_LE(std::abs(double{xyz[3 * x + 2]}), std::max(settled, out.record)) << "point " << x;
+  for (const uint32_t x : out.on_other)
+    EXPECT_LE(std::abs(0.3 - double{xyz[3 * x + 2]}), std::max(settled, out.record))
+        << "point " << x;
+  return out;
+}
+
+// A point within `settled` of the face it was on stays there, even where another face is
+// nearer, and its distance is no part of the record (the sequence records `settled` anyway);
+// a point farther, by as little as a unit in the last place, goes to its nearest face and
+// counts. Most points stay so: move() decides by their squared distance, without its root.
+TEST(TrackedPoints, PointsWithinSettledStayAndLeaveTheRecordAlone) {
+  const double settled = 0.25;
+  const double just_below = std::nextafter(settled, 0.0);  // 0.25 is a unit beyond it
+  const double to_other_from_28 = 0.3 - double{0.28f}, to_other_from_25 = 0.3 - 0.25;
+  // 0.1, 0.25 and 0.2 stay on kHolder (within 0.25, though kOther is nearer to 0.25 and
+  // 0.2); 0.28 goes to kOther; -0.5, the last, stays on kHolder as its nearest, and is the
+  // record.
+  Settled with_far = collapse_with_settled({-0.5f, 0.1f, 0.25f, 0.28f, 0.2f}, settled);
+  EXPECT_EQ(with_far.record, 0.5);
+  EXPECT_EQ(with_far.on_holder, (std::vector<uint32_t>{0, 1, 2, 4}));
+  EXPECT_EQ(with_far.on_other, std::vector<uint32_t>{3});
+  // Without it, the record is 0.28's distance to kOther: the points that stayed within 0.25
+  // are left out.
+  Settled near = collapse_with_settled({0.1f, 0.24f, 0.28f, 0.2f}, settled);
+  EXPECT_EQ(near.record, to_other_from_28);
+  EXPECT_EQ(near.on_holder, (std::vector<uint32_t>{0, 1, 3}));
+  // A point at 0.25 exactly stays as well (its square cannot say so; its root does, and
+  // may count, within `settled`).
+  Settled at = collapse_with_settled({0.1f, 0.25f, 0.2f}, settled);
+  EXPECT_EQ(at.on_holder, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_LE(at.record, settled);
+  // Settled a unit below 0.25: 0.25 goes to kOther, and is the record.
+  Settled below = collapse_with_settled({0.1f, 0.25f, 0.28f, 0.2f}, just_below);
+  EXPECT_EQ(below.record, to_other_from_25);
+  EXPECT_EQ(below.on_holder, (std::vector<uint32_t>{0, 3}));
+  EXPECT_EQ(below.on_other, (std::vector<uint32_t>{1, 2}));
+  // Settled 0: the record is every moved point's largest distance to its face.
+  Settled none = collapse_with_settled({0.1f, 0.25f, 0.28f, 0.2f}, 0.0);
+  EXPECT_EQ(none.record, double{0.1f});
+}
+
 // The collapses of the test below: kHolder's points onto the disc, then back and forth between
 // the disc and the disc turned, each time every point and a vertex more (kPoints + i). Each
 // collapse's record, and the lists at the end.

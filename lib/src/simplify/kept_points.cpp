@@ -23,12 +23,12 @@ void KeptPoints::reset(std::size_t n_faces, const float* xyz) {
   detail::assign_preferring_huge_pages(distance_, kKept * n_faces, 0.0f);
 }
 
-double KeptPoints::nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
-                           int* at) {
+double KeptPoints::nearest_from(const Vec3& x, const FanFace* fan, int n_fan, double stop,
+                                int first, double first2, int* at) {
   double best = HUGE_VAL, best2 = HUGE_VAL;  // best is the root of best2
   int best_at = -1;
   if (first >= 0) {
-    best2 = point_triangle_squared_distance(x, fan[first].a, fan[first].b, fan[first].c);
+    best2 = first2;
     best = std::sqrt(best2);
     best_at = first;
     if (best <= stop) {
@@ -215,8 +215,8 @@ double KeptPoints::input_distance(const FanFace* fan, int moved, const Vec3& pu,
     const Vec3 &p0 = *corners[at_u], &p1 = *corners[(at_u + 1) % 3], &p2 = *corners[(at_u + 2) % 3];
     for (int i = 1; i < kInputSteps; ++i)
       for (int j = 1; i + j < kInputSteps; ++j)
-        points[n_points++] =
-            (p0 * double(kInputSteps - i - j) + p1 * double(i) + p2 * double(j)) / double(kInputSteps);
+        points[n_points++] = (p0 * double(kInputSteps - i - j) + p1 * double(i) + p2 * double(j)) /
+                             double(kInputSteps);
     for (const Vec3* w : {&p1, &p2})
       for (int t = 1; t < kInputSteps; ++t) {
         const Vec3 x = (p0 * double(kInputSteps - t) + *w * double(t)) / double(kInputSteps);
@@ -332,8 +332,7 @@ double KeptPoints::points_distance(uint32_t v, const uint32_t* old_faces, int n_
   double worst = 0;
   for (int i = 0; i < n_moving; ++i) {
     int at;
-    const double d =
-        nearest(position(moving[i].point), fan, n_fan, worst, moving[i].hint, &at);
+    const double d = nearest(position(moving[i].point), fan, n_fan, worst, moving[i].hint, &at);
     if (d > worst) worst = d;
   }
   return worst;

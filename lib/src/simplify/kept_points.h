@@ -19,6 +19,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -156,14 +157,22 @@ class KeptPoints {
   // farthest, and returns the largest distance of a point to its new face. The points left
   // off a face's list are forgotten (tracked_points.h has them all). Call before the collapse
   // changes the faces (old_faces lose their points first: some are in the fan).
-  double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan,
-                  int n_fan);
+  double collapse(uint32_t v, const uint32_t* old_faces, int n_old, const FanFace* fan, int n_fan);
 
   // The nearest fan face to x and its distance; stops at the first face within `stop`
   // (then the distance is at most stop). `first`: a face to try first, or -1. *at: the
   // face's index, -1 when no distance compares (non-finite input). Also tracked_points.h's.
   static double nearest(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
-                        int* at);
+                        int* at) {
+    return first < 0 ? nearest_from(x, fan, n_fan, stop, -1, HUGE_VAL, at)
+                     : nearest_from(x, fan, n_fan, stop, first,
+                                    point_triangle_squared_distance(x, fan[first].a, fan[first].b,
+                                                                    fan[first].c),
+                                    at);
+  }
+  // nearest() when x's squared distance to face `first` (>= 0) is known already: first2.
+  static double nearest_from(const Vec3& x, const FanFace* fan, int n_fan, double stop, int first,
+                             double first2, int* at);
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;

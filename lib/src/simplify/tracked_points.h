@@ -78,12 +78,13 @@ class TrackedPoints {
   // moved faces among them with their ids): the first within `settled` of it, or within the
   // largest distance of a point of its part moved before it (the face it was on tried first,
   // when in the fan, else a moved face next to it around v), else its nearest. Returns the
-  // largest distance of a moved point to its new face (at least the exact largest distance
-  // to the fan, at most the larger of that and `settled`); infinity when a point is nearer
-  // to no face (non-finite input, or an empty fan). `settled`: a distance the sequence
-  // records anyway at this collapse (the kept points' exact largest, kept_points.h, or a
-  // record before it), below which a point's own does not change the record; most points
-  // are that near the face they were on, and take one distance instead of a search. With
+  // largest distance of a moved point to its new face, leaving out points within `settled`
+  // (at least the exact largest distance to the fan where that is above `settled`, at most
+  // the larger of that and `settled`); infinity when a point is nearer to no face
+  // (non-finite input, or an empty fan). `settled`: a distance the sequence records anyway
+  // at this collapse (the kept points' exact largest, kept_points.h, or a record before
+  // it), below which a point's own does not change the record; most points are that near
+  // the face they were on, and take one distance instead of a search. With
   // the measure, one thread, alternating runs against the slack alone: nefertiti 0.95 ->
   // 0.99 s, armadillo 0.42 -> 0.44 s; with every point's nearest face searched, 11% slower.
   // `scratch` holds the moving points and their parts' lists; `runner`, when given, runs the
