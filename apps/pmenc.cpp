@@ -196,11 +196,11 @@ int main(int argc, char** argv) {
                "Never remove corner vertices (Schroeder 1992's rule; simplification may stall)");
   app.add_flag("--fast", settings.encode.fast,
                "Leave out the measured distance: 3 to 4 times faster, levels a little closer "
-               "to the input than meshoptimizer's (Hausdorff 1.6 times the default's); "
-               "attributes, seams and the recorded errors' bound as without");
+               "to the input than meshoptimizer's on geometry (Hausdorff 1.6 times the "
+               "default's); attributes, seams and the recorded errors' bound as without");
   app.add_option("--fast-from", settings.encode.fast_from,
                  "--fast on meshes of at least this many faces, where the measured distance "
-                 "takes minutes; 0: only with --fast")
+                 "takes about four times as long; 0: only with --fast")
       ->capture_default_str()
       ->check(pm::cli::whole_number());
   app.add_option("--threads", settings.encode.threads,
