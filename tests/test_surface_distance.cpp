@@ -3,17 +3,18 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
+#include <random>
 #include <utility>
 #include <vector>
 
-#include "simplify/geometry.h"
 #include "pm/mesh_io.h"
 #include "pm/surface_distance.h"
+#include "simplify/geometry.h"
 #include "test_util.h"
 
 namespace pm {
@@ -101,14 +102,14 @@ TEST(PointTriangleDistance, EachRegionSquaredAndItsRoot) {
     Vec3 p;
     double squared;
   } cases[] = {
-      {Vec3(-1, -1, 0), 2},   // beyond a
-      {Vec3(3, -1, 0), 2},    // beyond b
-      {Vec3(-1, 3, 0), 2},    // beyond c
-      {Vec3(1, -2, 0), 4},    // beside edge ab
-      {Vec3(-3, 1, 0), 9},    // beside edge ac
-      {Vec3(2, 2, 0), 2},     // beside edge bc, nearest (1, 1, 0)
-      {Vec3(0.5, 0.5, 3), 9}, // above the inside
-      {Vec3(0.5, 0.5, 0), 0}, // on it
+      {Vec3(-1, -1, 0), 2},    // beyond a
+      {Vec3(3, -1, 0), 2},     // beyond b
+      {Vec3(-1, 3, 0), 2},     // beyond c
+      {Vec3(1, -2, 0), 4},     // beside edge ab
+      {Vec3(-3, 1, 0), 9},     // beside edge ac
+      {Vec3(2, 2, 0), 2},      // beside edge bc, nearest (1, 1, 0)
+      {Vec3(0.5, 0.5, 3), 9},  // above the inside
+      {Vec3(0.5, 0.5, 0), 0},  // on it
   };
   for (const auto& k : cases) {
     SCOPED_TRACE(testing::Message() << k.p);
@@ -121,6 +122,30 @@ TEST(PointTriangleDistance, EachRegionSquaredAndItsRoot) {
   EXPECT_EQ(point_triangle_squared_distance(Vec3(6, 0, 0), a, b, d), 4);
   EXPECT_EQ(point_segment_squared_distance(Vec3(1, 3, 0), a, b), 9);
   EXPECT_EQ(point_segment_squared_distance(Vec3(-2, 0, 0), a, a), 4);
+}
+
+// square_surely_within(): a square at most the bound has a root at most `stop` (the root is
+// monotone: the bound's own root is checked), for stops over the normal doubles' range, and
+// the bound is below stop's square by only a few units in the last place; below that range
+// nothing is sure (-1).
+TEST(PointTriangleDistance, ASquareSurelyWithinAStopHasItsRootWithin) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> exponent(-150, 150), mantissa(1, 2);
+  for (int i = 0; i < 200000; ++i) {
+    const double stop = std::ldexp(mantissa(random), static_cast<int>(exponent(random)));
+    const double bound = square_surely_within(stop);
+    ASSERT_GT(bound, 0) << stop;
+    ASSERT_LE(std::sqrt(bound), stop) << stop;
+    // And it gives away little: the square of a root a millionth below stop is under it.
+    ASSERT_LT(stop * (1 - 1e-6) * stop * (1 - 1e-6), bound) << stop;
+  }
+  for (const double stop : {1.0, 0.25, 0.3, 1e-100, 1e100}) {
+    const double bound = square_surely_within(stop);
+    EXPECT_LE(std::sqrt(bound), stop) << stop;
+    EXPECT_GT(std::sqrt(std::nextafter(bound, HUGE_VAL) * (1 + 0x1p-49)), stop) << stop;
+  }
+  EXPECT_EQ(square_surely_within(0.0), -1.0);
+  EXPECT_EQ(square_surely_within(1e-160), -1.0);  // its square is below the normal doubles
 }
 
 TEST(SurfaceDistance, AMeshAgainstItselfIsExactlyZero) {
@@ -238,7 +263,8 @@ TEST(SurfaceDistance, TheSameWhateverTheOrderOfFacesVerticesAndCorners) {
   const uint32_t n = uint32_t(sphere.vertex_count());
   shuffled.positions.resize(sphere.positions.size());
   for (uint32_t v = 0; v < n; ++v)  // vertex v becomes n - 1 - v
-    for (int k = 0; k < 3; ++k) shuffled.positions[3 * (n - 1 - v) + k] = sphere.positions[3 * v + k];
+    for (int k = 0; k < 3; ++k)
+      shuffled.positions[3 * (n - 1 - v) + k] = sphere.positions[3 * v + k];
   for (std::size_t f = sphere.face_count(); f-- > 0;) {
     const uint32_t* t = &sphere.triangles[3 * f];
     const int r = int(f % 3);  // a different rotation for each face

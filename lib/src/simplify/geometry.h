@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "simplify/half_edge_mesh.h"
 
@@ -70,6 +71,16 @@ inline double point_triangle_squared_distance(const Vec3& p, const Vec3& a, cons
   }
   const double v = vb / denom, w = vc / denom;
   return (p - (a + ab * v + ac * w)).sqrnorm();
+}
+// A square below which a squared distance's root is surely at most `stop` (stop >= 0): the
+// product's rounding (half a unit in the last place) and the root's cannot bring a square
+// under it to a root above stop (2^-50 is eight such units). A search that only needs to
+// know whether a distance is within `stop` compares squares, and takes no root. Where
+// stop * stop is below the normal doubles its rounding has no such bound: -1, which no
+// square is below.
+inline double square_surely_within(double stop) {
+  const double square = stop * stop;
+  return square >= std::numeric_limits<double>::min() ? square * (1 - 0x1p-50) : -1.0;
 }
 // Distance from p to the closed triangle (a, b, c).
 inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {

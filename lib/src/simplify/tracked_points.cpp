@@ -93,17 +93,6 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
   return lost ? HUGE_VAL : farthest;
 }
 
-namespace {
-
-// A square below which a distance's square is surely at most `stop`: the product's rounding
-// (half a unit in the last place) and the root's cannot bring a square under it to a root
-// above stop (2^-50 is eight such units).
-double square_surely_within(double stop) {
-  return stop * stop * (1 - 0x1p-50);
-}
-
-}  // namespace
-
 double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan,
                            int n_fan, double settled, uint32_t* heads, uint32_t* tails,
                            uint8_t* lost) {
