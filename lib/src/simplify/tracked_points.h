@@ -84,9 +84,10 @@ class TrackedPoints {
   // (non-finite input, or an empty fan). `settled`: a distance the sequence records anyway
   // at this collapse (the kept points' exact largest, kept_points.h, or a record before
   // it), below which a point's own does not change the record; most points are that near
-  // the face they were on, and take one distance instead of a search. With
-  // the measure, one thread, alternating runs against the slack alone: nefertiti 0.95 ->
-  // 0.99 s, armadillo 0.42 -> 0.44 s; with every point's nearest face searched, 11% slower.
+  // the face they were on, and take one distance instead of a search (and, by its square, no
+  // root: move()). With the measure, one thread, alternating runs against the slack alone:
+  // nefertiti 0.95 -> 0.99 s, armadillo 0.42 -> 0.44 s; with every point's nearest face
+  // searched, 11% slower.
   // `scratch` holds the moving points and their parts' lists; `runner`, when given, runs the
   // parts of a collapse that has more than one (else they run here, in turn).
   struct Scratch {
@@ -136,7 +137,8 @@ class TrackedPoints {
   static constexpr uint32_t kNone = 0xffffffffu;
   // Moves `count` of collapse()'s pairs onto the fan, each onto the front of a list of its new
   // face's: heads[i] and tails[i] those of fan face i (kNone when empty, as they start).
-  // Returns their largest distance to their new faces; *lost when a point found no face.
+  // Returns their largest distance to their new faces, leaving out those within `settled`
+  // (collapse()'s result); *lost when a point found no face.
   double move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan, int n_fan,
               double settled, uint32_t* heads, uint32_t* tails, uint8_t* lost);
   std::vector<uint32_t> head_;  // per face: its first point, kNone when it holds none
