@@ -233,6 +233,33 @@ TEST(TrackedPoints, PointsWithinSettledStayAndLeaveTheRecordAlone) {
   EXPECT_EQ(none.record, double{0.1f});
 }
 
+// Each moved point goes onto the front of its new face's list in turn, before the points the
+// face held already (a collapse of few points, in one part, writes the faces' lists
+// directly; a larger one joins its parts' lists so: the test above).
+TEST(TrackedPoints, EachPointGoesOntoTheFrontOfItsFacesList) {
+  // Points 0 to 3 at heights 0.29, 0.28, 0.27 and 0.01, vertex 4 on the plane z = 0.
+  const std::vector<float> xyz = {0.1f,  0.1f, 0.29f, 0.2f,  0.1f, 0.28f, 0.3f, 0.1f,
+                                  0.27f, 0.4f, 0.1f,  0.01f, 0.5f, 0.1f,  0.0f};
+  TrackedPoints tracked;
+  tracked.reset(kOther + 1, 5, xyz.data());
+  TrackedPoints::Scratch scratch;
+  const auto plane = [](uint32_t id, double height) {
+    return FanFace::make(id, Vec3(-10, -10, height), Vec3(10, -10, height), Vec3(0, 10, height));
+  };
+  const FanFace fan[] = {plane(kHolder, 0.0), plane(kOther, 0.3)};
+  const uint32_t none[] = {kEmpty};
+  tracked.collapse(0, none, 1, &fan[1], 1, 0.0, scratch);  // point 0 onto kOther
+  for (uint32_t x = 1; x <= 3; ++x) tracked.collapse(x, none, 1, &fan[0], 1, 0.0, scratch);
+  EXPECT_EQ(tracked.points_on(kHolder), (std::vector<uint32_t>{3, 2, 1}));
+  // Vertex 4 from kHolder: it and 3 stay (within 0.05), 2 and then 1 go to kOther (0.03 and
+  // 0.02 from it), in front of point 0.
+  const uint32_t old_faces[] = {kHolder};
+  const double record = tracked.collapse(4, old_faces, 1, fan, 2, 0.05, scratch);
+  EXPECT_EQ(tracked.points_on(kHolder), (std::vector<uint32_t>{3, 4}));
+  EXPECT_EQ(tracked.points_on(kOther), (std::vector<uint32_t>{1, 2, 0}));
+  EXPECT_EQ(record, 0.3 - double{0.27f});
+}
+
 // The collapses of the test below: kHolder's points onto the disc, then back and forth between
 // the disc and the disc turned, each time every point and a vertex more (kPoints + i). Each
 // collapse's record, and the lists at the end.

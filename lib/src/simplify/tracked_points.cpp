@@ -21,81 +21,9 @@ void TrackedPoints::reset(std::size_t n_faces, std::size_t n_vertices, const flo
   detail::assign_preferring_huge_pages(next_, n_vertices, kNone);
 }
 
-double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
-                               const KeptPoints::FanFace* fan, int n_fan, double settled,
-                               Scratch& scratch, PartRunner* runner) {
-  // v and the points of v's faces, each with the fan index of the face it was on (a moved
-  // face keeps its id; the fan lists v's faces first, in the order of old_faces, but the two
-  // at v-u), which it tries first: most stay where they were. Pairs (point, fan index or
-  // kNone) in scratch.points.
-  std::vector<uint32_t>& points = scratch.points;
-  points.clear();
-  points.push_back(v);
-  points.push_back(kNone);
-  // A removed face (at v-u) has no fan index: its points try first the face after it
-  // around v, or before it (the faces that shared its edges at v, moved onto u), instead of
-  // searching the fan. Nefertiti after two Loop steps without the measure, one thread,
-  // medians of 5 alternating runs: 2.50 -> 2.36 s (6.6M of the 22.9M points moved had no
-  // face to try first, v among them); the records at bound.md's points the same.
-  uint32_t hints[kMaxOldFaces];
-  for (int i = 0, j = 0; i < n_old; ++i)
-    hints[i] = j < n_fan && fan[j].face == old_faces[i] ? static_cast<uint32_t>(j++) : kNone;
-  for (int i = 0; i < n_old; ++i) {
-    const uint32_t f = old_faces[i];
-    uint32_t hint = hints[i];
-    if (hint == kNone) {
-      hint = hints[i + 1 < n_old ? i + 1 : 0];
-      if (hint == kNone) hint = hints[i > 0 ? i - 1 : n_old - 1];
-    }
-    for (uint32_t x = head_[f]; x != kNone; x = next_[x]) {
-      points.push_back(x);
-      points.push_back(hint);
-    }
-    head_[f] = kNone;
-  }
-  if (n_fan == 0) return HUGE_VAL;  // nowhere to go: no finite record bounds them
-  const std::size_t n = points.size() / 2;
-  const std::size_t parts = n < 2 * kPartPoints ? 1 : (n + kPartPoints - 1) / kPartPoints;
-  const std::size_t fan_size = static_cast<std::size_t>(n_fan);
-  scratch.lists.assign(2 * parts * fan_size, kNone);
-  scratch.farthest.assign(parts, 0.0);
-  scratch.lost.assign(parts, 0);
-  // noexcept: a part another thread runs must end, and count itself done (nothing in it
-  // allocates).
-  const std::size_t part_size = parts == 1 ? n : kPartPoints;
-  const auto part = [&](uint32_t j) noexcept {
-    const std::size_t begin = j * part_size, end = std::min(n, begin + part_size);
-    uint32_t* heads = &scratch.lists[2 * j * fan_size];
-    scratch.farthest[j] = move(&points[2 * begin], end - begin, fan, n_fan, settled, heads,
-                               heads + fan_size, &scratch.lost[j]);
-  };
-  if (parts > 1 && runner) {
-    runner->run_parts(static_cast<uint32_t>(parts), part);
-  } else {
-    for (uint32_t j = 0; j < parts; ++j) part(j);
-  }
-  // Each part's lists onto the front of its faces', in the parts' order: as if every point
-  // had gone onto the front of its face's list in turn.
-  double farthest = 0;
-  bool lost = false;
-  for (std::size_t j = 0; j < parts; ++j) {
-    const uint32_t* heads = &scratch.lists[2 * j * fan_size];
-    const uint32_t* tails = heads + fan_size;
-    for (std::size_t i = 0; i < fan_size; ++i) {
-      if (heads[i] == kNone) continue;
-      const uint32_t f = fan[i].face;
-      next_[tails[i]] = head_[f];
-      head_[f] = heads[i];
-    }
-    farthest = std::max(farthest, scratch.farthest[j]);
-    lost |= scratch.lost[j] != 0;
-  }
-  return lost ? HUGE_VAL : farthest;
-}
-
+template <typename Push>
 double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan,
-                           int n_fan, double settled, uint32_t* heads, uint32_t* tails,
-                           uint8_t* lost) {
+                           int n_fan, double settled, uint8_t* lost, Push push) {
   // Their positions, asked for all at once: the points of a face are far apart in memory.
   for (std::size_t i = 0; i < count; ++i) __builtin_prefetch(xyz_ + 3 * std::size_t{pairs[2 * i]});
   // The first face within `settled`, or within the largest distance so far of this part's
@@ -134,11 +62,99 @@ double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptP
         }
       }
     }
-    if (heads[at] == kNone) tails[at] = x;
-    next_[x] = heads[at];
-    heads[at] = x;
+    push(at, x);
   }
   return farthest;
+}
+
+double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
+                               const KeptPoints::FanFace* fan, int n_fan, double settled,
+                               Scratch& scratch, PartRunner* runner) {
+  // v and the points of v's faces, each with the fan index of the face it was on (a moved
+  // face keeps its id; the fan lists v's faces first, in the order of old_faces, but the two
+  // at v-u), which it tries first: most stay where they were. Pairs (point, fan index or
+  // kNone) in scratch.points.
+  std::vector<uint32_t>& points = scratch.points;
+  points.clear();
+  points.push_back(v);
+  points.push_back(kNone);
+  // A removed face (at v-u) has no fan index: its points try first the face after it
+  // around v, or before it (the faces that shared its edges at v, moved onto u), instead of
+  // searching the fan. Nefertiti after two Loop steps without the measure, one thread,
+  // medians of 5 alternating runs: 2.50 -> 2.36 s (6.6M of the 22.9M points moved had no
+  // face to try first, v among them); the records at bound.md's points the same.
+  uint32_t hints[kMaxOldFaces];
+  for (int i = 0, j = 0; i < n_old; ++i)
+    hints[i] = j < n_fan && fan[j].face == old_faces[i] ? static_cast<uint32_t>(j++) : kNone;
+  for (int i = 0; i < n_old; ++i) {
+    const uint32_t f = old_faces[i];
+    uint32_t hint = hints[i];
+    if (hint == kNone) {
+      hint = hints[i + 1 < n_old ? i + 1 : 0];
+      if (hint == kNone) hint = hints[i > 0 ? i - 1 : n_old - 1];
+    }
+    for (uint32_t x = head_[f]; x != kNone; x = next_[x]) {
+      points.push_back(x);
+      points.push_back(hint);
+    }
+    head_[f] = kNone;
+  }
+  if (n_fan == 0) return HUGE_VAL;  // nowhere to go: no finite record bounds them
+  const std::size_t n = points.size() / 2;
+  const std::size_t parts = n < 2 * kPartPoints ? 1 : (n + kPartPoints - 1) / kPartPoints;
+  if (parts == 1) {
+    // One part, in turn: each point straight onto the front of its face's list, as the
+    // joining below would put it (nefertiti after two Loop steps: 0.8M collapses of about 28
+    // points each, where the part's lists and their joining were a tenth of the tracking).
+    uint8_t lost = 0;
+    const double farthest =
+        move(points.data(), n, fan, n_fan, settled, &lost, [&](int at, uint32_t x) {
+          uint32_t& head = head_[fan[at].face];
+          next_[x] = head;
+          head = x;
+        });
+    return lost ? HUGE_VAL : farthest;
+  }
+  const std::size_t fan_size = static_cast<std::size_t>(n_fan);
+  scratch.lists.assign(2 * parts * fan_size, kNone);
+  scratch.farthest.assign(parts, 0.0);
+  scratch.lost.assign(parts, 0);
+  // noexcept: a part another thread runs must end, and count itself done (nothing in it
+  // allocates).
+  const std::size_t part_size = parts == 1 ? n : kPartPoints;
+  const auto part = [&](uint32_t j) noexcept {
+    const std::size_t begin = j * part_size, end = std::min(n, begin + part_size);
+    uint32_t* heads = &scratch.lists[2 * j * fan_size];
+    uint32_t* tails = heads + fan_size;
+    scratch.farthest[j] = move(&points[2 * begin], end - begin, fan, n_fan, settled,
+                               &scratch.lost[j], [&](int at, uint32_t x) {
+                                 if (heads[at] == kNone) tails[at] = x;
+                                 next_[x] = heads[at];
+                                 heads[at] = x;
+                               });
+  };
+  if (parts > 1 && runner) {
+    runner->run_parts(static_cast<uint32_t>(parts), part);
+  } else {
+    for (uint32_t j = 0; j < parts; ++j) part(j);
+  }
+  // Each part's lists onto the front of its faces', in the parts' order: as if every point
+  // had gone onto the front of its face's list in turn.
+  double farthest = 0;
+  bool lost = false;
+  for (std::size_t j = 0; j < parts; ++j) {
+    const uint32_t* heads = &scratch.lists[2 * j * fan_size];
+    const uint32_t* tails = heads + fan_size;
+    for (std::size_t i = 0; i < fan_size; ++i) {
+      if (heads[i] == kNone) continue;
+      const uint32_t f = fan[i].face;
+      next_[tails[i]] = head_[f];
+      head_[f] = heads[i];
+    }
+    farthest = std::max(farthest, scratch.farthest[j]);
+    lost |= scratch.lost[j] != 0;
+  }
+  return lost ? HUGE_VAL : farthest;
 }
 
 }  // namespace pm::collapse_loop

@@ -128,7 +128,8 @@ class TrackedPoints {
   // float: no distance on a mesh encode() accepts is larger (its diagonal is at most
   // kMaxEncodeDiagonal, below that).
   static float record(double farthest, double moved) {
-    const double own = std::min<double>(std::max(farthest, moved), std::numeric_limits<float>::max());
+    const double own =
+        std::min<double>(std::max(farthest, moved), std::numeric_limits<float>::max());
     const float recorded = static_cast<float>(own);
     return double(recorded) < own ? std::nextafter(recorded, HUGE_VALF) : recorded;
   }
@@ -136,11 +137,13 @@ class TrackedPoints {
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
   // Moves `count` of collapse()'s pairs onto the fan, each onto the front of a list of its new
-  // face's: heads[i] and tails[i] those of fan face i (kNone when empty, as they start).
-  // Returns their largest distance to their new faces, leaving out those within `settled`
-  // (collapse()'s result); *lost when a point found no face.
+  // face's: push(i, x) puts point x there, i its face's index in the fan (the faces' own lists
+  // for a collapse in one part; else the part's, to be joined). Returns their largest
+  // distance to their new faces, leaving out those within `settled` (collapse()'s result);
+  // *lost when a point found no face.
+  template <typename Push>
   double move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan, int n_fan,
-              double settled, uint32_t* heads, uint32_t* tails, uint8_t* lost);
+              double settled, uint8_t* lost, Push push);
   std::vector<uint32_t> head_;  // per face: its first point, kNone when it holds none
   std::vector<uint32_t> next_;  // per vertex: the next point on its face's list
   const float* xyz_ = nullptr;
