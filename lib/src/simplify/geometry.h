@@ -77,7 +77,8 @@ inline double point_triangle_squared_distance(const Vec3& p, const Vec3& a, cons
 // under it to a root above stop (2^-50 is eight such units). A search that only needs to
 // know whether a distance is within `stop` compares squares, and takes no root. Where
 // stop * stop is below the normal doubles its rounding has no such bound: -1, which no
-// square is below.
+// square is below. (KeptPoints::nearer_around()'s square_bound is the other side: a square
+// above which the root is surely beyond a distance.)
 inline double square_surely_within(double stop) {
   const double square = stop * stop;
   return square >= std::numeric_limits<double>::min() ? square * (1 - 0x1p-50) : -1.0;

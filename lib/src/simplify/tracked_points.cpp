@@ -46,10 +46,8 @@ double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptP
     // square says so without their root, and their distance changes no record (it is at
     // most the part's largest so far, or at most `settled`, which the record holds anyway:
     // collapse()'s result may leave it out).
-    if (!(d2 <= stop2)) {
-      const double d = hint >= 0
-                           ? KeptPoints::nearest_from(position, fan, n_fan, stop, hint, d2, &at)
-                           : KeptPoints::nearest(position, fan, n_fan, stop, -1, &at);
+    if (!(d2 <= stop2)) {  // without a face to try first, d2 is infinite: nearest()'s search
+      const double d = KeptPoints::nearest_from(position, fan, n_fan, stop, hint, d2, &at);
       if (at < 0) {  // no distance compares (non-finite input): no finite record bounds it
         *lost = 1;
         continue;
