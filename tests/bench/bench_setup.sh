@@ -39,8 +39,10 @@ bench_install() {
   local tool=$1
   shift
   local missing=() package
-  for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libmeshoptimizer-dev libdraco-dev \
-                 zlib1g-dev "$@"; do
+  # The library's own (libtinygltf-dev and nlohmann-json3-dev: glTF, which configuring pm
+  # needs, as .ci/deps installs them), then the peers'.
+  for package in g++ cmake libopenmesh-dev libcli11-dev libzstd-dev libtinygltf-dev nlohmann-json3-dev \
+                 libmeshoptimizer-dev libdraco-dev zlib1g-dev "$@"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
       missing+=("$package")
   done
