@@ -15,6 +15,8 @@
 #   bench_configure REPO BUILD             configures BUILD for the benchmarks (tests off)
 #   bench_big_and_runs TOOL ARGS...        parses [--big] [--runs N] into $big (kept when
 #                                          not given) and $runs (7 unless given, at least 5)
+#   bench_runs TOOL ARGS...                parses [--runs N] into $runs (5 unless given, at
+#                                          least 5: each row is a median)
 #   bench_commit REPO PATHSPEC...          prints HEAD's short hash, "with uncommitted
 #                                          changes" after it when the paths have some
 #   bench_loop_mesh MAKE SOURCE STEPS OBJ  makes OBJ, SOURCE after STEPS Loop steps (MAKE:
@@ -58,15 +60,18 @@ bench_configure() {
   cmake -S "$1" -B "$2" -DCMAKE_BUILD_TYPE=Release -DPM_BUILD_BENCH=ON -DPM_BUILD_TESTS=OFF >/dev/null
 }
 
-bench_big_and_runs() {
-  local tool=$1
-  shift
-  runs=7
+# bench_parse_runs TOOL DEFAULT_RUNS BIG_ALLOWED ARGS...: the two below.
+bench_parse_runs() {
+  local tool=$1 usage="[--runs N]"
+  runs=$2
+  local big_allowed=$3
+  shift 3
+  ((big_allowed)) && usage="[--big] $usage"
   while (($#)); do
     case "$1" in
-      --big) big=1 ;;
+      --big) ((big_allowed)) || { echo "usage: $tool $usage" >&2; exit 2; }; big=1 ;;
       --runs) runs="${2:-}"; shift ;;
-      *) echo "usage: $tool [--big] [--runs N]" >&2; exit 2 ;;
+      *) echo "usage: $tool $usage" >&2; exit 2 ;;
     esac
     shift
   done
@@ -75,6 +80,8 @@ bench_big_and_runs() {
     exit 2
   fi
 }
+bench_big_and_runs() { local tool=$1; shift; bench_parse_runs "$tool" 7 1 "$@"; }
+bench_runs() { local tool=$1; shift; bench_parse_runs "$tool" 5 0 "$@"; }
 
 bench_commit() {
   local repo=$1

@@ -23,18 +23,9 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 bench="$repo/tests/bench"
 meshes="${PM_SHARED_MESHES_DIR:-$repo/../shared/meshes}"
 
-runs=5
-while (($#)); do
-  case "$1" in
-    --runs) runs="${2:-}"; shift ;;
-    *) echo "usage: run_issue25.sh [--runs N]" >&2; exit 2 ;;
-  esac
-  shift
-done
-if ! [[ "$runs" =~ ^[0-9]+$ ]] || ((runs < 5)); then
-  echo "run_issue25.sh: --runs must be at least 5 (each time is a median)" >&2
-  exit 2
-fi
+# shellcheck source=bench_setup.sh
+source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_runs run_issue25.sh "$@"
 if [[ ! -d "$meshes" ]]; then
   echo "run_issue25.sh: $meshes is missing: the shared meshes are what issue 25 measures;" \
     "tests/bench/issue25.md was left as it was" >&2

@@ -23,21 +23,10 @@ build="${PM_BENCH_BUILD:-$repo/build-bench}"
 meshes="${PM_SHARED_MESHES_DIR:-$repo/../shared/meshes}"
 report="$repo/tests/bench/page_faults.md"
 
-runs=5
-while (($#)); do
-  case "$1" in
-    --runs) runs="${2:-}"; shift ;;
-    *) echo "usage: run_page_faults.sh [--runs N]" >&2; exit 2 ;;
-  esac
-  shift
-done
-if ! [[ "$runs" =~ ^[0-9]+$ ]] || ((runs < 5)); then
-  echo "run_page_faults.sh: --runs must be at least 5 (each row is a median)" >&2
-  exit 2
-fi
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_runs run_page_faults.sh "$@"
+
 bench_install run_page_faults.sh time
 bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pmenc pmdec pm_make_big_mesh

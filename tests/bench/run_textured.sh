@@ -29,21 +29,10 @@ repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${PM_BENCH_BUILD:-$repo/build-bench}"
 report="$repo/tests/bench/textured.md"
 
-runs=5
-while (($#)); do
-  case "$1" in
-    --runs) runs="${2:-}"; shift ;;
-    *) echo "usage: run_textured.sh [--runs N]" >&2; exit 2 ;;
-  esac
-  shift
-done
-if ! [[ "$runs" =~ ^[0-9]+$ ]] || ((runs < 5)); then
-  echo "run_textured.sh: --runs must be at least 5 (each row is a median)" >&2
-  exit 2
-fi
-
 # shellcheck source=bench_setup.sh
 source "$(dirname "${BASH_SOURCE[0]}")/bench_setup.sh"
+bench_runs run_textured.sh "$@"
+
 bench_install run_textured.sh time
 bench_configure "$repo" "$build"
 cmake --build "$build" -j"$(nproc)" --target pmenc pm_make_big_mesh pm_bench_scale_peers pm_bench_encode
