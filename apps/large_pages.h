@@ -7,11 +7,13 @@
 // between stages to keep the peak low (lib/src/core/memory_pages.h), so on 4 KiB pages each
 // first touch of a block is a page fault, and a fault is dear on a virtual machine. Where the
 // kernel makes huge pages only for memory that asks (its "madvise" mode, Debian's default),
-// blocks of kLargeBlock bytes or more ask; the library asks for a few of its arrays itself,
-// for the TLB. Measured (tests/bench/page_faults.md, 2026-12-02, medians of 5 alternating
-// runs on the 950,272-face textured mesh): pmenc --fast 8.83 -> 6.74 s, faults 195K -> 89K;
-// pmenc 15.2 -> 11.6 s; pmdec of full detail 5.18 -> 3.24 s; peaks +1%, but pmdec --ratio 0.1
-// 63 -> 70 MiB (a huge page is made whole at a block's growing end). Output bytes are the same.
+// blocks of kLargeBlock bytes or more ask. The library asks for a few of its arrays itself,
+// for the TLB (prefer_huge_pages() in lib/src/core/memory_pages.h: the same madvise over the
+// inner huge pages of chosen arrays; internal to the library, so not called from here).
+// Measured (tests/bench/page_faults.md, 2026-12-02, medians of 5 alternating runs on the
+// 950,272-face textured mesh): pmenc --fast 8.83 -> 6.74 s, faults 195K -> 89K; pmenc 15.2 ->
+// 11.6 s; pmdec of full detail 5.18 -> 3.24 s; peaks +1%, but pmdec --ratio 0.1 63 -> 70 MiB
+// (a huge page is made whole at a block's growing end). Output bytes are the same.
 #pragma once
 
 #include <cstddef>
