@@ -100,33 +100,72 @@ bool write_all(int fd, std::string_view bytes) {
 
 }  // namespace
 
-Status write_output_atomically(const std::string& path, std::string_view bytes, bool binary) {
-  if (path == "-") {
+AtomicOutput::~AtomicOutput() { discard(); }
+
+void AtomicOutput::discard() {
+  if (fd_ < 0) return;
+  ::close(fd_);
+  fd_ = -1;
+  std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+  unlink(temp_.c_str());
+  retire_temporary(slot_);
+  slot_ = -1;
+}
+
+Status AtomicOutput::open(const std::string& path, bool binary) {
+  discard();
+  path_ = path;
+  to_stdout_ = path == "-";
+  if (to_stdout_) {
     if (binary && isatty(STDOUT_FILENO))
       return Status(ErrorCode::kInvalidArgument, "refusing to write binary data to a terminal");
-    if (!write_all(STDOUT_FILENO, bytes)) return io_error("cannot write to standard output");
     return Status::ok();
   }
-  std::string temp = path + kTemporaryInfix + std::string(kTemporaryRandomChars, 'X');
-  int fd = -1;
-  int slot = -1;
+  temp_ = path + kTemporaryInfix + std::string(kTemporaryRandomChars, 'X');
   {
     // Published before the first byte is written, so an interrupt removes the file.
     std::lock_guard<std::mutex> lock(g_temporaries_mutex);
-    fd = mkostemp(temp.data(), O_CLOEXEC);
-    if (fd >= 0) slot = publish_temporary(temp);
+    fd_ = mkostemp(temp_.data(), O_CLOEXEC);
+    if (fd_ >= 0) slot_ = publish_temporary(temp_);
   }
-  if (fd < 0) return io_error("cannot create output");
-  const bool written = write_all(fd, bytes) && fsync(fd) == 0;
-  Status status = written ? Status::ok() : io_error("cannot write output");
-  fchmod(fd, output_mode());
+  if (fd_ < 0) return io_error("cannot create output");
+  return Status::ok();
+}
+
+Status AtomicOutput::write(std::string_view piece) {
+  if (to_stdout_) {
+    if (!write_all(STDOUT_FILENO, piece)) return io_error("cannot write to standard output");
+    return Status::ok();
+  }
+  if (fd_ < 0) return Status(ErrorCode::kInternal, "output written before it was opened");
+  if (write_all(fd_, piece)) return Status::ok();
+  Status status = io_error("cannot write output");
+  discard();
+  return status;
+}
+
+Status AtomicOutput::commit() {
+  if (to_stdout_) return Status::ok();
+  if (fd_ < 0) return Status(ErrorCode::kInternal, "output committed before it was opened");
+  Status status = fsync(fd_) == 0 ? Status::ok() : io_error("cannot write output");
+  fchmod(fd_, output_mode());
+  const int fd = fd_;
+  fd_ = -1;
   if (::close(fd) != 0 && status) status = io_error("cannot write output");
   std::lock_guard<std::mutex> lock(g_temporaries_mutex);
-  if (status && std::rename(temp.c_str(), path.c_str()) != 0)
+  if (status && std::rename(temp_.c_str(), path_.c_str()) != 0)
     status = io_error("cannot rename output");
-  if (!status) unlink(temp.c_str());
-  retire_temporary(slot);
+  if (!status) unlink(temp_.c_str());
+  retire_temporary(slot_);
+  slot_ = -1;
   return status;
+}
+
+Status write_output_atomically(const std::string& path, std::string_view bytes, bool binary) {
+  AtomicOutput output;
+  if (Status status = output.open(path, binary); !status) return status;
+  if (Status status = output.write(bytes); !status) return status;
+  return output.commit();
 }
 
 bool is_temporary_for(std::string_view file_name, std::string_view output_name) {

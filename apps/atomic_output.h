@@ -17,6 +17,34 @@ namespace pm::cli {
 // output; binary data is refused when standard output is a terminal.
 Status write_output_atomically(const std::string& path, std::string_view bytes, bool binary);
 
+// One output written in pieces, whole or absent as write_output_atomically()'s (which is
+// open(), write(), commit()): the pieces go to the temporary as they come, so that an output
+// need not be whole in memory first (pmdec's meshes: write_mesh_to_sink()). Destroyed without
+// commit(), or after a failed write(), it removes its temporary. For "-", the pieces go
+// straight to standard output, which cannot be taken back.
+class AtomicOutput {
+ public:
+  AtomicOutput() = default;
+  AtomicOutput(const AtomicOutput&) = delete;
+  AtomicOutput& operator=(const AtomicOutput&) = delete;
+  ~AtomicOutput();
+
+  // Creates the temporary beside path (published for the signal handler before any byte is
+  // written). binary: refused when path is "-" and standard output is a terminal.
+  Status open(const std::string& path, bool binary);
+  Status write(std::string_view piece);
+  // Flushes the temporary to the disk and renames it into place.
+  Status commit();
+
+ private:
+  void discard();
+
+  std::string path_, temp_;
+  int fd_ = -1;
+  int slot_ = -1;
+  bool to_stdout_ = false;
+};
+
 // Whether file_name is a temporary of write_output_atomically for output_name (both plain
 // names in the same directory).
 bool is_temporary_for(std::string_view file_name, std::string_view output_name);

@@ -58,6 +58,42 @@ ExitCode exit_code_for_write(const Status& status) {
   return status.code() == ErrorCode::kInvalidArgument ? kExitUsage : kExitCannotWrite;
 }
 
+bool is_binary_format(MeshFormat format) {
+  return format == MeshFormat::kPly || format == MeshFormat::kStl || format == MeshFormat::kGlb;
+}
+
+Status write_mesh_output(const Mesh& mesh, MeshFormat format, const std::string& path,
+                         bool create_directories, bool* output_failed) {
+  AtomicOutput output;
+  bool opened = false;
+  *output_failed = false;
+  const auto open = [&]() -> Status {
+    opened = true;
+    if (create_directories && path != "-") {
+      if (Status status = make_parent_directories(path); !status) return status;
+    }
+    return output.open(path, is_binary_format(format));
+  };
+  bool sink_failed = false;
+  Status status = write_mesh_to_sink(mesh, format, [&](std::string_view piece) -> Status {
+    Status written = opened ? Status::ok() : open();
+    if (written) written = output.write(piece);
+    sink_failed = !written;
+    return written;
+  });
+  if (status && !opened) {  // no piece: an empty file (no format makes one)
+    status = open();
+    sink_failed = !status;
+  }
+  if (!status) {
+    *output_failed = sink_failed;
+    return status;
+  }
+  status = output.commit();
+  *output_failed = !status;
+  return status;
+}
+
 std::string error_line(std::string_view tool, std::string_view file, std::string_view message) {
   std::string line(tool);
   line += ": ";

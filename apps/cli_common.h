@@ -34,6 +34,18 @@ ExitCode exit_code_for(ErrorCode code);
 // else is kExitCannotWrite.
 ExitCode exit_code_for_write(const Status& status);
 
+// Whether a mesh format's files are binary (PLY, STL, GLB): refused on a terminal.
+bool is_binary_format(MeshFormat format);
+
+// Writes mesh to path ("-": standard output) as format, whole or absent
+// (AtomicOutput), given to the file piece by piece as the writer makes it
+// (write_mesh_to_sink): the text of a large mesh is never whole in memory. The file, and with
+// create_directories the directories above it, are made at the first piece, so a mesh the
+// writer refuses leaves nothing behind. *output_failed: whether a failure was the output's
+// (exit_code_for_write()) rather than the mesh's (exit_code_for()).
+Status write_mesh_output(const Mesh& mesh, MeshFormat format, const std::string& path,
+                         bool create_directories, bool* output_failed);
+
 // "tool: file: message", with "(stdin)" for "-"; no newline.
 std::string error_line(std::string_view tool, std::string_view file, std::string_view message);
 

@@ -457,6 +457,30 @@ TEST(BadInput, MissingInputAndUnwritableOutput) {
   EXPECT_TRUE(listing(dir.path()).empty());
 }
 
+// pmdec gives a mesh to its file as the writer makes it (cli_common.h, write_mesh_output()):
+// an output that fails at its first byte (no such directory) or in the middle of the text
+// (the file size limit: `ulimit -f` counts 512-byte blocks, and with SIGXFSZ ignored write()
+// fails with EFBIG) leaves no file and no temporary, and exits with "cannot write".
+TEST(BadInput, PmdecOutputThatFailsLeavesNothing) {
+  TempDir dir;
+  std::string obj;  // 3,200 faces: about 150 KB of OBJ at full detail, 290 KB of PLY
+  ASSERT_TRUE(write_mesh_to_memory(test::seamed_grid(40), MeshFormat::kObj, obj).is_ok());
+  test::write_file(dir.file("grid.obj"), obj);
+  ASSERT_EQ(pmenc({dir.file("grid.obj"), "-o", dir.file("grid.pm"), "-q"}).exit_code, 0);
+  CommandResult r = pmdec({dir.file("grid.pm"), "-o", dir.file("no/such/dir/full.obj")});
+  EXPECT_EQ(r.exit_code, 5);
+  expect_one_line_error(r, "pmdec", dir.file("no/such/dir/full.obj"));
+  for (const char* name : {"full.obj", "full.ply"}) {
+    SCOPED_TRACE(name);
+    r = run_command({"/bin/sh", "-c", "trap '' XFSZ; ulimit -f 64; exec \"$0\" \"$@\"", PMDEC_PATH,
+                     dir.file("grid.pm"), "-o", dir.file(name)});
+    EXPECT_EQ(r.exit_code, 5);
+    expect_one_line_error(r, "pmdec", dir.file(name));
+    EXPECT_NE(r.err.find("cannot write output: File too large"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(listing(dir.path()), (std::vector<std::string>{"grid.obj", "grid.pm"}));
+}
+
 TEST(BadInput, TruncatedPmAtManyOffsetsFailsCleanly) {
   TempDir dir;
   ASSERT_EQ(

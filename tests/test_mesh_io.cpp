@@ -1195,6 +1195,133 @@ TEST(MeshWriter, RejectsInvalidMeshes) {
             ErrorCode::kUnsupportedFormat);
 }
 
+// write_mesh_to_sink(): the bytes of write_mesh_to_memory(), in pieces of a megabyte or so.
+namespace {
+
+struct Pieces {
+  std::string whole;
+  std::vector<std::size_t> sizes;
+  MeshByteSink sink() {
+    return [this](std::string_view piece) {
+      sizes.push_back(piece.size());
+      whole.append(piece);
+      return Status::ok();
+    };
+  }
+};
+
+const MeshFormat kEveryFormat[] = {MeshFormat::kObj, MeshFormat::kPly,  MeshFormat::kOff,
+                                   MeshFormat::kStl, MeshFormat::kGltf, MeshFormat::kGlb};
+
+// The pieces write_mesh_to_sink() gives, checked against write_mesh_to_memory()'s bytes; the
+// latter's size in *size.
+Pieces pieces_of(const Mesh& mesh, MeshFormat format, std::size_t* size) {
+  std::string expected;
+  EXPECT_TRUE(write_mesh_to_memory(mesh, format, expected).is_ok());
+  Pieces pieces;
+  EXPECT_TRUE(write_mesh_to_sink(mesh, format, pieces.sink()).is_ok());
+  // Not EXPECT_EQ: gtest's diff of two megabytes of text would take gigabytes.
+  EXPECT_TRUE(pieces.whole == expected)
+      << pieces.whole.size() << " bytes given, " << expected.size() << " written to memory";
+  *size = expected.size();
+  return pieces;
+}
+
+}  // namespace
+
+TEST(MeshWriterSink, GivesTheBytesOfMemoryInPieces) {
+  // 160 x 160: every attribute, and each format's text or binary above a megabyte (OBJ
+  // about 2.4 MB, STL 2.5 MB), so that each is given in several pieces.
+  const Mesh mesh = test::seamed_grid(160);
+  for (MeshFormat format : kEveryFormat) {
+    SCOPED_TRACE(mesh_format_name(format));
+    std::size_t size = 0;
+    const Pieces pieces = pieces_of(mesh, format, &size);
+    // A megabyte each but the last, or short of it by less than a line (text) or an element.
+    const std::size_t megabytes = (size + (std::size_t{1} << 20) - 1) >> 20;
+    EXPECT_GE(megabytes, 2u);
+    EXPECT_GE(pieces.sizes.size(), megabytes);
+    EXPECT_LE(pieces.sizes.size(), megabytes + 1);
+    for (std::size_t size : pieces.sizes) {
+      EXPECT_GT(size, 0u);
+      EXPECT_LE(size, std::size_t{1} << 20);
+    }
+  }
+}
+
+TEST(MeshWriterSink, GivesSmallMeshesInOnePieceAndEmptyOnesInNone) {
+  const Mesh mesh = test::seamed_grid(4);
+  for (MeshFormat format : kEveryFormat) {
+    SCOPED_TRACE(mesh_format_name(format));
+    std::size_t size = 0;
+    EXPECT_EQ(pieces_of(mesh, format, &size).sizes.size(), 1u);
+  }
+  Pieces empty;
+  ASSERT_TRUE(write_mesh_to_sink(Mesh(), MeshFormat::kObj, empty.sink()).is_ok());
+  EXPECT_TRUE(empty.sizes.empty()) << "an empty OBJ is no bytes: no piece, none empty";
+}
+
+TEST(MeshWriterSink, StopsAtTheSinksFailureAndReturnsIt) {
+  const Mesh mesh = test::seamed_grid(160);
+  for (MeshFormat format : kEveryFormat) {
+    SCOPED_TRACE(mesh_format_name(format));
+    int calls = 0;
+    const Status status = write_mesh_to_sink(mesh, format, [&](std::string_view) {
+      return ++calls == 2 ? Status(ErrorCode::kIoError, "disk full") : Status::ok();
+    });
+    EXPECT_EQ(status.code(), ErrorCode::kIoError);
+    EXPECT_EQ(status.message(), "disk full");
+    EXPECT_EQ(calls, 2) << "no piece after the failure";
+  }
+}
+
+TEST(MeshWriterSink, RefusesABadMeshBeforeAnyPiece) {
+  Mesh bad_index;
+  bad_index.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  bad_index.triangles = {0, 1, 3};
+  Mesh bad_name = test::seamed_grid(4);
+  bad_name.material_names[0] = "line\nbreak";  // would not read back as itself
+  for (MeshFormat format : kEveryFormat) {
+    SCOPED_TRACE(mesh_format_name(format));
+    int calls = 0;
+    const MeshByteSink counting = [&](std::string_view) {
+      ++calls;
+      return Status::ok();
+    };
+    const Status status = write_mesh_to_sink(bad_index, format, counting);
+    EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+    EXPECT_EQ(status.message(), "face 0 uses vertex 3 of 3");
+    if (format == MeshFormat::kObj || format == MeshFormat::kPly) {
+      std::string bytes;
+      const Status memory = write_mesh_to_memory(bad_name, format, bytes);
+      ASSERT_FALSE(memory.is_ok());
+      const Status sunk = write_mesh_to_sink(bad_name, format, counting);
+      EXPECT_EQ(sunk.code(), memory.code());
+      EXPECT_EQ(sunk.message(), memory.message());
+    }
+    EXPECT_EQ(calls, 0);
+  }
+  EXPECT_EQ(write_mesh_to_sink(Mesh(), MeshFormat::kUnknown, [](std::string_view) {
+              return Status::ok();
+            }).code(),
+            ErrorCode::kUnsupportedFormat);
+  EXPECT_EQ(write_mesh_to_sink(Mesh(), MeshFormat::kObj, MeshByteSink()).code(),
+            ErrorCode::kInvalidArgument);
+}
+
+TEST(MeshWriterSink, ASinksExceptionIsAStatus) {
+  const Mesh mesh = test::seamed_grid(4);
+  const Status thrown = write_mesh_to_sink(mesh, MeshFormat::kObj, [](std::string_view) -> Status {
+    throw std::runtime_error("the caller's bug");
+  });
+  EXPECT_EQ(thrown.code(), ErrorCode::kInternal);
+  const Status no_memory =
+      write_mesh_to_sink(mesh, MeshFormat::kPly, [](std::string_view) -> Status {
+        throw std::bad_alloc();
+      });
+  EXPECT_EQ(no_memory.code(), ErrorCode::kResourceLimit);
+}
+
 // ---------------------------------------------------------------------------------------
 // Formats, files
 // ---------------------------------------------------------------------------------------

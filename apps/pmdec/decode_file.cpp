@@ -163,8 +163,6 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     if (!written[i].output.empty()) {
       const std::string& output = written[i].output;
       const pm::MeshFormat format = output_format_for(output, settings.output_format);
-      std::string encoded;
-      pm::Status s;
       if (pm::cli::is_gltf(format)) {
         // Coarse to fine (pm/gltf.h): the finest is the level loaders without MSFT_lod show.
         gltf_levels.push_back({level, last});
@@ -173,21 +171,32 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                            [](const auto& a, const auto& b) { return a.first < b.first; });
           std::vector<pm::GltfLevel> chain;
           for (const auto& [chain_level, mesh] : gltf_levels) chain.push_back({&mesh, level_error(chain_level)});
-          s = pm::cli::encode_gltf_output(chain, format, output, settings.gltf, encoded);
+          std::string encoded;
+          pm::Status s = pm::cli::encode_gltf_output(chain, format, output, settings.gltf, encoded);
           gltf_levels.clear();
-        }
+          if (!s) {
+            outcome.error_file = output;
+            return failed(s);
+          }
+          s = settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
+          if (s) s = pm::cli::write_output_atomically(output, encoded, pm::cli::is_binary_format(format));
+          if (!s) {
+            outcome.status = s;
+            outcome.exit_code = pm::cli::exit_code_for_write(s);
+            outcome.error_file = output;
+            return outcome;
+          }
+        }  // else a level of a chain, written with the last
       } else {
-        s = pm::write_mesh_to_memory(last, format, encoded);
-      }
-      if (!s) {
-        outcome.error_file = output;
-        return failed(s);
-      }
-      const bool binary = format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl ||
-                          format == pm::MeshFormat::kGlb;
-      if (!encoded.empty()) {  // empty: a level of a chain, written with the last
-        s = settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
-        if (s) s = pm::cli::write_output_atomically(output, encoded, binary);
+        // Given to the file as it is made (write_mesh_output): the full detail of the
+        // 950,272-face textured mesh as OBJ, 111 MB of text, is never whole in memory.
+        bool output_failed = false;
+        const pm::Status s = pm::cli::write_mesh_output(last, format, output,
+                                                        settings.create_directories, &output_failed);
+        if (!s && !output_failed) {
+          outcome.error_file = output;
+          return failed(s);
+        }
         if (!s) {
           outcome.status = s;
           outcome.exit_code = pm::cli::exit_code_for_write(s);

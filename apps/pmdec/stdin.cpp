@@ -24,15 +24,13 @@ int decode_progressively(const Settings& settings, uint64_t every, const std::st
     std::string path = output;
     path.replace(path.find("{faces}"), 7, std::to_string(name_faces));
     const pm::MeshFormat format = output_format_for(path, settings.output_format);
-    std::string encoded;
-    pm::Status s = pm::write_mesh_to_memory(mesh, format, encoded);
-    if (s && settings.create_directories) s = pm::cli::make_parent_directories(path);
-    if (s) {
-      s = pm::cli::write_output_atomically(
-          path, encoded,
-          format == pm::MeshFormat::kPly || format == pm::MeshFormat::kStl || format == pm::MeshFormat::kGlb);
+    bool output_failed = false;
+    const pm::Status s = pm::cli::write_mesh_output(mesh, format, path,
+                                                    settings.create_directories, &output_failed);
+    if (!s) {
+      const int code = pm::cli::fail(kTool, path, s);
+      return output_failed ? static_cast<int>(pm::cli::exit_code_for_write(s)) : code;
     }
-    if (!s) return pm::cli::fail(kTool, path, s);
     if (!quiet)
       std::cerr << kTool << ": " << path << ": level " << level << ", " << mesh.face_count()
                 << " faces\n";

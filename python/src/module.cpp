@@ -83,6 +83,52 @@ pm::Status write_file_atomically(const std::string& path, const std::string& byt
   return pm::Status::ok();
 }
 
+// A mesh file written as pm::write_mesh_to_sink() gives its pieces (a large mesh's text never
+// whole in memory): a temporary beside path, made at the first piece, renamed into place
+// when whole and removed on any failure, as write_file_atomically()'s.
+pm::Status write_mesh_file_atomically(const std::string& path, const pm::Mesh& mesh,
+                                      pm::MeshFormat format) {
+  std::string temporary;
+  int fd = -1;
+  const auto fail = [&](int error) {
+    if (fd >= 0) ::close(fd), fd = -1;
+    if (!temporary.empty()) std::remove(temporary.c_str());
+    return pm::Status(pm::ErrorCode::kIoError, std::string("cannot write: ") + std::strerror(error));
+  };
+  const auto open = [&]() -> pm::Status {
+    temporary = path + ".tmp.XXXXXX";
+    fd = mkstemp(temporary.data());
+    if (fd < 0) {
+      const int error = errno;
+      temporary.clear();
+      return fail(error);
+    }
+    return pm::Status::ok();
+  };
+  pm::Status status = pm::write_mesh_to_sink(mesh, format, [&](std::string_view piece) -> pm::Status {
+    if (fd < 0) {
+      if (pm::Status opened = open(); !opened) return opened;
+    }
+    while (!piece.empty()) {
+      const ssize_t n = ::write(fd, piece.data(), piece.size());
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return fail(n < 0 ? errno : EIO);
+      piece.remove_prefix(std::size_t(n));
+    }
+    return pm::Status::ok();
+  });
+  if (status && fd < 0 && temporary.empty()) status = open();  // no piece: an empty file
+  if (!status) {
+    if (fd >= 0) fail(0);
+    return status;
+  }
+  const int closed = ::close(fd);
+  fd = -1;
+  if (closed != 0) return fail(errno);
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) return fail(errno);
+  return pm::Status::ok();
+}
+
 // A file's format: pm::MeshFormat's, or glTF (pm/gltf.h: binary .glb, text .gltf).
 struct FileFormat {
   pm::MeshFormat mesh = pm::MeshFormat::kUnknown;
@@ -153,9 +199,7 @@ void write(const std::filesystem::path& file, const Mesh& mesh, const std::optio
   pm::Status status;
   {
     py::gil_scoped_release release;
-    std::string bytes;
-    status = pm::write_mesh_to_memory(m, f.mesh, bytes);
-    if (status) status = write_file_atomically(path, bytes);
+    status = write_mesh_file_atomically(path, m, f.mesh);
   }
   throw_if_failed(status, path);
 }

@@ -138,6 +138,34 @@ def test_a_failed_write_leaves_no_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_write_that_fails_midway_leaves_no_file(tmp_path):
+    """pmesh.write gives the file its bytes a megabyte at a time (pm::write_mesh_to_sink): a
+    write that fails in the middle (here the file size limit, with SIGXFSZ ignored so that
+    write() returns EFBIG) raises, and leaves neither the file nor its temporary."""
+    import resource
+    import signal
+    n = 200  # a grid of 80,000 faces: about 2.5 MB of OBJ
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1))
+    positions = np.stack([i.ravel(), j.ravel(), np.zeros(i.size)], axis=1).astype(np.float32) / n
+    corner = (j[:-1, :-1] * (n + 1) + i[:-1, :-1]).ravel()
+    faces = np.concatenate([np.stack([corner, corner + 1, corner + n + 2], axis=1),
+                            np.stack([corner, corner + n + 2, corner + n + 1], axis=1)])
+    mesh = pmesh.Mesh(positions, faces.astype(np.uint32))
+    pmesh.write(tmp_path / "whole.obj", mesh)
+    assert (tmp_path / "whole.obj").stat().st_size > 2_000_000
+    limits = resource.getrlimit(resource.RLIMIT_FSIZE)
+    handler = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    try:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (1_500_000, limits[1]))
+        with pytest.raises(pmesh.Error) as error:
+            pmesh.write(tmp_path / "cut.obj", mesh)
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, limits)
+        signal.signal(signal.SIGXFSZ, handler)
+    assert error.value.code == "io-error" and "File too large" in error.value.message
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["whole.obj"]
+
+
 def face_rows(mesh):
     """Each face's corner positions, texture coordinates and colours as one row, rows sorted:
     the same faces in any order (glTF groups them by material)."""

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,5 +64,23 @@ std::vector<std::string> describe_read_report(const ReadReport& report);
 // material name that would not read back as itself (empty, control characters, blanks at
 // an end or in a library name, a '#' starting a comment).
 [[nodiscard]] Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& bytes);
+
+// Where write_mesh_to_sink() puts a mesh's serialization: called with its consecutive pieces,
+// in order, none empty, each a megabyte or so, viewing the writer's own buffer, valid only
+// during the call (copy what you keep). A sink that cannot take a piece returns the Status to
+// stop with (e.g. kIoError naming its file): the writer calls it no more and returns that
+// Status as it is. An exception out of the sink is kInternal (std::bad_alloc:
+// kResourceLimit), as if it had returned one.
+using MeshByteSink = std::function<Status(std::string_view piece)>;
+
+// write_mesh_to_memory(), given to `sink` piece by piece as it is made, so that the whole
+// text of a large mesh is never in memory (pmdec writes its outputs so): the same bytes and
+// the same errors. Every error of the mesh itself (what write_mesh_to_memory() refuses) comes
+// before the first piece, so the sink sees nothing of a mesh that cannot be written; after a
+// sink's error, what it was given is incomplete, for the caller to throw away. glTF is made
+// whole first (its JSON names its buffer's length), then given out in pieces. An empty
+// `sink` is kInvalidArgument.
+[[nodiscard]] Status write_mesh_to_sink(const Mesh& mesh, MeshFormat format,
+                                        const MeshByteSink& sink);
 
 }  // namespace pm

@@ -18,7 +18,9 @@
 //  * STL: no attributes; the facet normal is derived from the corners.
 //  * glTF (.glb binary, .gltf with its buffer inline): one level, gltf_writer.cpp.
 //
-// Everything is appended to one std::string reserved up front; floats are printed with
+// Everything is appended to one std::string reserved up front (write_mesh_to_memory), or to a
+// buffer of about a megabyte given to the caller's sink each time it fills
+// (write_mesh_to_sink: the same bytes, never the whole text in memory); floats are printed with
 // std::to_chars (shortest text that reads back to the same float32 bits, locale-independent),
 // and binary values are stored byte by byte in little-endian order whatever the host's.
 
@@ -42,26 +44,53 @@
 namespace pm {
 namespace {
 
+// A piece given to a sink (write_mesh_to_sink): a megabyte, so that a large mesh's text is
+// never whole in memory (pmdec writing the 950,272-face textured mesh at full detail as OBJ
+// held its 111 MB of text beside the mesh).
+constexpr std::size_t kSinkPiece = std::size_t{1} << 20;
+
+// What a sink's failure unwinds with, up to write_mesh_to_sink(): the writers' loops stop at
+// once, with nothing of theirs to undo (they hold no state outside their builder).
+struct SinkFailed {
+  Status status;
+};
+
 // Appends characters at a raw cursor: no per-call size bookkeeping in the hot loops. The
-// caller guarantees capacity with ensure(), which makes room for the next write.
+// caller guarantees capacity with ensure(), which makes room for the next write. With a sink,
+// `out` is a buffer of about kSinkPiece whose bytes go to the sink when ensure() finds it
+// full, and at finish().
 class TextBuilder {
  public:
-  explicit TextBuilder(std::string& out) : out_(out) {}
+  explicit TextBuilder(std::string& out, const MeshByteSink* sink = nullptr)
+      : out_(out), sink_(sink) {}
 
   void ensure(std::size_t bytes) {
     if (static_cast<std::size_t>(end_ - cursor_) >= bytes) return;
+    if (sink_ != nullptr) {
+      flush();
+      if (static_cast<std::size_t>(end_ - cursor_) >= bytes) return;
+    }
     const std::size_t used = size();
-    out_.resize(std::max(out_.size() * 2, used + bytes + 4096));
+    const std::size_t grown = sink_ != nullptr ? std::max(kSinkPiece, used + bytes)
+                                               : std::max(out_.size() * 2, used + bytes + 4096);
+    out_.resize(grown);
     cursor_ = out_.data() + used;
     end_ = out_.data() + out_.size();
   }
+  // `expected`: about the whole output's size (the buffer's, with a sink: at most a piece).
   void begin(std::size_t expected) {
     out_.clear();
-    out_.resize(expected);
+    out_.resize(sink_ != nullptr ? std::min(expected, kSinkPiece) : expected);
     cursor_ = out_.data();
     end_ = cursor_ + out_.size();
   }
-  void finish() { out_.resize(size()); }
+  void finish() {
+    if (sink_ != nullptr) {
+      flush();
+    } else {
+      out_.resize(size());
+    }
+  }
 
   void put(char c) { *cursor_++ = c; }
   void put(std::string_view text) {
@@ -104,8 +133,23 @@ class TextBuilder {
 
  private:
   std::size_t size() const { return static_cast<std::size_t>(cursor_ - out_.data()); }
+  // The bytes so far to the sink (none when there are none); a failure unwinds.
+  void flush() {
+    if (size() == 0) return;
+    Status status;
+    try {
+      status = (*sink_)(std::string_view(out_.data(), size()));
+    } catch (const std::bad_alloc&) {
+      throw;  // no_throw()'s: out of memory
+    } catch (...) {
+      status = Status(ErrorCode::kInternal, "the output's sink threw an exception");
+    }
+    cursor_ = out_.data();
+    if (!status) throw SinkFailed{std::move(status)};
+  }
 
   std::string& out_;
+  const MeshByteSink* sink_;
   char* cursor_ = nullptr;
   char* end_ = nullptr;
 };
@@ -263,9 +307,8 @@ std::size_t obj_size_estimate(const Mesh& mesh) {
          mesh.face_count() * (2 + 3 * corner) + 64;
 }
 
-Status write_obj(const Mesh& mesh, std::string& bytes) {
+Status write_obj(const Mesh& mesh, TextBuilder& out) {
   if (Status status = check_names(mesh); !status) return status;
-  TextBuilder out(bytes);
   out.begin(obj_size_estimate(mesh));
   if (!mesh.material_libraries.empty()) {
     // One line: readers that follow the spec split it into names, the others (some take the
@@ -430,7 +473,7 @@ OffVertices split_for_off(const Mesh& mesh, bool with_uvs, bool with_normals) {
   return out;
 }
 
-Status write_off(const Mesh& mesh, std::string& bytes) {
+Status write_off(const Mesh& mesh, TextBuilder& out) {
   const bool with_colors = mesh.has_colors();
   const bool with_uvs = mesh.has_uvs();
   const bool with_normals = mesh.has_normals();
@@ -440,13 +483,13 @@ Status write_off(const Mesh& mesh, std::string& bytes) {
   }
   const bool byte_colors = with_colors && colors_are_bytes(mesh.colors);
   const std::size_t components = mesh.color_components;
-  TextBuilder out(bytes);
   // As obj_size_estimate: 13 characters a value, face lines bounded by their digits.
   const std::size_t values_per_vertex =
       3 + (with_normals ? 3 : 0) + (with_colors ? components : 0) + (with_uvs ? 2 : 0);
   out.begin(vertices.source.size() * (1 + values_per_vertex * 13) +
             mesh.face_count() * (3 + 3 * (1 + decimal_digits(vertices.source.size()))) + 64);
   // Geomview's keyword: [ST][C][N]OFF, the vertex fields in the order N, C, ST.
+  out.ensure(8 + 2 * (kMaxIndexChars + 1) + 3);
   if (with_uvs) out.put("ST");
   if (with_colors) out.put('C');
   if (with_normals) out.put('N');
@@ -516,7 +559,7 @@ Status write_off(const Mesh& mesh, std::string& bytes) {
 // ---------------------------------------------------------------------------------------
 // PLY
 
-Status write_ply(const Mesh& mesh, std::string& bytes) {
+Status write_ply(const Mesh& mesh, TextBuilder& out) {
   // PLY "int" indices are signed 32-bit.
   if (mesh.vertex_count() > static_cast<std::size_t>(std::numeric_limits<int32_t>::max())) {
     return Status(ErrorCode::kResourceLimit, "too many vertices for ply int indices");
@@ -568,8 +611,8 @@ Status write_ply(const Mesh& mesh, std::string& bytes) {
   const std::size_t face_size = 13 + (with_uvs && !uvs_per_vertex ? 25 : 0) +
                                 (with_normals && !normals_per_vertex ? 37 : 0) +
                                 (with_materials ? 4 : 0);
-  TextBuilder out(bytes);
   out.begin(header.size() + mesh.vertex_count() * vertex_size + mesh.face_count() * face_size);
+  out.ensure(header.size());
   out.put(header);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float zeros[3] = {0.0f, 0.0f, 0.0f};
@@ -580,6 +623,7 @@ Status write_ply(const Mesh& mesh, std::string& bytes) {
     for (uint32_t v : mesh.triangles) used[v] = true;
   }
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    out.ensure(vertex_size);  // a no-op but with a sink: begin() reserved it all
     for (int k = 0; k < 3; ++k) out.put_f32(mesh.positions[3 * v + k]);
     for (uint32_t k = 0; k < mesh.color_components; ++k) {
       const float value = mesh.colors[mesh.color_components * v + k];
@@ -621,6 +665,7 @@ Status write_ply(const Mesh& mesh, std::string& bytes) {
   };
   const uint32_t* t = mesh.triangles.data();
   for (std::size_t f = 0; f < mesh.face_count(); ++f, t += 3) {
+    out.ensure(face_size);
     out.put_u8(3);
     out.put_u32(t[0]);
     out.put_u32(t[1]);
@@ -637,12 +682,12 @@ Status write_ply(const Mesh& mesh, std::string& bytes) {
   return Status::ok();
 }
 
-Status write_stl(const Mesh& mesh, std::string& bytes) {
+Status write_stl(const Mesh& mesh, TextBuilder& out) {
   if (mesh.face_count() > std::numeric_limits<uint32_t>::max()) {
     return Status(ErrorCode::kResourceLimit, "too many faces for binary stl");
   }
-  TextBuilder out(bytes);
   out.begin(84 + mesh.face_count() * 50);
+  out.ensure(84);
   // The header must not start with "solid", which would make readers take it for ASCII STL.
   std::string header = "binary stl written by pm";
   header.resize(80, ' ');
@@ -651,6 +696,7 @@ Status write_stl(const Mesh& mesh, std::string& bytes) {
   const float* positions = mesh.positions.data();
   const uint32_t* t = mesh.triangles.data();
   for (std::size_t f = 0; f < mesh.face_count(); ++f, t += 3) {
+    out.ensure(50);
     const float* a = positions + 3 * std::size_t{t[0]};
     const float* b = positions + 3 * std::size_t{t[1]};
     const float* c = positions + 3 * std::size_t{t[2]};
@@ -677,32 +723,68 @@ Status write_stl(const Mesh& mesh, std::string& bytes) {
 
 }  // namespace
 
+namespace {
+
+// The serialization of `mesh` into `out` (write_mesh_to_memory's and write_mesh_to_sink's);
+// glTF straight into `whole` when it is not null (write_mesh_to_memory's string).
+Status write_mesh_with(const Mesh& mesh, MeshFormat format, TextBuilder& out,
+                       std::string* whole) {
+  if (format == MeshFormat::kUnknown) {
+    return Status(ErrorCode::kUnsupportedFormat,
+                  "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
+  }
+  if (Status status = validate(mesh); !status) return status;
+  switch (format) {
+    case MeshFormat::kObj:
+      return write_obj(mesh, out);
+    case MeshFormat::kOff:
+      return write_off(mesh, out);
+    case MeshFormat::kPly:
+      return write_ply(mesh, out);
+    case MeshFormat::kStl:
+      return write_stl(mesh, out);
+    case MeshFormat::kGltf:
+    case MeshFormat::kGlb: {
+      GltfWriteOptions options;
+      options.binary = format == MeshFormat::kGlb;
+      if (whole != nullptr) return write_gltf({{&mesh, 0}}, options, *whole);
+      // Whole first (its JSON names the buffer's length), then given out as the others are.
+      std::string gltf;
+      if (Status status = write_gltf({{&mesh, 0}}, options, gltf); !status) return status;
+      out.begin(0);
+      for (std::size_t at = 0; at < gltf.size(); at += kSinkPiece) {
+        const std::size_t piece = std::min(kSinkPiece, gltf.size() - at);
+        out.ensure(piece);
+        out.put(std::string_view(gltf).substr(at, piece));
+      }
+      out.finish();
+      return Status::ok();
+    }
+    case MeshFormat::kUnknown:
+      break;
+  }
+  return Status(ErrorCode::kInternal, "unhandled mesh format");
+}
+
+}  // namespace
+
 Status write_mesh_to_memory(const Mesh& mesh, MeshFormat format, std::string& bytes) {
   return detail::no_throw([&]() -> Status {
-    if (format == MeshFormat::kUnknown) {
-      return Status(ErrorCode::kUnsupportedFormat,
-                    "unknown mesh format (use .obj .ply .off .stl .gltf .glb)");
+    TextBuilder out(bytes);
+    return write_mesh_with(mesh, format, out, &bytes);
+  });
+}
+
+Status write_mesh_to_sink(const Mesh& mesh, MeshFormat format, const MeshByteSink& sink) {
+  return detail::no_throw([&]() -> Status {
+    if (!sink) return Status(ErrorCode::kInvalidArgument, "no sink to write the mesh to");
+    std::string buffer;
+    TextBuilder out(buffer, &sink);
+    try {
+      return write_mesh_with(mesh, format, out, nullptr);
+    } catch (SinkFailed& failed) {
+      return std::move(failed.status);
     }
-    if (Status status = validate(mesh); !status) return status;
-    switch (format) {
-      case MeshFormat::kObj:
-        return write_obj(mesh, bytes);
-      case MeshFormat::kOff:
-        return write_off(mesh, bytes);
-      case MeshFormat::kPly:
-        return write_ply(mesh, bytes);
-      case MeshFormat::kStl:
-        return write_stl(mesh, bytes);
-      case MeshFormat::kGltf:
-      case MeshFormat::kGlb: {
-        GltfWriteOptions options;
-        options.binary = format == MeshFormat::kGlb;
-        return write_gltf({{&mesh, 0}}, options, bytes);
-      }
-      case MeshFormat::kUnknown:
-        break;
-    }
-    return Status(ErrorCode::kInternal, "unhandled mesh format");
   });
 }
 
