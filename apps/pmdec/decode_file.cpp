@@ -136,10 +136,15 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
                                       progress, levels[i]);
           !s)
         return failed(s);
-    pm::extract_levels(progressive, levels, [&](std::size_t level, const pm::Mesh& mesh) {
-      for (std::size_t i = 0; i < levels.size(); ++i)
-        if (levels[i] == level) meshes[i] = mesh;
-    });
+    if (levels.size() == 1) {
+      // One level (the usual request): the walker's mesh itself, not a copy of it beside it.
+      meshes[0] = pm::extract_level(progressive, levels[0]);
+    } else {
+      pm::extract_levels(progressive, levels, [&](std::size_t level, const pm::Mesh& mesh) {
+        for (std::size_t i = 0; i < levels.size(); ++i)
+          if (levels[i] == level) meshes[i] = mesh;
+      });
+    }
   }
 
   // The error bound of a level; the last level of a prefix has the index's (it is not full
