@@ -168,6 +168,9 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
     if (!written[i].output.empty()) {
       const std::string& output = written[i].output;
       const pm::MeshFormat format = output_format_for(output, settings.output_format);
+      // A failure of the mesh's own (exit_code_for()) or of the output (exit_code_for_write()).
+      pm::Status s;
+      bool output_failed = false;
       if (pm::cli::is_gltf(format)) {
         // Coarse to fine (pm/gltf.h): the finest is the level loaders without MSFT_lod show.
         gltf_levels.push_back({level, last});
@@ -177,37 +180,26 @@ pm::cli::Outcome decode_file(const pm::cli::Task& task, pm::cli::JobProgress& pr
           std::vector<pm::GltfLevel> chain;
           for (const auto& [chain_level, mesh] : gltf_levels) chain.push_back({&mesh, level_error(chain_level)});
           std::string encoded;
-          pm::Status s = pm::cli::encode_gltf_output(chain, format, output, settings.gltf, encoded);
+          s = pm::cli::encode_gltf_output(chain, format, output, settings.gltf, encoded);
           gltf_levels.clear();
-          if (!s) {
-            outcome.error_file = output;
-            return failed(s);
-          }
-          s = settings.create_directories ? pm::cli::make_parent_directories(output) : pm::Status::ok();
-          if (s) s = pm::cli::write_output_atomically(output, encoded, pm::cli::is_binary_format(format));
-          if (!s) {
-            outcome.status = s;
-            outcome.exit_code = pm::cli::exit_code_for_write(s);
-            outcome.error_file = output;
-            return outcome;
+          if (s) {
+            output_failed = true;
+            if (settings.create_directories) s = pm::cli::make_parent_directories(output);
+            if (s) s = pm::cli::write_output_atomically(output, encoded, pm::cli::is_binary_format(format));
           }
         }  // else a level of a chain, written with the last
       } else {
         // Given to the file as it is made (write_mesh_output): the full detail of the
         // 950,272-face textured mesh as OBJ, 111 MB of text, is never whole in memory.
-        bool output_failed = false;
-        const pm::Status s = pm::cli::write_mesh_output(last, format, output,
-                                                        settings.create_directories, &output_failed);
-        if (!s && !output_failed) {
-          outcome.error_file = output;
-          return failed(s);
-        }
-        if (!s) {
-          outcome.status = s;
-          outcome.exit_code = pm::cli::exit_code_for_write(s);
-          outcome.error_file = output;
-          return outcome;
-        }
+        s = pm::cli::write_mesh_output(last, format, output, settings.create_directories,
+                                       &output_failed);
+      }
+      if (!s) {
+        outcome.error_file = output;
+        if (!output_failed) return failed(s);
+        outcome.status = s;
+        outcome.exit_code = pm::cli::exit_code_for_write(s);
+        return outcome;
       }
     }
     written[i].written = true;

@@ -60,73 +60,80 @@ pm::Status read_file(const std::string& path, std::string& bytes) {
   return pm::Status::ok();
 }
 
-// Writes through a temporary file in the same directory, renamed at the end, so that a
-// failure never leaves a partial file at `path` (as the tools do).
+// A file written through a temporary in the same directory, renamed at the end, so that a
+// failure never leaves a partial file at `path` (as the tools do). Destroyed before commit(),
+// or after a failed write(), it removes the temporary.
+class TemporaryFile {
+ public:
+  explicit TemporaryFile(std::string path) : path_(std::move(path)) {}
+  TemporaryFile(const TemporaryFile&) = delete;
+  TemporaryFile& operator=(const TemporaryFile&) = delete;
+  ~TemporaryFile() { discard(); }
+
+  bool opened() const { return fd_ >= 0; }
+  pm::Status open() {
+    temporary_ = path_ + ".tmp.XXXXXX";
+    fd_ = mkstemp(temporary_.data());
+    if (fd_ < 0) {
+      temporary_.clear();
+      return error(errno);
+    }
+    return pm::Status::ok();
+  }
+  pm::Status write(std::string_view bytes) {
+    while (!bytes.empty()) {
+      const ssize_t n = ::write(fd_, bytes.data(), bytes.size());
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return fail(n < 0 ? errno : EIO);
+      bytes.remove_prefix(std::size_t(n));
+    }
+    return pm::Status::ok();
+  }
+  pm::Status commit() {
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0 || std::rename(temporary_.c_str(), path_.c_str()) != 0)
+      return fail(errno);
+    temporary_.clear();
+    return pm::Status::ok();
+  }
+
+ private:
+  static pm::Status error(int number) {
+    return pm::Status(pm::ErrorCode::kIoError, std::string("cannot write: ") + std::strerror(number));
+  }
+  void discard() {
+    if (fd_ >= 0) ::close(fd_), fd_ = -1;
+    if (!temporary_.empty()) std::remove(temporary_.c_str()), temporary_.clear();
+  }
+  pm::Status fail(int number) {
+    discard();
+    return error(number);
+  }
+
+  std::string path_, temporary_;
+  int fd_ = -1;
+};
+
 pm::Status write_file_atomically(const std::string& path, const std::string& bytes) {
-  std::string temporary = path + ".tmp.XXXXXX";
-  const int fd = mkstemp(temporary.data());
-  if (fd < 0) return pm::Status(pm::ErrorCode::kIoError, std::string("cannot write: ") + std::strerror(errno));
-  std::size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    written += std::size_t(n);
-  }
-  const int saved = errno;
-  const bool ok = written == bytes.size() && ::close(fd) == 0;
-  if (!ok || std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    return pm::Status(pm::ErrorCode::kIoError,
-                      std::string("cannot write: ") + std::strerror(ok ? errno : saved));
-  }
-  return pm::Status::ok();
+  TemporaryFile file(path);
+  pm::Status status = file.open();
+  if (status) status = file.write(bytes);
+  return status ? file.commit() : status;
 }
 
 // A mesh file written as pm::write_mesh_to_sink() gives its pieces (a large mesh's text never
-// whole in memory): a temporary beside path, made at the first piece, renamed into place
-// when whole and removed on any failure, as write_file_atomically()'s.
+// whole in memory), the temporary made at the first piece: a mesh the writer refuses leaves
+// nothing.
 pm::Status write_mesh_file_atomically(const std::string& path, const pm::Mesh& mesh,
                                       pm::MeshFormat format) {
-  std::string temporary;
-  int fd = -1;
-  const auto fail = [&](int error) {
-    if (fd >= 0) ::close(fd), fd = -1;
-    if (!temporary.empty()) std::remove(temporary.c_str());
-    return pm::Status(pm::ErrorCode::kIoError, std::string("cannot write: ") + std::strerror(error));
-  };
-  const auto open = [&]() -> pm::Status {
-    temporary = path + ".tmp.XXXXXX";
-    fd = mkstemp(temporary.data());
-    if (fd < 0) {
-      const int error = errno;
-      temporary.clear();
-      return fail(error);
-    }
-    return pm::Status::ok();
-  };
-  pm::Status status = pm::write_mesh_to_sink(mesh, format, [&](std::string_view piece) -> pm::Status {
-    if (fd < 0) {
-      if (pm::Status opened = open(); !opened) return opened;
-    }
-    while (!piece.empty()) {
-      const ssize_t n = ::write(fd, piece.data(), piece.size());
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return fail(n < 0 ? errno : EIO);
-      piece.remove_prefix(std::size_t(n));
-    }
-    return pm::Status::ok();
+  TemporaryFile file(path);
+  pm::Status status = pm::write_mesh_to_sink(mesh, format, [&](std::string_view piece) {
+    pm::Status opened = file.opened() ? pm::Status::ok() : file.open();
+    return opened ? file.write(piece) : opened;
   });
-  if (status && fd < 0 && temporary.empty()) status = open();  // no piece: an empty file
-  if (!status) {
-    if (fd >= 0) fail(0);
-    return status;
-  }
-  const int closed = ::close(fd);
-  fd = -1;
-  if (closed != 0) return fail(errno);
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) return fail(errno);
-  return pm::Status::ok();
+  if (status && !file.opened()) status = file.open();  // no piece: an empty file
+  return status ? file.commit() : status;
 }
 
 // A file's format: pm::MeshFormat's, or glTF (pm/gltf.h: binary .glb, text .gltf).
