@@ -260,6 +260,46 @@ TEST(TrackedPoints, EachPointGoesOntoTheFrontOfItsFacesList) {
   EXPECT_EQ(record, 0.3 - double{0.27f});
 }
 
+// A collapse that moves at least as many points as its fan has faces screens them by each
+// face's plane first (move()): a point whose foot falls inside the face it was on stays there
+// when its height is within `settled`. The screen must not keep a point whose height is
+// within `settled` but whose foot falls outside the face: its distance to the face is more.
+TEST(TrackedPoints, APointBesideItsFaceIsNotKeptByItsHeight) {
+  const std::vector<FanFace> fan = disc();  // face kFanFace spans 0 to 45 degrees
+  const double settled = 0.12, to_radians = 6.283185307179586 / 360;
+  std::vector<float> xyz;
+  const auto add = [&](double degrees, double radius, double height) {
+    xyz.insert(xyz.end(), {static_cast<float>(radius * std::cos(degrees * to_radians)),
+                           static_cast<float>(radius * std::sin(degrees * to_radians)),
+                           static_cast<float>(height)});
+  };
+  for (int i = 0; i < 10; ++i) add(5 + 3.5 * i, 0.3 + 0.05 * i, 0.01 * i);  // 0-9: above it
+  add(20, 1.3, 0.05);   // 10: beyond the disc's rim, 0.38 from kFanFace
+  add(60, 0.5, 0.1);    // 11: above the next face, 0.163 from kFanFace
+  add(30, 0.5, 0.11);   // 12: above it, within `settled`
+  add(10, 0.2, 0.0);    // 13: the vertex collapsed
+  const auto n = static_cast<uint32_t>(xyz.size() / 3);
+  TrackedPoints tracked;
+  tracked.reset(kTurnedFanFace, n, xyz.data());
+  TrackedPoints::Scratch scratch;
+  for (uint32_t x = 0; x + 1 < n; ++x) {  // every point on kFanFace
+    const uint32_t none[] = {kEmpty};
+    tracked.collapse(x, none, 1, &fan[0], 1, 0.0, scratch);
+  }
+  const uint32_t old_faces[] = {kFanFace};
+  const double record = tracked.collapse(n - 1, old_faces, 1, fan.data(), kSpokes, settled, scratch);
+  std::vector<uint32_t> on_face = tracked.points_on(kFanFace);
+  std::sort(on_face.begin(), on_face.end());
+  // The list's last point moves first: 11 before 10, whose distance, once the largest so
+  // far, would keep 11 where it was.
+  EXPECT_EQ(on_face, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 13}));
+  EXPECT_EQ(tracked.points_on(kFanFace + 1), std::vector<uint32_t>{11});
+  // Point 10 stays on its nearest face, beyond `settled`: the record.
+  const Vec3 far(xyz[30], xyz[31], xyz[32]);
+  EXPECT_EQ(record, point_triangle_distance(far, fan[0].a, fan[0].b, fan[0].c));
+  EXPECT_GT(record, 0.37);
+}
+
 // The collapses of the test below: kHolder's points onto the disc, then back and forth between
 // the disc and the disc turned, each time every point and a vertex more (kPoints + i). Each
 // collapse's record, and the lists at the end.
