@@ -187,7 +187,14 @@ void CollapseLoop::run_rounds() {
   // targets from 5% to 0.5% 0.96 to 1.00). With the measure, whose time is
   // the distances' arithmetic, not memory, eight (the textured mesh on two threads, 9.27
   // s with 8, 9.64 with 10), which keeps its sequence on meshes of fewer vertices than that.
-  constexpr std::size_t kRegionVertices = 50000;
+  // 12,500 since 2026-12-02 (the state about 2.5 MB): one thread, alternating runs, the
+  // sequence on nefertiti after two Loop steps 3.51 -> 3.14 s (medians of 7; 25,000: 3.29,
+  // 6,250: 3.33), the bunny after three 10.2 -> 8.5 s (medians of 3; 25,000: 9.2), the
+  // textured mesh 3.72 -> 3.67 s. Their levels a little farther from the input: RMS at 50%,
+  // 10% and 2% 1.056, 1.035, 1.004 times on nefertiti and 1.059, 1.054, 1.000 times on the
+  // bunny (Hausdorff 1.27, 1.02, 0.99 and 1.05, 1.00, 1.00), still 0.09 to 0.71 times
+  // meshopt_simplify's RMS (tests/bench/README.md has 25,000's, halfway on both sides).
+  constexpr std::size_t kRegionVertices = 12500;
   const std::size_t first_regions =
       measure_ ? kRegions : std::max(kRegions, (n + kRegionVertices - 1) / kRegionVertices);
   // At the end, one region per thread (below).
