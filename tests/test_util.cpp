@@ -581,8 +581,14 @@ CommandResult run_command(const std::vector<std::string>& argv, const std::strin
 }
 
 TempDir::TempDir() {
+  // TMPDIR as a user or a CI runner sets it, perhaps relative or with a trailing slash
+  // ("/tmp/"): made absolute and lexically normal, so that paths built on path() read as the
+  // tools print them ("/tmp//pm_test_x/a.pm" would not).
   const char* base = std::getenv("TMPDIR");
-  std::string pattern = std::string(base && *base ? base : "/tmp") + "/pm_test_XXXXXX";
+  std::string directory =
+      fs::absolute(fs::path(base && *base ? base : "/tmp")).lexically_normal().string();
+  while (directory.size() > 1 && directory.back() == '/') directory.pop_back();
+  std::string pattern = directory + "/pm_test_XXXXXX";
   if (::mkdtemp(pattern.data()) == nullptr) throw_errno("mkdtemp " + pattern);
   path_ = pattern;
 }
