@@ -21,8 +21,6 @@ void TrackedPoints::reset(std::size_t n_faces, std::size_t n_vertices, const flo
   detail::assign_preferring_huge_pages(next_, n_vertices, kNone);
 }
 
-namespace {
-
 // A fan face's plane and its barycentric frame, made once a collapse (when it moves at least
 // as many points as the fan has faces): a point whose foot on the plane falls strictly inside
 // the triangle is at its height from it, which a few dot products give and no division
@@ -33,8 +31,9 @@ namespace {
 // one thread, medians of 9 alternating runs: 2.91 -> 2.68 s; the same .pm files from the
 // shared meshes, the 950,272-face textured mesh and the Loop mesh, with the measure and
 // without (block_features.obj without the measure: 100 records of a flat block 2.2e-16
-// where they were 4.4e-16, both the rounding of a distance 0).
-struct PlaneScreen {
+// where they were 4.4e-16, both the rounding of a distance 0). Made once in collapse() and
+// read by each of its parts (every 256 points, on either thread).
+struct TrackedPoints::PlaneScreen {
   Vec3 a, e1, e2, normal;
   double g11, g12, g22, det, inverse_normal2;
   static PlaneScreen make(const KeptPoints::FanFace& face) {
@@ -66,11 +65,10 @@ struct PlaneScreen {
   }
 };
 
-}  // namespace
-
 template <typename Push>
 double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan,
-                           int n_fan, double settled, uint8_t* lost, Push push) {
+                           int n_fan, const PlaneScreen* screens, double settled, uint8_t* lost,
+                           Push push) {
   // Their positions, asked for all at once: the points of a face are far apart in memory.
   for (std::size_t i = 0; i < count; ++i) __builtin_prefetch(xyz_ + 3 * std::size_t{pairs[2 * i]});
   // The first face within `settled`, or within the largest distance so far of this part's
@@ -78,12 +76,6 @@ double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptP
   // record holds anyway. With the second, nefertiti after two Loop steps without the
   // measure, one thread, medians of 5 alternating runs: 2.38 -> 2.30 s.
   double farthest = 0, stop = settled, stop2 = square_surely_within(settled);
-  constexpr int kMaxScreens = 2 * kMaxOldFaces;  // the loop's fans are at most this
-  PlaneScreen screens[kMaxScreens];
-  const bool screened =
-      stop2 > 0 && n_fan <= kMaxScreens && count >= static_cast<std::size_t>(n_fan);
-  if (screened)
-    for (int i = 0; i < n_fan; ++i) screens[i] = PlaneScreen::make(fan[i]);
   for (std::size_t i = 0; i < count; ++i) {
     const uint32_t x = pairs[2 * i];
     const float* p = xyz_ + 3 * std::size_t{x};
@@ -91,7 +83,7 @@ double TrackedPoints::move(const uint32_t* pairs, std::size_t count, const KeptP
     const int hint = pairs[2 * i + 1] == kNone ? -1 : static_cast<int>(pairs[2 * i + 1]);
     int at = hint;
     double d2 = HUGE_VAL;
-    if (screened && hint >= 0 && screens[hint].surely_within(position, stop2)) {
+    if (screens && hint >= 0 && screens[hint].surely_within(position, stop2)) {
       push(at, x);
       continue;
     }
@@ -156,6 +148,17 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
   }
   if (n_fan == 0) return HUGE_VAL;  // nowhere to go: no finite record bounds them
   const std::size_t n = points.size() / 2;
+  // The fan's screens, made once for every part: only where the points are at least as many
+  // as the fan's faces (else the frames cost more than the distances they save) and `settled`
+  // lets a point stay (screens test against its square).
+  constexpr int kMaxScreens = 2 * kMaxOldFaces;  // the loop's fans are at most this
+  PlaneScreen screen_storage[kMaxScreens];
+  const PlaneScreen* screens = nullptr;
+  if (square_surely_within(settled) > 0 && n_fan <= kMaxScreens &&
+      n >= static_cast<std::size_t>(n_fan)) {
+    for (int i = 0; i < n_fan; ++i) screen_storage[i] = PlaneScreen::make(fan[i]);
+    screens = screen_storage;
+  }
   const std::size_t parts = n < 2 * kPartPoints ? 1 : (n + kPartPoints - 1) / kPartPoints;
   if (parts == 1) {
     // One part, in turn: each point straight onto the front of its face's list, as the
@@ -163,7 +166,7 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
     // points each, where the part's lists and their joining were a tenth of the tracking).
     uint8_t lost = 0;
     const double farthest =
-        move(points.data(), n, fan, n_fan, settled, &lost, [&](int at, uint32_t x) {
+        move(points.data(), n, fan, n_fan, screens, settled, &lost, [&](int at, uint32_t x) {
           uint32_t& head = head_[fan[at].face];
           next_[x] = head;
           head = x;
@@ -181,7 +184,7 @@ double TrackedPoints::collapse(uint32_t v, const uint32_t* old_faces, int n_old,
     const std::size_t begin = j * part_size, end = std::min(n, begin + part_size);
     uint32_t* heads = &scratch.lists[2 * j * fan_size];
     uint32_t* tails = heads + fan_size;
-    scratch.farthest[j] = move(&points[2 * begin], end - begin, fan, n_fan, settled,
+    scratch.farthest[j] = move(&points[2 * begin], end - begin, fan, n_fan, screens, settled,
                                &scratch.lost[j], [&](int at, uint32_t x) {
                                  if (heads[at] == kNone) tails[at] = x;
                                  next_[x] = heads[at];

@@ -141,9 +141,13 @@ class TrackedPoints {
   // for a collapse in one part; else the part's, to be joined). Returns their largest
   // distance to their new faces, leaving out those within `settled` (collapse()'s result);
   // *lost when a point found no face.
+  // `screens`: the fan faces' planes and frames (tracked_points.cpp), made once per collapse
+  // and read by every part; nullptr where the collapse moves fewer points than its fan has
+  // faces, or settles nothing.
+  struct PlaneScreen;
   template <typename Push>
   double move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan, int n_fan,
-              double settled, uint8_t* lost, Push push);
+              const PlaneScreen* screens, double settled, uint8_t* lost, Push push);
   std::vector<uint32_t> head_;  // per face: its first point, kNone when it holds none
   std::vector<uint32_t> next_;  // per vertex: the next point on its face's list
   const float* xyz_ = nullptr;
