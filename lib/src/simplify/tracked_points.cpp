@@ -21,8 +21,9 @@ void TrackedPoints::reset(std::size_t n_faces, std::size_t n_vertices, const flo
   detail::assign_preferring_huge_pages(next_, n_vertices, kNone);
 }
 
-// A fan face's plane and its barycentric frame, made once a collapse (when it moves at least
-// as many points as the fan has faces): a point whose foot on the plane falls strictly inside
+// A fan face's plane and its barycentric frame, made once a collapse by collapse() (when it
+// moves at least as many points as the fan has faces) and read by each of its parts (every
+// 256 points, on either thread): a point whose foot on the plane falls strictly inside
 // the triangle is at its height from it, which a few dot products give and no division
 // (Ericson 2005, "Real-Time Collision Detection", §3.4: the foot's barycentric coordinates
 // by Cramer's rule on the edges' Gram matrix), where point_triangle_squared_distance() walks
@@ -31,8 +32,7 @@ void TrackedPoints::reset(std::size_t n_faces, std::size_t n_vertices, const flo
 // one thread, medians of 9 alternating runs: 2.91 -> 2.68 s; the same .pm files from the
 // shared meshes, the 950,272-face textured mesh and the Loop mesh, with the measure and
 // without (block_features.obj without the measure: 100 records of a flat block 2.2e-16
-// where they were 4.4e-16, both the rounding of a distance 0). Made once in collapse() and
-// read by each of its parts (every 256 points, on either thread).
+// where they were 4.4e-16, both the rounding of a distance 0).
 struct TrackedPoints::PlaneScreen {
   Vec3 a, e1, e2, normal;
   double g11, g12, g22, det, inverse_normal2;

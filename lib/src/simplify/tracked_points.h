@@ -136,6 +136,7 @@ class TrackedPoints {
 
  private:
   static constexpr uint32_t kNone = 0xffffffffu;
+  struct PlaneScreen;  // a fan face's plane and frame (tracked_points.cpp)
   // Moves `count` of collapse()'s pairs onto the fan, each onto the front of a list of its new
   // face's: push(i, x) puts point x there, i its face's index in the fan (the faces' own lists
   // for a collapse in one part; else the part's, to be joined). Returns their largest
@@ -144,7 +145,6 @@ class TrackedPoints {
   // `screens`: the fan faces' planes and frames (tracked_points.cpp), made once per collapse
   // and read by every part; nullptr where the collapse moves fewer points than its fan has
   // faces, or settles nothing.
-  struct PlaneScreen;
   template <typename Push>
   double move(const uint32_t* pairs, std::size_t count, const KeptPoints::FanFace* fan, int n_fan,
               const PlaneScreen* screens, double settled, uint8_t* lost, Push push);
