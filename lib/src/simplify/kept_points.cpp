@@ -41,7 +41,7 @@ double KeptPoints::nearest_from(const Vec3& x, const FanFace* fan, int n_fan, do
     // |x - centre| >= best + radius: the whole face is at least `best` away.
     const double to_centre2 = (x - fan[i].centre).sqrnorm();
     if (best < HUGE_VAL && to_centre2 >= fan[i].radius2) {
-      const double beyond = best + std::sqrt(fan[i].radius2);
+      const double beyond = best + fan[i].radius;
       if (to_centre2 >= beyond * beyond) continue;
     }
     // The root only when the square is below best's: the root keeps the order, so a square

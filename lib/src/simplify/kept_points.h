@@ -40,13 +40,15 @@ class KeptPoints {
     Vec3 a, b, c;
     // A sphere around it (make() sets it): a point farther than the nearest face so far
     // plus the radius from the centre cannot be nearer, and is not measured.
+    // The radius is kept with its square: nearest_from() adds it to a distance, and its root
+    // there stood in the search's chain of dependent operations.
     Vec3 centre;
-    double radius2;  // squared
+    double radius2, radius;
     static FanFace make(uint32_t face, const Vec3& a, const Vec3& b, const Vec3& c) {
       const Vec3 centre = (a + b + c) / 3.0;
       const double r2 =
           std::max({(a - centre).sqrnorm(), (b - centre).sqrnorm(), (c - centre).sqrnorm()});
-      return {face, a, b, c, centre, r2};
+      return {face, a, b, c, centre, r2, std::sqrt(r2)};
     }
   };
 
