@@ -1594,11 +1594,11 @@ TEST(PmStream, HugePageHintsKeepTheMemoryAsItIs) {
 }
 
 // The allocator's free memory given back (return_free_memory(), after each encode's loop)
-// from many threads at once, as pmenc's and pmdec's batches do. Where malloc is not glibc's
-// (a sanitizer's, or an allocator loaded before glibc's), glibc sets its arenas up in the
-// first malloc_trim() itself, and two threads doing so at once crashed: AddressSanitizer, a
-// read at 0x8 in mtrim (.ci/sanitize's batch test; 8 threads released together as here
-// crashed 192 of 200 runs). In this process the first call comes from those 8 threads.
+// from many threads at once, as pmenc's batch does. Where malloc is not glibc's (a
+// sanitizer's, or an allocator loaded before glibc's), glibc sets its arenas up in the first
+// malloc_trim() itself, and two threads doing so at once crashed: AddressSanitizer, a read at
+// 0x8 in mtrim (.ci/sanitize's batch test; this test under ASan crashed 18 of 20 runs before
+// the calls took turns). In this process the first call comes from those 8 threads.
 TEST(PmStream, FreeMemoryIsReturnedFromManyThreadsAtOnce) {
   constexpr int kThreads = 8;
   std::atomic<int> waiting{kThreads};

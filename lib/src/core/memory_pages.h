@@ -68,8 +68,8 @@ void shrink_in_place(std::vector<T>& values, std::size_t n) {
   release_pages(values.data() + n, (values.capacity() - n) * sizeof(T));
 }
 
-// Gives the allocator's free memory back to the system (glibc: malloc_trim; elsewhere nothing).
-// Safe on any number of threads at once (the calls take turns).
+// Gives the allocator's free memory back to the system (glibc: malloc_trim; elsewhere nothing),
+// safe on any number of threads at once (the calls take turns).
 // After a stage whose arrays go all at once: glibc keeps the freed memory of mid-sized
 // arrays for reuse, but the next stage's arrays, of other sizes, do not fit in its pieces and
 // come on top. pmenc --fast on the 950K-face textured mesh: after the collapse loop's state
